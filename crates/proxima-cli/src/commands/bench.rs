@@ -1,0 +1,275 @@
+//! `proxima bench MESH [--primitives P] [--queries N | --points FILE] [--threads T] [--json]`:
+//! linear search against the AABB tree on the same queries.
+
+use crate::common::{Primitives, load_mesh, read_points};
+use anyhow::Context;
+use indicatif::{ProgressBar, ProgressStyle};
+use proxima::bvh::BatchOptions;
+use proxima::{AabbTree, BuildConfig, ClosestPoint, LinearSearch, Mesh, PrimitiveSet, Vec3};
+use rayon::prelude::*;
+use serde_json::json;
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// The query sets of BENCHMARKS.md.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum QuerySet {
+    /// Surface samples plus a gaussian offset of 1% of the bbox diagonal.
+    Near,
+    /// Uniform in the bounding box enlarged by 10% per side.
+    Uniform,
+}
+
+/// Arguments of `proxima bench`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Mesh file.
+    mesh: PathBuf,
+    /// Benchmark only this primitive type (default: all three).
+    #[arg(long, value_enum)]
+    primitives: Option<Primitives>,
+    /// Number of generated query points.
+    #[arg(long, default_value_t = 10_000, conflicts_with = "points")]
+    queries: usize,
+    /// Query points from a file instead of generated ones.
+    #[arg(long)]
+    points: Option<PathBuf>,
+    /// Which generated query set.
+    #[arg(long, value_enum, default_value = "near")]
+    set: QuerySet,
+    /// Seed of the generated query set.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Worker threads for the query loops (1 = single-thread figures).
+    #[arg(long, default_value_t = 1)]
+    threads: usize,
+    /// Print one JSON object instead of a table.
+    #[arg(long)]
+    json: bool,
+}
+
+/// One measured row.
+pub struct Record {
+    /// Primitive type.
+    pub primitives: &'static str,
+    /// `linear`, `tree` (per query, input order) or `tree-batch` (Morton-ordered batch).
+    pub method: &'static str,
+    /// Build time of the structure (0 for linear).
+    pub build_seconds: f64,
+    /// Number of queries answered.
+    pub queries: usize,
+    /// Time for all of them.
+    pub seconds: f64,
+    /// `true` when the tree's distances equal linear search's on the shared queries.
+    pub agree: bool,
+}
+
+impl Record {
+    fn queries_per_second(&self) -> f64 {
+        self.queries as f64 / self.seconds.max(1e-12)
+    }
+}
+
+/// Primitive tests the linear scan may spend, so big meshes still finish quickly.
+const LINEAR_BUDGET: usize = 100_000_000;
+
+/// Benchmarks one primitive type: tree build, linear and tree queries.
+fn bench_set<T: ClosestPoint + Copy + Send + Sync>(
+    set: PrimitiveSet<T>,
+    kind: Primitives,
+    points: &[Vec3],
+    progress: bool,
+) -> anyhow::Result<Vec<Record>> {
+    let start = Instant::now();
+    let tree = AabbTree::build_set(set.clone(), &BuildConfig::default())?;
+    let build_seconds = start.elapsed().as_secs_f64();
+
+    let n_linear = (LINEAR_BUDGET / set.len().max(1))
+        .clamp(20, points.len().max(1))
+        .min(points.len());
+    let linear = LinearSearch::new(set);
+    let bar = bar(progress, n_linear, &format!("{} linear", kind.name()));
+    let start = Instant::now();
+    let expected: Vec<Option<f32>> = points[..n_linear]
+        .par_iter()
+        .map(|&p| {
+            bar.inc(1);
+            linear.closest(p).map(|h| h.distance)
+        })
+        .collect();
+    let linear_seconds = start.elapsed().as_secs_f64();
+    bar.finish_and_clear();
+
+    let start = Instant::now();
+    let per_query: Vec<Option<f32>> = points
+        .par_iter()
+        .map(|&p| tree.closest(p).map(|h| h.distance))
+        .collect();
+    let tree_seconds = start.elapsed().as_secs_f64();
+    let start = Instant::now();
+    let batch = tree.closest_batch_with(points, BatchOptions { reorder: true });
+    let batch_seconds = start.elapsed().as_secs_f64();
+
+    let agree = expected.iter().zip(&per_query).all(|(a, b)| a == b)
+        && batch.iter().zip(&per_query).all(|(a, b)| a.map(|h| h.distance) == *b);
+    let name = kind.name();
+    Ok(vec![
+        Record {
+            primitives: name,
+            method: "linear",
+            build_seconds: 0.0,
+            queries: n_linear,
+            seconds: linear_seconds,
+            agree,
+        },
+        Record {
+            primitives: name,
+            method: "tree",
+            build_seconds,
+            queries: points.len(),
+            seconds: tree_seconds,
+            agree,
+        },
+        Record {
+            primitives: name,
+            method: "tree-batch",
+            build_seconds,
+            queries: points.len(),
+            seconds: batch_seconds,
+            agree,
+        },
+    ])
+}
+
+fn bar(enabled: bool, len: usize, message: &str) -> ProgressBar {
+    if !enabled {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(len as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{msg:>16} {wide_bar} {pos}/{len} {eta}").unwrap_or(ProgressStyle::default_bar()),
+    );
+    bar.set_message(message.to_string());
+    bar
+}
+
+/// Measures every requested primitive type on `points`.
+pub fn measure(
+    mesh: &Mesh,
+    kinds: &[Primitives],
+    points: &[Vec3],
+    threads: usize,
+    progress: bool,
+) -> anyhow::Result<Vec<Record>> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.max(1))
+        .build()
+        .context("thread pool")?;
+    pool.install(|| {
+        let mut records = Vec::new();
+        for &kind in kinds {
+            records.extend(match kind {
+                Primitives::Vertices => bench_set(mesh.vertices(), kind, points, progress)?,
+                Primitives::Edges => bench_set(mesh.edges(), kind, points, progress)?,
+                Primitives::Faces => bench_set(mesh.triangles(), kind, points, progress)?,
+            });
+        }
+        Ok(records)
+    })
+}
+
+/// Prints the records as a table.
+pub fn print_table(records: &[Record]) {
+    println!(
+        "{:<10} {:<11} {:>10} {:>8} {:>10} {:>12} {:>10} {:>9}",
+        "primitives", "method", "build ms", "queries", "seconds", "queries/s", "vs linear", "agree"
+    );
+    for r in records {
+        let linear = records
+            .iter()
+            .find(|l| l.primitives == r.primitives && l.method == "linear");
+        let speedup = linear.map_or(1.0, |l| r.queries_per_second() / l.queries_per_second());
+        println!(
+            "{:<10} {:<11} {:>10.3} {:>8} {:>10.4} {:>12.0} {:>9.1}x {:>9}",
+            r.primitives,
+            r.method,
+            r.build_seconds * 1e3,
+            r.queries,
+            r.seconds,
+            r.queries_per_second(),
+            speedup,
+            if r.agree { "yes" } else { "NO" }
+        );
+    }
+}
+
+/// Runs `proxima bench`.
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let mesh = load_mesh(&args.mesh)?;
+    let (points, set_name) = match &args.points {
+        Some(file) => (read_points(file)?, file.display().to_string()),
+        None => match args.set {
+            QuerySet::Near => (
+                proxima::sample::near_surface(&mesh, args.queries, 0.01, args.seed),
+                "near".to_string(),
+            ),
+            QuerySet::Uniform => (
+                proxima::sample::uniform_in_box(&mesh, args.queries, args.seed),
+                "uniform".to_string(),
+            ),
+        },
+    };
+    if points.is_empty() {
+        anyhow::bail!(
+            "{}: no query points (the mesh has no area, or the points file is empty)",
+            args.mesh.display()
+        );
+    }
+    let kinds: Vec<Primitives> = match args.primitives {
+        Some(kind) => vec![kind],
+        None if mesh.face_count() == 0 => vec![Primitives::Vertices, Primitives::Edges],
+        None => Primitives::ALL.to_vec(),
+    };
+    crate::common::require_faces(&mesh, *kinds.last().unwrap_or(&Primitives::Vertices))?;
+    let records = measure(&mesh, &kinds, &points, args.threads, !args.json)?;
+    if args.json {
+        let results: Vec<_> = records
+            .iter()
+            .map(|r| {
+                json!({
+                    "primitives": r.primitives, "method": r.method, "build_seconds": r.build_seconds,
+                    "queries": r.queries, "seconds": r.seconds, "queries_per_second": r.queries_per_second(),
+                    "agree": r.agree,
+                })
+            })
+            .collect();
+        let out = json!({
+            "mesh": args.mesh.display().to_string(), "triangles": mesh.triangle_count(),
+            "query_set": set_name, "threads": args.threads, "results": results,
+        });
+        println!("{out:#}");
+    } else {
+        println!(
+            "{}: {} vertices, {} triangles; {} {set_name} queries; {} thread(s)",
+            args.mesh.display(),
+            mesh.vertex_count(),
+            mesh.triangle_count(),
+            points.len(),
+            args.threads
+        );
+        print_table(&records);
+        if let Some(r) = records
+            .iter()
+            .find(|r| r.method == "linear" && r.queries < points.len())
+        {
+            println!(
+                "(linear search ran on the first {} queries only, to bound its time)",
+                r.queries
+            );
+        }
+    }
+    if records.iter().any(|r| !r.agree) {
+        anyhow::bail!("the tree and linear search disagree: this is a bug, please report it");
+    }
+    Ok(())
+}

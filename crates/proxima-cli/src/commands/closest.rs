@@ -1,0 +1,84 @@
+//! `proxima closest MESH --primitives P (--point X,Y,Z | --points FILE) [-k K] [--method tree|linear]`.
+
+use crate::common::{Primitives, build_tree, load_mesh, parse_vec3, read_points, require_faces};
+use crate::with_tree;
+use anyhow::bail;
+use proxima::{BuildConfig, ClosestHit, ClosestPoint, LinearSearch, PrimitiveSet, Vec3};
+use std::io::{BufWriter, Write};
+use std::path::PathBuf;
+
+/// How the answer is found.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Method {
+    /// The AABB tree.
+    Tree,
+    /// Brute force over every primitive.
+    Linear,
+}
+
+/// Arguments of `proxima closest`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Mesh file.
+    mesh: PathBuf,
+    /// Which primitives to search.
+    #[arg(long, value_enum, default_value = "faces")]
+    primitives: Primitives,
+    /// One query point, X,Y,Z.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true, conflicts_with = "points", required_unless_present = "points")]
+    point: Option<Vec3>,
+    /// A file of query points: one per line, three numbers separated by commas
+    /// or white space; `#` comments and blank lines are skipped.
+    #[arg(long)]
+    points: Option<PathBuf>,
+    /// How many nearest primitives per query.
+    #[arg(short, long, default_value_t = 1)]
+    k: usize,
+    /// Search method.
+    #[arg(long, value_enum, default_value = "tree")]
+    method: Method,
+}
+
+/// Prints CSV `query,rank,primitive,cx,cy,cz,distance`, k rows per query.
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let mesh = load_mesh(&args.mesh)?;
+    let points = match (&args.point, &args.points) {
+        (Some(p), _) => vec![*p],
+        (None, Some(file)) => read_points(file)?,
+        (None, None) => bail!("give --point X,Y,Z or --points FILE"),
+    };
+    let answers: Vec<Vec<ClosestHit>> = match args.method {
+        Method::Tree => {
+            let (tree, _) = build_tree(&mesh, args.primitives, &BuildConfig::default())?;
+            with_tree!(&tree, t => t.k_nearest_batch(&points, args.k))
+        }
+        Method::Linear => {
+            require_faces(&mesh, args.primitives)?;
+            match args.primitives {
+                Primitives::Vertices => linear(mesh.vertices(), &points, args.k),
+                Primitives::Edges => linear(mesh.edges(), &points, args.k),
+                Primitives::Faces => linear(mesh.triangles(), &points, args.k),
+            }
+        }
+    };
+    let stdout = std::io::stdout();
+    let mut out = BufWriter::new(stdout.lock());
+    writeln!(out, "query,rank,primitive,cx,cy,cz,distance")?;
+    for (query, hits) in answers.iter().enumerate() {
+        for (rank, hit) in hits.iter().enumerate() {
+            writeln!(
+                out,
+                "{query},{rank},{},{},{},{},{}",
+                hit.source, hit.point.x, hit.point.y, hit.point.z, hit.distance
+            )?;
+        }
+    }
+    out.flush()?;
+    Ok(())
+}
+
+/// Brute-force answers, one list per query.
+fn linear<T: ClosestPoint>(set: PrimitiveSet<T>, points: &[Vec3], k: usize) -> Vec<Vec<ClosestHit>> {
+    let scan = LinearSearch::new(set);
+    points.iter().map(|&p| scan.k_nearest(p, k)).collect()
+}

@@ -1,0 +1,95 @@
+//! `proxima info MESH [--json]`: counts, bounding box, tree statistics.
+
+use crate::common::{Primitives, build_tree, load_mesh};
+use crate::with_tree;
+use proxima::{BuildConfig, TreeStats};
+use serde_json::json;
+use std::path::PathBuf;
+
+/// Arguments of `proxima info`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Mesh file (.obj, .ply, .stl, .off, optionally .gz).
+    mesh: PathBuf,
+    /// Print one JSON object instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Prints the mesh's counts, bounding box, and for each primitive type the
+/// statistics and build time of its AABB tree.
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let mesh = load_mesh(&args.mesh)?;
+    let bounds = mesh.bounds();
+    let edges = mesh.edge_indices().len();
+    let config = BuildConfig::default();
+    let mut trees = Vec::new();
+    for kind in Primitives::ALL {
+        if kind == Primitives::Faces && mesh.face_count() == 0 {
+            continue;
+        }
+        let (tree, seconds) = build_tree(&mesh, kind, &config)?;
+        let stats: TreeStats = with_tree!(&tree, t => t.stats());
+        trees.push((kind, stats, seconds));
+    }
+    if args.json {
+        let trees: Vec<_> = trees
+            .iter()
+            .map(|(kind, s, seconds)| {
+                json!({
+                    "primitives": kind.name(), "count": s.primitives, "nodes": s.nodes, "leaves": s.leaves,
+                    "depth": s.depth, "min_leaf_size": s.min_leaf_size, "max_leaf_size": s.max_leaf_size,
+                    "mean_leaf_size": s.mean_leaf_size, "memory_bytes": s.memory_bytes, "build_seconds": seconds,
+                })
+            })
+            .collect();
+        let out = json!({
+            "mesh": args.mesh.display().to_string(),
+            "vertices": mesh.vertex_count(), "edges": edges, "faces": mesh.face_count(),
+            "triangles": mesh.triangle_count(), "polygons": mesh.polygon_count(),
+            "bbox": {"min": bounds.min.to_array(), "max": bounds.max.to_array()},
+            "trees": trees,
+        });
+        println!("{out:#}");
+        return Ok(());
+    }
+    println!("mesh       {}", args.mesh.display());
+    println!("vertices   {}", mesh.vertex_count());
+    println!("edges      {edges}");
+    println!(
+        "faces      {} ({} with more than 3 vertices)",
+        mesh.face_count(),
+        mesh.polygon_count()
+    );
+    println!("triangles  {}", mesh.triangle_count());
+    if bounds.is_empty() {
+        println!("bbox       empty");
+    } else {
+        println!(
+            "bbox       min {:?}  max {:?}  diagonal {}",
+            bounds.min.to_array(),
+            bounds.max.to_array(),
+            bounds.diagonal()
+        );
+    }
+    println!();
+    println!(
+        "{:<10} {:>9} {:>9} {:>9} {:>6} {:>14} {:>11}",
+        "tree", "count", "nodes", "leaves", "depth", "leaf min/mean/max", "build ms"
+    );
+    for (kind, s, seconds) in &trees {
+        println!(
+            "{:<10} {:>9} {:>9} {:>9} {:>6} {:>6}/{:.2}/{:<4} {:>11.3}",
+            kind.name(),
+            s.primitives,
+            s.nodes,
+            s.leaves,
+            s.depth,
+            s.min_leaf_size,
+            s.mean_leaf_size,
+            s.max_leaf_size,
+            seconds * 1e3
+        );
+    }
+    Ok(())
+}

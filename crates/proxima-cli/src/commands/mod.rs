@@ -1,0 +1,6 @@
+//! One file per subcommand, each with its `Args` and `run`.
+
+pub mod bench;
+pub mod closest;
+pub mod demo;
+pub mod info;

@@ -1,0 +1,141 @@
+//! What several commands share: argument parsers, mesh loading, primitive choice.
+
+use anyhow::{Context, Result, bail};
+use proxima::{AabbTree, BuildConfig, Mesh, Vec3};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// The error chain on one line (`outer: inner: root`), without repeats.
+pub fn one_line(error: &anyhow::Error) -> String {
+    let mut parts: Vec<String> = Vec::new();
+    for cause in error.chain() {
+        let text = cause.to_string();
+        if !parts.iter().any(|p| p.contains(&text)) {
+            parts.push(text);
+        }
+    }
+    parts.join(": ").replace('\n', " ")
+}
+
+/// Parses `X,Y,Z` (commas and/or spaces) into a finite point.
+pub fn parse_vec3(text: &str) -> Result<Vec3, String> {
+    let numbers: Vec<&str> = text.split([',', ' ', '\t']).filter(|s| !s.is_empty()).collect();
+    if numbers.len() != 3 {
+        return Err(format!("expected three numbers X,Y,Z, got '{text}'"));
+    }
+    let mut v = [0f32; 3];
+    for (slot, s) in v.iter_mut().zip(&numbers) {
+        *slot = s.parse::<f32>().map_err(|_| format!("'{s}' is not a number"))?;
+        if !slot.is_finite() {
+            return Err(format!("'{s}' is not a finite number"));
+        }
+    }
+    Ok(Vec3::from_array(v))
+}
+
+/// Reads a points file: one point per line, three numbers separated by commas
+/// or white space; `#` comments and blank lines are skipped.
+pub fn read_points(path: &Path) -> Result<Vec<Vec3>> {
+    let text = std::fs::read_to_string(path).with_context(|| format!("{}", path.display()))?;
+    let mut points = Vec::new();
+    for (number, line) in text.lines().enumerate() {
+        let content = line.split('#').next().unwrap_or("").trim();
+        if content.is_empty() {
+            continue;
+        }
+        let p = parse_vec3(content).map_err(|e| anyhow::anyhow!("{}:{}: {e}", path.display(), number + 1))?;
+        points.push(p);
+    }
+    Ok(points)
+}
+
+/// Loads a mesh; the error names the file (and line).
+pub fn load_mesh(path: &Path) -> Result<Mesh> {
+    Ok(proxima::io::load(path)?)
+}
+
+/// Which primitives of a mesh a command works on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Primitives {
+    /// Mesh vertices as points.
+    Vertices,
+    /// Unique undirected edges as segments.
+    Edges,
+    /// Faces as triangles (polygons fan-triangulated).
+    Faces,
+}
+
+impl Primitives {
+    /// All kinds, in display order.
+    pub const ALL: [Primitives; 3] = [Primitives::Vertices, Primitives::Edges, Primitives::Faces];
+
+    /// The lowercase name used on the command line and in output.
+    pub fn name(self) -> &'static str {
+        match self {
+            Primitives::Vertices => "vertices",
+            Primitives::Edges => "edges",
+            Primitives::Faces => "faces",
+        }
+    }
+}
+
+/// The embedded default model (see `assets/README.md` for source and licence).
+pub const DEFAULT_MODEL_NAME: &str = "bunny-npm.obj (embedded)";
+const DEFAULT_MODEL: &[u8] = include_bytes!("../assets/bunny-npm.obj");
+
+/// Loads `path`, or the embedded default model when `None`.
+pub fn load_or_default(path: Option<&PathBuf>) -> Result<(Mesh, String)> {
+    match path {
+        Some(p) => Ok((load_mesh(p)?, p.display().to_string())),
+        None => Ok((
+            proxima::io::parse(DEFAULT_MODEL, proxima::io::Format::Obj, Path::new(DEFAULT_MODEL_NAME))?,
+            DEFAULT_MODEL_NAME.to_string(),
+        )),
+    }
+}
+
+/// A tree over one kind of primitive, built and timed; `Box`ed queries would
+/// cost a virtual call per query, so commands match on this instead.
+pub enum AnyTree {
+    /// Tree over vertices.
+    Vertices(AabbTree<proxima::Point>),
+    /// Tree over edges.
+    Edges(AabbTree<proxima::LineSegment>),
+    /// Tree over faces.
+    Faces(AabbTree<proxima::Triangle>),
+}
+
+/// Fails when faces are asked of a mesh that has none.
+pub fn require_faces(mesh: &Mesh, kind: Primitives) -> Result<()> {
+    if kind == Primitives::Faces && mesh.face_count() == 0 {
+        bail!(
+            "the mesh has no faces to search (it has {} vertices)",
+            mesh.vertex_count()
+        );
+    }
+    Ok(())
+}
+
+/// Builds the tree of `kind` over `mesh`, returning it with the build time in seconds.
+pub fn build_tree(mesh: &Mesh, kind: Primitives, config: &BuildConfig) -> Result<(AnyTree, f64)> {
+    require_faces(mesh, kind)?;
+    let start = Instant::now();
+    let tree = match kind {
+        Primitives::Vertices => AnyTree::Vertices(AabbTree::build_set(mesh.vertices(), config)?),
+        Primitives::Edges => AnyTree::Edges(AabbTree::build_set(mesh.edges(), config)?),
+        Primitives::Faces => AnyTree::Faces(AabbTree::build_set(mesh.triangles(), config)?),
+    };
+    Ok((tree, start.elapsed().as_secs_f64()))
+}
+
+/// Calls `$body` with `$tree` bound to the concrete tree inside an [`AnyTree`].
+#[macro_export]
+macro_rules! with_tree {
+    ($any:expr, $tree:ident => $body:expr) => {
+        match $any {
+            $crate::common::AnyTree::Vertices($tree) => $body,
+            $crate::common::AnyTree::Edges($tree) => $body,
+            $crate::common::AnyTree::Faces($tree) => $body,
+        }
+    };
+}

@@ -1,0 +1,49 @@
+//! `proxima`: closest-point queries, tree statistics, hash grids and benchmarks
+//! on meshes, from the command line.
+//!
+//! Every failure on user input prints one line (`proxima: <file>:<line>: what`)
+//! and exits with status 1; usage errors exit with status 2.
+
+mod commands;
+mod common;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// Spatial acceleration structures for 3D meshes.
+#[derive(Parser)]
+#[command(name = "proxima", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run the main job on the embedded model: load, build, query, benchmark.
+    Demo(commands::demo::Args),
+    /// Mesh counts, bounding box and tree statistics.
+    Info(commands::info::Args),
+    /// Closest vertices, edges or faces to query points, as CSV.
+    Closest(commands::closest::Args),
+    /// Linear search against the AABB tree on the same queries.
+    Bench(commands::bench::Args),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Demo(args) => commands::demo::run(args),
+        Command::Info(args) => commands::info::run(args),
+        Command::Closest(args) => commands::closest::run(args),
+        Command::Bench(args) => commands::bench::run(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(error) => {
+            // One line: the chain of causes joined, no backtrace.
+            eprintln!("proxima: {}", common::one_line(&error));
+            ExitCode::FAILURE
+        }
+    }
+}

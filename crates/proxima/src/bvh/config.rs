@@ -1,0 +1,62 @@
+//! Build parameters.
+
+use crate::error::BuildError;
+
+/// The deepest tree the build produces. Traversals use a fixed stack of this
+/// many entries, so no query allocates and none can overflow.
+pub const MAX_DEPTH: u32 = 60;
+
+/// How a node's primitives are divided between its two children.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum SplitMethod {
+    /// The classic split: order the primitives along the largest extent of the
+    /// node's box by their centroid, and cut them into two equal halves.
+    #[default]
+    Median,
+}
+
+/// Build parameters of an [`AabbTree`](super::AabbTree).
+///
+/// ```
+/// use proxima::BuildConfig;
+/// let config = BuildConfig { max_depth: 20, ..BuildConfig::default() };
+/// assert!(config.validate().is_ok());
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BuildConfig {
+    /// Nodes at this depth (the root has depth 0) become leaves whatever their
+    /// size. At most [`MAX_DEPTH`].
+    pub max_depth: u32,
+    /// A node with at most this many primitives becomes a leaf (the classic
+    /// design's `min_size`). At least 1.
+    pub min_size: u32,
+    /// How nodes are split.
+    pub split: SplitMethod,
+}
+
+impl Default for BuildConfig {
+    /// Median split, leaves of up to 4 primitives, no practical depth limit.
+    fn default() -> Self {
+        Self {
+            max_depth: MAX_DEPTH,
+            min_size: 4,
+            split: SplitMethod::Median,
+        }
+    }
+}
+
+impl BuildConfig {
+    /// Checks the parameters.
+    pub fn validate(&self) -> Result<(), BuildError> {
+        if self.max_depth == 0 || self.max_depth > MAX_DEPTH {
+            return Err(BuildError::MaxDepth {
+                got: self.max_depth,
+                max: MAX_DEPTH,
+            });
+        }
+        if self.min_size == 0 {
+            return Err(BuildError::MinSize);
+        }
+        Ok(())
+    }
+}

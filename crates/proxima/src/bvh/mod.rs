@@ -1,0 +1,109 @@
+//! The AABB tree (bounding volume hierarchy of axis-aligned boxes).
+//!
+//! One file per operation: [`build`](AabbTree::build) in `build.rs`, the
+//! closest-primitive search in `closest.rs`, k-nearest in `knn.rs`, batches
+//! over many points in `batch.rs`, statistics and invariants in `validate.rs`.
+
+mod batch;
+mod build;
+mod closest;
+mod config;
+mod knn;
+mod node;
+mod traverse;
+mod validate;
+
+pub use batch::BatchOptions;
+pub use config::{BuildConfig, MAX_DEPTH, SplitMethod};
+pub use knn::KnnScratch;
+pub use node::Node;
+pub use traverse::QueryStats;
+pub use validate::TreeStats;
+
+use crate::math::Vec3;
+
+/// A bounding volume hierarchy of axis-aligned boxes over primitives of type `T`.
+///
+/// Nodes live in one flat array (index 0 is the root); primitives are stored in
+/// leaf order so each leaf is a contiguous range. Build it with
+/// [`AabbTree::build`] or [`AabbTree::build_set`], then ask
+/// [`closest`](AabbTree::closest) or [`k_nearest`](AabbTree::k_nearest).
+#[derive(Clone, Debug)]
+pub struct AabbTree<T> {
+    nodes: Vec<Node>,
+    /// Primitives in leaf order.
+    primitives: Vec<T>,
+    /// `indices[i]`: position in the build input of `primitives[i]`.
+    indices: Vec<u32>,
+    /// `sources[i]`: mesh element `primitives[i]` came from.
+    sources: Vec<u32>,
+    depth: u32,
+}
+
+/// The answer to a closest-primitive query.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ClosestHit {
+    /// Index of the primitive in the build input.
+    pub primitive: u32,
+    /// The mesh element the primitive came from (vertex, edge or face index).
+    pub source: u32,
+    /// The closest point on that primitive.
+    pub point: Vec3,
+    /// Euclidean distance from the query to `point`.
+    pub distance: f32,
+}
+
+impl<T> AabbTree<T> {
+    /// The node array; index 0 is the root (empty for an empty tree).
+    pub fn nodes(&self) -> &[Node] {
+        &self.nodes
+    }
+
+    /// The primitives in leaf order.
+    pub fn primitives(&self) -> &[T] {
+        &self.primitives
+    }
+
+    /// Number of primitives.
+    pub fn len(&self) -> usize {
+        self.primitives.len()
+    }
+
+    /// `true` when the tree holds no primitive.
+    pub fn is_empty(&self) -> bool {
+        self.primitives.is_empty()
+    }
+
+    /// Depth of the deepest leaf (0 when the root is a leaf).
+    pub fn depth(&self) -> u32 {
+        self.depth
+    }
+
+    /// The build-input index of the primitive at leaf-order slot `slot`.
+    #[inline]
+    pub fn input_index(&self, slot: usize) -> u32 {
+        self.indices[slot]
+    }
+
+    /// The source of the primitive at leaf-order slot `slot`.
+    #[inline]
+    pub fn source(&self, slot: usize) -> u32 {
+        self.sources[slot]
+    }
+
+    #[inline]
+    fn hit(&self, slot: usize, point: crate::math::Vec3A, distance_squared: f32) -> ClosestHit {
+        ClosestHit {
+            primitive: self.indices[slot],
+            source: self.sources[slot],
+            point: point.into(),
+            distance: distance_squared.sqrt(),
+        }
+    }
+}
+
+/// Relative slack on pruning comparisons. Node boxes are also widened by a few
+/// ulps at build time, so a node is pruned only when it certainly holds nothing
+/// closer than the best so far, even after the rounding of the two distance
+/// computations: the tree's answer then equals brute force exactly.
+pub(crate) const PRUNE_SLACK: f32 = 1.0 + 1e-6;

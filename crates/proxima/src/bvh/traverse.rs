@@ -1,0 +1,109 @@
+//! The one nearest-first traversal loop behind closest and k-nearest queries.
+
+use super::AabbTree;
+use super::config::MAX_DEPTH;
+use crate::math::Vec3A;
+
+/// What a distance query does at the leaves, and how far it still looks.
+pub(crate) trait DistanceVisitor<T> {
+    /// Squared pruning radius, slack included: a node whose box is farther is skipped.
+    fn bound(&self) -> f32;
+    /// Tests the primitive at leaf-order slot `slot`.
+    fn visit(&mut self, slot: usize, primitive: &T, p: Vec3A);
+}
+
+/// Counts of the work a query did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct QueryStats {
+    /// Nodes whose box distance was computed.
+    pub nodes_visited: u64,
+    /// Primitives whose closest point was computed.
+    pub primitives_tested: u64,
+}
+
+/// Where the traversal reports its work; the no-op `()` compiles away.
+pub(crate) trait Counter {
+    fn nodes(&mut self, n: u64);
+    fn primitives(&mut self, n: u64);
+}
+
+impl Counter for () {
+    #[inline(always)]
+    fn nodes(&mut self, _: u64) {}
+    #[inline(always)]
+    fn primitives(&mut self, _: u64) {}
+}
+
+impl Counter for QueryStats {
+    #[inline(always)]
+    fn nodes(&mut self, n: u64) {
+        self.nodes_visited += n;
+    }
+    #[inline(always)]
+    fn primitives(&mut self, n: u64) {
+        self.primitives_tested += n;
+    }
+}
+
+impl<T> AabbTree<T> {
+    /// Depth-first, nearer child first, with a fixed stack: the nearer child is
+    /// descended at once and the farther one is kept with its box distance, so
+    /// that when it is popped it can be dropped if the radius shrank meanwhile.
+    #[inline]
+    pub(crate) fn nearest_first<V: DistanceVisitor<T>, C: Counter>(&self, p: Vec3A, visitor: &mut V, counter: &mut C) {
+        let nodes = &self.nodes[..];
+        let Some(root) = nodes.first() else { return };
+        counter.nodes(1);
+        let root_distance = root.distance_squared(p);
+        // A NaN query visits nothing.
+        if root_distance.is_nan() || root_distance > visitor.bound() {
+            return;
+        }
+        // Each inner node on the current path pushes at most one entry, and the
+        // build never goes deeper than MAX_DEPTH.
+        let mut stack = [(0u32, 0f32); MAX_DEPTH as usize + 1];
+        let mut top = 0usize;
+        let mut node = 0usize;
+        loop {
+            let n = &nodes[node];
+            if n.is_leaf() {
+                let range = n.primitive_range();
+                counter.primitives(range.len() as u64);
+                for slot in range {
+                    visitor.visit(slot, &self.primitives[slot], p);
+                }
+            } else {
+                let [left, right] = n.children();
+                let dl = nodes[left as usize].distance_squared(p);
+                let dr = nodes[right as usize].distance_squared(p);
+                counter.nodes(2);
+                let (near, d_near, far, d_far) = if dl <= dr {
+                    (left, dl, right, dr)
+                } else {
+                    (right, dr, left, dl)
+                };
+                let bound = visitor.bound();
+                if d_near <= bound {
+                    if d_far <= bound {
+                        stack[top] = (far, d_far);
+                        top += 1;
+                    }
+                    node = near as usize;
+                    continue;
+                }
+            }
+            // Pop the next subtree still within reach.
+            loop {
+                if top == 0 {
+                    return;
+                }
+                top -= 1;
+                let (next, d) = stack[top];
+                if d <= visitor.bound() {
+                    node = next as usize;
+                    break;
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,210 @@
+//! Typed errors, one enum per boundary: mesh construction, file loading and
+//! structure building.
+
+use std::fmt;
+use std::path::PathBuf;
+
+/// A mesh whose data breaks an invariant.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MeshError {
+    /// A vertex coordinate is NaN or infinite.
+    #[error("vertex {index} has a non-finite coordinate")]
+    NonFiniteVertex {
+        /// 0-based vertex index.
+        index: usize,
+    },
+    /// A face refers to a vertex that does not exist.
+    #[error("face {face} refers to vertex {vertex}, but the mesh has {vertex_count} vertices")]
+    IndexOutOfRange {
+        /// 0-based face index.
+        face: usize,
+        /// The offending 0-based vertex index.
+        vertex: u64,
+        /// Number of vertices in the mesh.
+        vertex_count: usize,
+    },
+    /// A face has fewer than three vertices.
+    #[error("face {face} has {len} vertices; a face needs at least 3")]
+    FaceTooSmall {
+        /// 0-based face index.
+        face: usize,
+        /// Its number of vertices.
+        len: usize,
+    },
+    /// Face offsets that do not start at 0, decrease, or miss the end of the indices.
+    #[error("face offsets must start at 0, never decrease, and end at the number of indices")]
+    BadOffsets,
+    /// More elements than 32-bit indices can address.
+    #[error("{what}: {count} is more than the 2^32 - 1 that 32-bit indices can address")]
+    TooLarge {
+        /// What is counted.
+        what: &'static str,
+        /// How many there are.
+        count: usize,
+    },
+}
+
+/// Why a file could not be loaded.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadErrorKind {
+    /// Reading the file failed.
+    #[error("{0}")]
+    Io(#[from] std::io::Error),
+    /// The extension names no format we read.
+    #[error("unknown mesh format (expected .obj, .ply, .stl or .off, optionally .gz)")]
+    UnknownFormat,
+    /// The content does not follow the format.
+    #[error("{0}")]
+    Syntax(String),
+    /// The file ends before the data it announces.
+    #[error("unexpected end of file: {0}")]
+    Truncated(String),
+    /// The file announces sizes that cannot be real (checked before allocating).
+    #[error("implausible size: {0}")]
+    Implausible(String),
+    /// The data parses but does not make a valid mesh.
+    #[error("{0}")]
+    Mesh(#[from] MeshError),
+}
+
+/// A load failure, with the file and (for text formats) the 1-based line.
+#[derive(Debug, thiserror::Error)]
+pub struct LoadError {
+    /// The file being read.
+    pub path: PathBuf,
+    /// 1-based line number, when the format is text and the place is known.
+    pub line: Option<usize>,
+    /// What went wrong.
+    #[source]
+    pub kind: LoadErrorKind,
+}
+
+impl LoadError {
+    /// An error at `line` (if known) of `path`.
+    pub fn new(path: impl Into<PathBuf>, line: Option<usize>, kind: impl Into<LoadErrorKind>) -> Self {
+        Self {
+            path: path.into(),
+            line,
+            kind: kind.into(),
+        }
+    }
+}
+
+impl fmt::Display for LoadError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.line {
+            Some(line) => write!(f, "{}:{}: {}", self.path.display(), line, self.kind),
+            None => write!(f, "{}: {}", self.path.display(), self.kind),
+        }
+    }
+}
+
+/// Impossible parameters for building a structure.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum BuildError {
+    /// `max_depth` outside the supported range.
+    #[error("max_depth must be between 1 and {max}, got {got}")]
+    MaxDepth {
+        /// The requested depth.
+        got: u32,
+        /// The largest supported depth.
+        max: u32,
+    },
+    /// `min_size` (largest leaf that is not split further) is zero.
+    #[error("min_size must be at least 1")]
+    MinSize,
+    /// A primitive has a non-finite bounding box.
+    #[error("primitive {index} has a non-finite coordinate")]
+    NonFinite {
+        /// Index of the primitive in the input.
+        index: usize,
+    },
+    /// More primitives than 32-bit indices can address.
+    #[error("{count} primitives is more than 32-bit indices can address")]
+    TooMany {
+        /// Number of primitives.
+        count: usize,
+    },
+    /// `sources` and primitives have different lengths.
+    #[error("{primitives} primitives but {sources} source indices")]
+    SourceCount {
+        /// Number of primitives.
+        primitives: usize,
+        /// Number of source indices.
+        sources: usize,
+    },
+}
+
+/// Impossible parameters for a hash grid, a voxelization or a grid traversal.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum GridError {
+    /// A cell extent is zero, negative, NaN or infinite.
+    #[error("cell size must be finite and positive on every axis, got {x}, {y}, {z}")]
+    CellSize {
+        /// Extent along x.
+        x: f32,
+        /// Extent along y.
+        y: f32,
+        /// Extent along z.
+        z: f32,
+    },
+    /// The grid origin has a NaN or infinite coordinate.
+    #[error("grid origin must be finite")]
+    GridOrigin,
+    /// A voxelization resolution of 0.
+    #[error("resolution must be at least 1")]
+    Resolution,
+    /// A ray origin with a NaN or infinite coordinate.
+    #[error("ray origin must be finite")]
+    RayOrigin,
+    /// A ray direction that is zero, or has a NaN or infinite component.
+    #[error("ray direction must be finite and non-zero")]
+    RayDirection,
+    /// A ray parameter range that is NaN or has `t_min > t_max`.
+    #[error("ray range [{t_min}, {t_max}] is not a valid interval")]
+    RayRange {
+        /// Start of the range.
+        t_min: f32,
+        /// End of the range.
+        t_max: f32,
+    },
+    /// A primitive with a NaN or infinite coordinate.
+    #[error("primitive {index} has a non-finite coordinate")]
+    NonFinite {
+        /// Index of the primitive in the input.
+        index: usize,
+    },
+    /// A point whose cell index does not fit the supported range (|index| < 2^52).
+    #[error("a coordinate lies too far from the grid origin for the cell size (cell index out of range)")]
+    OutOfRange,
+    /// A primitive whose bounding box spans more cells than the limit.
+    #[error("primitive {index} spans {cells} cells, more than the limit of {limit}")]
+    PrimitiveTooLarge {
+        /// Index of the primitive in the input.
+        index: usize,
+        /// Number of cells its bounding box spans.
+        cells: u128,
+        /// The configured limit.
+        limit: u64,
+    },
+    /// More cell entries (cell–primitive pairs, or cells of a dense grid) than the limit.
+    #[error("the grid needs more than {limit} cell entries; use larger cells or raise the limit")]
+    TooManyCells {
+        /// The configured limit.
+        limit: u64,
+    },
+    /// More primitives than 32-bit indices can address.
+    #[error("{count} primitives is more than 32-bit indices can address")]
+    TooManyPrimitives {
+        /// Number of primitives.
+        count: usize,
+    },
+    /// `sources` and primitives have different lengths.
+    #[error("{primitives} primitives but {sources} source indices")]
+    SourceCount {
+        /// Number of primitives.
+        primitives: usize,
+        /// Number of source indices.
+        sources: usize,
+    },
+}

@@ -1,0 +1,44 @@
+//! # proxima
+//!
+//! Spatial acceleration structures for 3D meshes, exact in their answers:
+//!
+//! - [`AabbTree`]: a bounding volume hierarchy of axis-aligned boxes with
+//!   closest-primitive and k-nearest queries;
+//! - primitives taken from a [`Mesh`]: [`Point`] (vertices), [`LineSegment`]
+//!   (edges) and [`Triangle`] (faces), described by small traits
+//!   ([`Bounded`], [`ClosestPoint`]);
+//! - mesh loading from OBJ, PLY, STL and OFF files, optionally gzip-compressed
+//!   ([`io::load`]).
+//!
+//! ```
+//! use proxima::{AabbTree, Mesh, Vec3};
+//! let mesh = Mesh::from_triangles(
+//!     vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z],
+//!     &[[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]],
+//! )
+//! .unwrap();
+//! let tree = AabbTree::build_set(mesh.triangles(), &Default::default()).unwrap();
+//! let hit = tree.closest(Vec3::new(0.2, 0.2, -1.0)).unwrap();
+//! assert_eq!(hit.source, 0); // face 0 lies in the z = 0 plane
+//! assert_eq!(hit.distance, 1.0);
+//! ```
+#![forbid(unsafe_code)]
+#![deny(missing_docs)]
+
+pub mod aabb;
+pub mod bvh;
+pub mod error;
+pub mod io;
+pub mod linear;
+pub mod math;
+pub mod mesh;
+pub mod primitive;
+pub mod sample;
+
+pub use aabb::Aabb;
+pub use bvh::{AabbTree, BuildConfig, ClosestHit, TreeStats};
+pub use error::{BuildError, LoadError, LoadErrorKind, MeshError};
+pub use linear::LinearSearch;
+pub use math::{Vec3, Vec3A};
+pub use mesh::Mesh;
+pub use primitive::{Bounded, BoxOverlap, ClosestPoint, LineSegment, Point, PrimitiveSet, Triangle};

@@ -1,0 +1,72 @@
+//! Brute force: every query tests every primitive. The reference answer for
+//! the trees, and the baseline they are measured against.
+
+use crate::bvh::ClosestHit;
+use crate::math::{Vec3, Vec3A};
+use crate::primitive::{ClosestPoint, PrimitiveSet};
+
+/// A linear scan over primitives, answering the same queries as the trees.
+#[derive(Clone, Debug)]
+pub struct LinearSearch<T> {
+    set: PrimitiveSet<T>,
+}
+
+impl<T: ClosestPoint> LinearSearch<T> {
+    /// A scan over `set`.
+    pub fn new(set: PrimitiveSet<T>) -> Self {
+        Self { set }
+    }
+
+    /// The scanned primitives.
+    pub fn primitives(&self) -> &[T] {
+        &self.set.primitives
+    }
+
+    /// The closest primitive, ties to the lowest index; `None` when empty or
+    /// when `p` is not finite.
+    pub fn closest(&self, p: Vec3) -> Option<ClosestHit> {
+        let pa = Vec3A::from(p);
+        let mut best: Option<(usize, Vec3A, f32)> = None;
+        for (i, prim) in self.set.primitives.iter().enumerate() {
+            let q = prim.closest_point(pa);
+            let d2 = (q - pa).length_squared();
+            if best.is_none_or(|(_, _, bd)| d2 < bd) {
+                best = Some((i, q, d2));
+            }
+        }
+        best.filter(|b| b.2.is_finite()).map(|(i, q, d2)| ClosestHit {
+            primitive: i as u32,
+            source: self.set.sources[i],
+            point: q.into(),
+            distance: d2.sqrt(),
+        })
+    }
+
+    /// The `k` closest primitives, nearest first, ties by index.
+    pub fn k_nearest(&self, p: Vec3, k: usize) -> Vec<ClosestHit> {
+        if !p.is_finite() {
+            return Vec::new();
+        }
+        let pa = Vec3A::from(p);
+        let mut all: Vec<(f32, usize, Vec3A)> = self
+            .set
+            .primitives
+            .iter()
+            .enumerate()
+            .map(|(i, prim)| {
+                let q = prim.closest_point(pa);
+                ((q - pa).length_squared(), i, q)
+            })
+            .collect();
+        all.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        all.truncate(k);
+        all.into_iter()
+            .map(|(d2, i, q)| ClosestHit {
+                primitive: i as u32,
+                source: self.set.sources[i],
+                point: q.into(),
+                distance: d2.sqrt(),
+            })
+            .collect()
+    }
+}

@@ -1,0 +1,153 @@
+//! Polygon meshes and the primitives extracted from them.
+
+mod extract;
+pub mod generate;
+
+use crate::aabb::Aabb;
+use crate::error::MeshError;
+use crate::math::Vec3;
+
+/// A polygon mesh: vertex positions and faces of three or more vertices.
+///
+/// Faces are stored compactly (all indices in one array, with an offset per
+/// face). The invariants — every index is in range, every face has at least
+/// three vertices, every coordinate is finite — are checked by the
+/// constructors, so the fields are private.
+///
+/// ```
+/// use proxima::{Mesh, Vec3};
+/// let mesh = Mesh::from_faces(
+///     vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::ONE],
+///     &[vec![0, 1, 3, 2]],
+/// )
+/// .unwrap();
+/// assert_eq!(mesh.face_count(), 1);
+/// assert_eq!(mesh.triangles().len(), 2); // the quad, fan-triangulated
+/// assert_eq!(mesh.edges().len(), 4);
+/// ```
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    positions: Vec<Vec3>,
+    /// Face `f` uses `indices[offsets[f]..offsets[f + 1]]`; `offsets[0] == 0`.
+    offsets: Vec<u32>,
+    indices: Vec<u32>,
+}
+
+impl Mesh {
+    /// A mesh from positions and faces stored compactly: face `f` is
+    /// `indices[offsets[f]..offsets[f + 1]]`, and `offsets` starts with 0 and has
+    /// one more entry than there are faces. Fails on an index out of range, a face
+    /// of fewer than three vertices, or a non-finite coordinate.
+    pub fn from_compact(positions: Vec<Vec3>, offsets: Vec<u32>, indices: Vec<u32>) -> Result<Self, MeshError> {
+        if positions.len() > u32::MAX as usize {
+            return Err(MeshError::TooLarge {
+                what: "vertices",
+                count: positions.len(),
+            });
+        }
+        if let Some(index) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(MeshError::NonFiniteVertex { index });
+        }
+        let offsets = if offsets.is_empty() { vec![0] } else { offsets };
+        let consistent = offsets[0] == 0
+            && offsets.windows(2).all(|w| w[0] <= w[1])
+            && offsets.last().is_some_and(|&end| end as usize == indices.len());
+        if !consistent {
+            return Err(MeshError::BadOffsets);
+        }
+        for face in 0..offsets.len() - 1 {
+            let (begin, end) = (offsets[face] as usize, offsets[face + 1] as usize);
+            if end - begin < 3 {
+                return Err(MeshError::FaceTooSmall { face, len: end - begin });
+            }
+            if let Some(&vertex) = indices[begin..end].iter().find(|&&v| v as usize >= positions.len()) {
+                return Err(MeshError::IndexOutOfRange {
+                    face,
+                    vertex: vertex as u64,
+                    vertex_count: positions.len(),
+                });
+            }
+        }
+        Ok(Self {
+            positions,
+            offsets,
+            indices,
+        })
+    }
+
+    /// A mesh from positions and one index list per face.
+    pub fn from_faces(positions: Vec<Vec3>, faces: &[Vec<u32>]) -> Result<Self, MeshError> {
+        let mut offsets = Vec::with_capacity(faces.len() + 1);
+        offsets.push(0u32);
+        let mut indices = Vec::new();
+        for face in faces {
+            indices.extend_from_slice(face);
+            let end = u32::try_from(indices.len()).map_err(|_| MeshError::TooLarge {
+                what: "face indices",
+                count: indices.len(),
+            })?;
+            offsets.push(end);
+        }
+        Self::from_compact(positions, offsets, indices)
+    }
+
+    /// A triangle mesh.
+    pub fn from_triangles(positions: Vec<Vec3>, triangles: &[[u32; 3]]) -> Result<Self, MeshError> {
+        let count = triangles.len().checked_mul(3).filter(|&n| n <= u32::MAX as usize);
+        let count = count.ok_or(MeshError::TooLarge {
+            what: "face indices",
+            count: triangles.len(),
+        })?;
+        let offsets = (0..=triangles.len()).map(|f| (f * 3) as u32).collect();
+        let mut indices = Vec::with_capacity(count);
+        indices.extend(triangles.iter().flatten());
+        Self::from_compact(positions, offsets, indices)
+    }
+
+    /// Vertex positions, in file order (including vertices no face uses).
+    pub fn positions(&self) -> &[Vec3] {
+        &self.positions
+    }
+
+    /// Number of vertices.
+    pub fn vertex_count(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// Number of faces (polygons of any size).
+    pub fn face_count(&self) -> usize {
+        self.offsets.len() - 1
+    }
+
+    /// The vertex indices of face `f`.
+    pub fn face(&self, f: usize) -> &[u32] {
+        &self.indices[self.offsets[f] as usize..self.offsets[f + 1] as usize]
+    }
+
+    /// The faces in file order.
+    pub fn faces(&self) -> impl ExactSizeIterator<Item = &[u32]> + '_ {
+        self.offsets
+            .windows(2)
+            .map(|w| &self.indices[w[0] as usize..w[1] as usize])
+    }
+
+    /// Number of triangles after fan triangulation (a face of n vertices gives n - 2).
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len() - 2 * self.face_count()
+    }
+
+    /// Number of faces with more than three vertices.
+    pub fn polygon_count(&self) -> usize {
+        self.faces().filter(|f| f.len() > 3).count()
+    }
+
+    /// `true` when the mesh has no vertices.
+    pub fn is_empty(&self) -> bool {
+        self.positions.is_empty()
+    }
+
+    /// The bounding box of all vertices (empty for an empty mesh).
+    pub fn bounds(&self) -> Aabb {
+        Aabb::from_points(self.positions.iter().copied())
+    }
+}

@@ -1,0 +1,99 @@
+//! Closest point on a triangle by Voronoi regions (Ericson, *Real-Time
+//! Collision Detection*, 5.1.5), made safe for degenerate and sliver triangles.
+
+use crate::math::Vec3A;
+use glam::DVec3;
+
+/// Below this value of sin²(angle at `a`), a triangle counts as a sliver. The
+/// region tests of the fast path subtract products of nearly equal size, so
+/// for slivers their signs are noise in `f32`; such triangles are rare in real
+/// meshes and take the `f64` path instead.
+const SLIVER_SIN2: f32 = 1e-4;
+
+/// The point of triangle `a`, `b`, `c` closest to `p`.
+///
+/// The query is classified against the triangle's vertex, edge and face
+/// regions using dot products only, so a point in a vertex or edge region
+/// costs no division. Slivers and degenerate triangles (repeated or collinear
+/// vertices) go to [`closest_on_sliver`].
+#[inline]
+pub(crate) fn closest_on_triangle(a: Vec3A, b: Vec3A, c: Vec3A, p: Vec3A) -> Vec3A {
+    let ab = b - a;
+    let ac = c - a;
+    let n = ab.cross(ac);
+    // Also true when the product overflows or underflows: those go to f64.
+    if n.length_squared() <= SLIVER_SIN2 * ab.length_squared() * ac.length_squared() {
+        return closest_on_sliver(a, b, c, p);
+    }
+    let ap = p - a;
+    let d1 = ab.dot(ap);
+    let d2 = ac.dot(ap);
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return a;
+    }
+    let bp = p - b;
+    let d3 = ab.dot(bp);
+    let d4 = ac.dot(bp);
+    if d3 >= 0.0 && d4 <= d3 {
+        return b;
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return a + ab * (d1 / (d1 - d3));
+    }
+    let cp = p - c;
+    let d5 = ab.dot(cp);
+    let d6 = ac.dot(cp);
+    if d6 >= 0.0 && d5 <= d6 {
+        return c;
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return a + ac * (d2 / (d2 - d6));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    }
+    let inv = 1.0 / (va + vb + vc);
+    a + ab * (vb * inv) + ac * (vc * inv)
+}
+
+/// The closest point for slivers and degenerate triangles, in `f64`: the
+/// projection onto the plane when it falls inside (signed areas against the
+/// normal), else the nearest of the three edges. A triangle whose normal
+/// vanishes even in `f64` is the union of its edges.
+#[cold]
+#[inline(never)]
+pub(crate) fn closest_on_sliver(a: Vec3A, b: Vec3A, c: Vec3A, p: Vec3A) -> Vec3A {
+    let (a64, b64, c64, p64) = (a.as_dvec3(), b.as_dvec3(), c.as_dvec3(), p.as_dvec3());
+    let n = (b64 - a64).cross(c64 - a64);
+    let nn = n.length_squared();
+    let scale = (b64 - a64).length_squared() * (c64 - a64).length_squared();
+    if nn > 1e-24 * scale && nn.is_normal() {
+        let q = p64 - n * ((p64 - a64).dot(n) / nn);
+        let inside = |u: DVec3, v: DVec3| (v - u).cross(q - u).dot(n) >= 0.0;
+        if inside(a64, b64) && inside(b64, c64) && inside(c64, a64) {
+            return q.as_vec3a();
+        }
+    }
+    let mut best = closest_on_segment_f64(a64, b64, p64);
+    for q in [
+        closest_on_segment_f64(b64, c64, p64),
+        closest_on_segment_f64(c64, a64, p64),
+    ] {
+        if (q - p64).length_squared() < (best - p64).length_squared() {
+            best = q;
+        }
+    }
+    best.as_vec3a()
+}
+
+fn closest_on_segment_f64(a: DVec3, b: DVec3, p: DVec3) -> DVec3 {
+    let ab = b - a;
+    let len2 = ab.length_squared();
+    if len2 <= 0.0 {
+        return a;
+    }
+    a + ab * ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
+}

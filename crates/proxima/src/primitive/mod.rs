@@ -1,0 +1,86 @@
+//! Geometric primitives taken from a mesh, and the small traits that say what
+//! each can do.
+//!
+//! The acceleration structures are generic over these traits, the way rstar's
+//! `RTreeObject` / `PointDistance` work: a primitive that can say its
+//! [`Bounded::bounds`] can go into a tree; one that can also say its
+//! [`ClosestPoint::closest_point`] answers closest-point queries.
+
+mod closest_triangle;
+mod point;
+mod point_aabb;
+pub mod ray_triangle;
+pub mod sat;
+mod segment;
+mod segment_aabb;
+mod triangle;
+mod triangle_aabb;
+
+pub use point::Point;
+pub use ray_triangle::{TriangleHit, WatertightRay};
+pub use segment::LineSegment;
+pub use triangle::Triangle;
+pub use triangle_aabb::TriangleBoxTest;
+
+use crate::aabb::Aabb;
+use crate::math::{Vec3, Vec3A};
+
+/// A primitive with a bounding box.
+pub trait Bounded {
+    /// The smallest axis-aligned box holding the primitive.
+    fn bounds(&self) -> Aabb;
+
+    /// A representative point used to sort primitives when building trees
+    /// (the box center unless a primitive knows better).
+    #[inline]
+    fn centroid(&self) -> Vec3 {
+        self.bounds().center()
+    }
+}
+
+/// A primitive that knows its exact closest point to a query point.
+pub trait ClosestPoint: Bounded {
+    /// The point of the primitive closest to `p`.
+    fn closest_point(&self, p: Vec3A) -> Vec3A;
+
+    /// Squared Euclidean distance from `p` to the primitive.
+    #[inline]
+    fn distance_squared(&self, p: Vec3A) -> f32 {
+        (self.closest_point(p) - p).length_squared()
+    }
+}
+
+/// A primitive that can say exactly whether it shares a point with a closed box.
+pub trait BoxOverlap: Bounded {
+    /// `true` when the primitive and the closed box `b` share at least one
+    /// point (touching counts).
+    fn overlaps_box(&self, b: &Aabb) -> bool;
+}
+
+/// Primitives extracted from a mesh, each with the index of the mesh element it
+/// came from (vertex, edge or face index).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PrimitiveSet<T> {
+    /// The primitives.
+    pub primitives: Vec<T>,
+    /// `sources[i]` is the mesh element that `primitives[i]` came from.
+    pub sources: Vec<u32>,
+}
+
+impl<T> PrimitiveSet<T> {
+    /// Primitives whose source is their own index.
+    pub fn from_primitives(primitives: Vec<T>) -> Self {
+        let sources = (0..primitives.len() as u32).collect();
+        Self { primitives, sources }
+    }
+
+    /// Number of primitives.
+    pub fn len(&self) -> usize {
+        self.primitives.len()
+    }
+
+    /// `true` when there are no primitives.
+    pub fn is_empty(&self) -> bool {
+        self.primitives.is_empty()
+    }
+}

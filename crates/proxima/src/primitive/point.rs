@@ -1,0 +1,27 @@
+//! A single point (a mesh vertex).
+
+use super::{Bounded, ClosestPoint};
+use crate::aabb::Aabb;
+use crate::math::{Vec3, Vec3A};
+
+/// A point primitive: a mesh vertex.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Point(pub Vec3);
+
+impl Bounded for Point {
+    #[inline]
+    fn bounds(&self) -> Aabb {
+        Aabb::new(self.0, self.0)
+    }
+    #[inline]
+    fn centroid(&self) -> Vec3 {
+        self.0
+    }
+}
+
+impl ClosestPoint for Point {
+    #[inline]
+    fn closest_point(&self, _p: Vec3A) -> Vec3A {
+        self.0.into()
+    }
+}

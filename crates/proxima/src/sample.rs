@@ -1,0 +1,106 @@
+//! Seeded point sets for tests and benchmarks: the query sets of
+//! `BENCHMARKS.md` (`near`: surface samples plus a gaussian offset; `uniform`:
+//! uniform in the enlarged bounding box).
+//!
+//! The generator is SplitMix64: tiny, fast, and the same sequence on every
+//! machine, so a seed names a query set.
+
+use crate::aabb::Aabb;
+use crate::math::Vec3;
+use crate::mesh::Mesh;
+
+/// A small seeded pseudo-random generator (SplitMix64).
+#[derive(Clone, Debug)]
+pub struct Rng(u64);
+
+impl Rng {
+    /// A generator whose sequence is fixed by `seed`.
+    pub fn new(seed: u64) -> Self {
+        Self(seed)
+    }
+
+    /// The next 64 random bits.
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in `[0, 1)`.
+    pub fn unit(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    }
+
+    /// Uniform in `[lo, hi)`.
+    pub fn range(&mut self, lo: f32, hi: f32) -> f32 {
+        lo + (hi - lo) * self.unit() as f32
+    }
+
+    /// Uniform integer in `0..n` (`n > 0`).
+    pub fn below(&mut self, n: usize) -> usize {
+        ((self.next_u64() as u128 * n as u128) >> 64) as usize
+    }
+
+    /// Standard normal (Box–Muller).
+    pub fn gaussian(&mut self) -> f64 {
+        let u = 1.0 - self.unit();
+        let v = self.unit();
+        (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
+    }
+
+    /// Uniform in the box.
+    pub fn in_box(&mut self, b: &Aabb) -> Vec3 {
+        Vec3::new(
+            self.range(b.min.x, b.max.x),
+            self.range(b.min.y, b.max.y),
+            self.range(b.min.z, b.max.z),
+        )
+    }
+}
+
+/// `n` points uniform in the mesh's bounding box enlarged by 10% of its size on
+/// every side (the `uniform` query set).
+pub fn uniform_in_box(mesh: &Mesh, n: usize, seed: u64) -> Vec<Vec3> {
+    let b = mesh.bounds();
+    if b.is_empty() {
+        return Vec::new();
+    }
+    let b = Aabb::new(b.min - b.size() * 0.1, b.max + b.size() * 0.1);
+    let mut rng = Rng::new(seed);
+    (0..n).map(|_| rng.in_box(&b)).collect()
+}
+
+/// `n` points uniform on the surface (triangles picked by area) plus a
+/// gaussian offset per axis with standard deviation `sigma_fraction` of the
+/// bounding-box diagonal (the `near` query set uses 0.01). Empty when the mesh
+/// has no area.
+pub fn near_surface(mesh: &Mesh, n: usize, sigma_fraction: f32, seed: u64) -> Vec<Vec3> {
+    let triangles = mesh.triangles().primitives;
+    let mut cumulative = Vec::with_capacity(triangles.len());
+    let mut total = 0f64;
+    for t in &triangles {
+        total += t.area() as f64;
+        cumulative.push(total);
+    }
+    if triangles.is_empty() || total <= 0.0 {
+        return Vec::new();
+    }
+    let sigma = (mesh.bounds().diagonal() * sigma_fraction) as f64;
+    let mut rng = Rng::new(seed);
+    (0..n)
+        .map(|_| {
+            let target = rng.unit() * total;
+            let i = cumulative.partition_point(|&c| c <= target).min(triangles.len() - 1);
+            let t = &triangles[i];
+            let (mut u, mut v) = (rng.unit() as f32, rng.unit() as f32);
+            if u + v > 1.0 {
+                (u, v) = (1.0 - u, 1.0 - v);
+            }
+            let on = t.a + (t.b - t.a) * u + (t.c - t.a) * v;
+            let offset = Vec3::new(rng.gaussian() as f32, rng.gaussian() as f32, rng.gaussian() as f32);
+            on + offset * sigma as f32
+        })
+        .collect()
+}

@@ -1,0 +1,91 @@
+//! Helpers shared by the integration tests: seeded meshes, query sets, and the
+//! real meshes of ../shared/data (skipped with a note when absent).
+#![allow(dead_code)]
+
+use proxima::sample::Rng;
+use proxima::{Mesh, Vec3};
+use std::path::PathBuf;
+
+/// The folder of real meshes, if this checkout has ../shared beside it.
+pub fn data_dir() -> Option<PathBuf> {
+    let dir = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"));
+    if dir.is_dir() {
+        Some(dir)
+    } else {
+        println!("skipped: ../shared/data not found (real-mesh tests need the shared folder beside the checkout)");
+        None
+    }
+}
+
+/// Every mesh file of the shared data folder, smallest first.
+pub fn shared_meshes() -> Vec<PathBuf> {
+    let Some(dir) = data_dir() else { return Vec::new() };
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .expect("readable data dir")
+        .map(|e| e.expect("dir entry").path())
+        .filter(|p| {
+            let name = p.file_name().unwrap().to_string_lossy().to_lowercase();
+            [".obj", ".ply", ".off", ".stl", ".gz"]
+                .iter()
+                .any(|ext| name.ends_with(ext))
+        })
+        .collect();
+    files.sort_by_key(|p| std::fs::metadata(p).map(|m| m.len()).unwrap_or(0));
+    files
+}
+
+/// A random triangle soup of `n` triangles in the unit cube, some of them tiny
+/// and some degenerate.
+pub fn random_soup(n: usize, seed: u64) -> Mesh {
+    let mut rng = Rng::new(seed);
+    let mut positions = Vec::new();
+    let mut triangles = Vec::new();
+    for i in 0..n {
+        let center = Vec3::new(rng.range(0.0, 1.0), rng.range(0.0, 1.0), rng.range(0.0, 1.0));
+        let size = if i % 3 == 0 { 0.2 } else { 0.03 };
+        let base = positions.len() as u32;
+        for _ in 0..3 {
+            positions.push(center + Vec3::new(rng.range(-size, size), rng.range(-size, size), rng.range(-size, size)));
+        }
+        match i % 17 {
+            // repeated vertex
+            5 => positions[base as usize + 2] = positions[base as usize],
+            // collinear
+            9 => {
+                let (a, b) = (positions[base as usize], positions[base as usize + 1]);
+                positions[base as usize + 2] = a + (b - a) * 2.5;
+            }
+            _ => {}
+        }
+        triangles.push([base, base + 1, base + 2]);
+    }
+    Mesh::from_triangles(positions, &triangles).unwrap()
+}
+
+/// A bumpy closed mesh (seeded).
+pub fn bumpy_sphere(frequency: u32, seed: u64) -> Mesh {
+    proxima::mesh::generate::noisy_icosphere(frequency, seed)
+}
+
+/// Query points of every kind: far away, near the surface, uniform in the box,
+/// exactly on vertices, on edge midpoints, at the center (inside closed meshes).
+pub fn queries(mesh: &Mesh, n: usize, seed: u64) -> Vec<Vec3> {
+    let mut out = proxima::sample::near_surface(mesh, n, 0.01, seed);
+    out.extend(proxima::sample::uniform_in_box(mesh, n, seed + 1));
+    let b = mesh.bounds();
+    let mut rng = Rng::new(seed + 2);
+    let positions = mesh.positions();
+    for _ in 0..n / 4 + 1 {
+        out.push(positions[rng.below(positions.len())]);
+        let edges = mesh.edge_indices();
+        if !edges.is_empty() {
+            let [a, c] = edges[rng.below(edges.len())];
+            out.push((positions[a as usize] + positions[c as usize]) * 0.5);
+        }
+        // far away
+        let dir = Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)).normalize_or(Vec3::X);
+        out.push(b.center() + dir * b.diagonal() * 20.0);
+    }
+    out.push(b.center());
+    out
+}
