@@ -1,0 +1,608 @@
+//! PLY (Polygon File Format), ascii and binary of both byte orders.
+
+use super::text::{
+    Faces, Lines, TokenStream, check_finite, error_at, implausible, parse_f32, parse_int, parse_uint, show, syntax,
+    tokens, truncated,
+};
+use crate::error::{LoadError, MeshError};
+use crate::math::Vec3;
+use crate::mesh::Mesh;
+use std::path::Path;
+
+/// A scalar property type.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Scalar {
+    I8,
+    U8,
+    I16,
+    U16,
+    I32,
+    U32,
+    F32,
+    F64,
+}
+
+impl Scalar {
+    fn from_name(name: &[u8]) -> Option<Self> {
+        Some(match name {
+            b"char" | b"int8" => Scalar::I8,
+            b"uchar" | b"uint8" => Scalar::U8,
+            b"short" | b"int16" => Scalar::I16,
+            b"ushort" | b"uint16" => Scalar::U16,
+            b"int" | b"int32" => Scalar::I32,
+            b"uint" | b"uint32" => Scalar::U32,
+            b"float" | b"float32" => Scalar::F32,
+            b"double" | b"float64" => Scalar::F64,
+            _ => return None,
+        })
+    }
+
+    /// Size in bytes in binary files.
+    fn size(self) -> usize {
+        match self {
+            Scalar::I8 | Scalar::U8 => 1,
+            Scalar::I16 | Scalar::U16 => 2,
+            Scalar::I32 | Scalar::U32 | Scalar::F32 => 4,
+            Scalar::F64 => 8,
+        }
+    }
+
+    fn is_integer(self) -> bool {
+        !matches!(self, Scalar::F32 | Scalar::F64)
+    }
+}
+
+/// How the data after the header is stored.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Encoding {
+    Ascii,
+    BinaryLittleEndian,
+    BinaryBigEndian,
+}
+
+/// A property's layout.
+#[derive(Clone, Copy, Debug)]
+enum Kind {
+    Scalar(Scalar),
+    /// `list <count type> <item type>`.
+    List(Scalar, Scalar),
+}
+
+/// What a property means to us.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Role {
+    /// Vertex coordinate 0, 1 or 2.
+    Coordinate(usize),
+    /// The index list of a face.
+    Indices,
+    Skip,
+}
+
+#[derive(Debug)]
+struct Property<'a> {
+    name: &'a [u8],
+    kind: Kind,
+    role: Role,
+}
+
+#[derive(Debug)]
+struct Element<'a> {
+    name: &'a [u8],
+    count: u64,
+    /// Header line that declares the element.
+    line: usize,
+    properties: Vec<Property<'a>>,
+}
+
+impl Element<'_> {
+    /// Fewest bytes one element takes: binary, its exact minimum (lists empty);
+    /// ascii, two per value (a digit and a separator; a list at least its count).
+    fn min_bytes(&self, encoding: Encoding) -> u64 {
+        let per_property = |p: &Property| match (encoding, p.kind) {
+            (Encoding::Ascii, _) => 2,
+            (_, Kind::Scalar(t) | Kind::List(t, _)) => t.size() as u64,
+        };
+        self.properties.iter().map(per_property).sum()
+    }
+}
+
+/// The parsed header.
+struct Header<'a> {
+    encoding: Encoding,
+    elements: Vec<Element<'a>>,
+    /// Index of the vertex element in `elements`.
+    vertex: usize,
+    /// 1-based line where the data starts (for ascii).
+    data_line: usize,
+    /// The bytes after the header.
+    data: &'a [u8],
+}
+
+pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Mesh, LoadError> {
+    let header = parse_header(bytes, path)?;
+    let vertex_count = header.elements.get(header.vertex).map_or(0, |e| e.count);
+    // `parse_header` checked that the counts fit the data (so fit in memory) and
+    // that the vertex count fits 32-bit indices.
+    let vertex_count = usize::try_from(vertex_count).unwrap_or(usize::MAX);
+    let mut reader = Reader {
+        path,
+        vertex_count,
+        positions: Vec::new(),
+        faces: Faces::with_capacity(0, 0),
+        encoding: header.encoding,
+    };
+    let data_len = header.data.len() as u64;
+    match header.encoding {
+        Encoding::Ascii => {
+            let mut tokens = TokenStream::new(header.data, header.data_line);
+            for element in &header.elements {
+                reader.reserve(element, data_len);
+                reader.ascii_element(element, &mut tokens)?;
+            }
+            if let Some(token) = tokens.next_token() {
+                let message = format!("unexpected `{}` after the last element", show(token));
+                return Err(syntax(path, Some(tokens.line()), message));
+            }
+        }
+        Encoding::BinaryLittleEndian | Encoding::BinaryBigEndian => {
+            let mut pos = 0;
+            for element in &header.elements {
+                reader.reserve(element, data_len.saturating_sub(pos as u64));
+                reader.binary_element(element, header.data, &mut pos)?;
+            }
+        }
+    }
+    reader.faces.finish(reader.positions, path)
+}
+
+/// Reads the header: magic, format, elements and their properties.
+fn parse_header<'a>(bytes: &'a [u8], path: &Path) -> Result<Header<'a>, LoadError> {
+    let mut lines = Lines::new(bytes, 1);
+    if lines.next().is_none_or(|(_, magic)| magic.trim_ascii_end() != b"ply") {
+        return Err(syntax(path, Some(1), "not a PLY file: the first line must be `ply`"));
+    }
+    let mut encoding = None;
+    let mut elements: Vec<Element> = Vec::new();
+    let end_line = loop {
+        let Some((line, text)) = lines.next() else {
+            return Err(truncated(path, Some(lines.line()), "the header has no `end_header`"));
+        };
+        let mut fields = tokens(text);
+        let keyword = fields.next().unwrap_or_default();
+        match keyword {
+            b"" | b"comment" | b"obj_info" => {}
+            b"end_header" => break line,
+            b"format" => {
+                encoding = Some(match fields.next().unwrap_or_default() {
+                    b"ascii" => Encoding::Ascii,
+                    b"binary_little_endian" => Encoding::BinaryLittleEndian,
+                    b"binary_big_endian" => Encoding::BinaryBigEndian,
+                    other => {
+                        return Err(syntax(
+                            path,
+                            Some(line),
+                            format!("unknown PLY format `{}`", show(other)),
+                        ));
+                    }
+                });
+                if fields.next().is_none() {
+                    return Err(syntax(path, Some(line), "missing format version"));
+                }
+            }
+            b"element" => {
+                let (Some(name), Some(count)) = (fields.next(), fields.next()) else {
+                    return Err(syntax(path, Some(line), "expected `element <name> <count>`"));
+                };
+                let count = parse_uint(count)
+                    .ok_or_else(|| syntax(path, Some(line), format!("bad element count `{}`", show(count))))?;
+                elements.push(Element {
+                    name,
+                    count,
+                    line,
+                    properties: Vec::new(),
+                });
+            }
+            b"property" => {
+                let Some(element) = elements.last_mut() else {
+                    return Err(syntax(path, Some(line), "`property` before any `element`"));
+                };
+                let scalar = |name: Option<&[u8]>| {
+                    let name = name.unwrap_or_default();
+                    Scalar::from_name(name)
+                        .ok_or_else(|| syntax(path, Some(line), format!("unknown property type `{}`", show(name))))
+                };
+                let first = fields.next();
+                let kind = if first == Some(b"list") {
+                    let count = scalar(fields.next())?;
+                    if !count.is_integer() {
+                        return Err(syntax(path, Some(line), "a list count must have an integer type"));
+                    }
+                    Kind::List(count, scalar(fields.next())?)
+                } else {
+                    Kind::Scalar(scalar(first)?)
+                };
+                let Some(name) = fields.next() else {
+                    return Err(syntax(path, Some(line), "missing property name"));
+                };
+                element.properties.push(Property {
+                    name,
+                    kind,
+                    role: Role::Skip,
+                });
+            }
+            other => {
+                return Err(syntax(
+                    path,
+                    Some(line),
+                    format!("unknown header keyword `{}`", show(other)),
+                ));
+            }
+        }
+    };
+    let Some(encoding) = encoding else {
+        return Err(syntax(path, Some(end_line), "the header has no `format` line"));
+    };
+    let data = lines.rest();
+    let vertex = assign_roles(&mut elements, end_line, path)?;
+
+    // Sizes, before anything is allocated.
+    let available = data.len() as u128 + u128::from(encoding == Encoding::Ascii);
+    let mut needed: u128 = 0;
+    for element in &elements {
+        needed += u128::from(element.count) * u128::from(element.min_bytes(encoding));
+        if needed > available {
+            let message = format!(
+                "the header announces {} `{}` elements, more than the {} bytes of data can hold",
+                element.count,
+                show(element.name),
+                data.len()
+            );
+            return Err(implausible(path, Some(element.line), message));
+        }
+    }
+    if let Some(element) = elements.get(vertex).filter(|e| e.count > u64::from(u32::MAX)) {
+        let error = MeshError::TooLarge {
+            what: "vertices",
+            count: usize::try_from(element.count).unwrap_or(usize::MAX),
+        };
+        return Err(error_at(path, Some(element.line), error));
+    }
+    Ok(Header {
+        encoding,
+        elements,
+        vertex,
+        data_line: end_line + 1,
+        data,
+    })
+}
+
+/// Marks the coordinate and face-index properties; returns the index of the
+/// vertex element.
+fn assign_roles(elements: &mut [Element], end_line: usize, path: &Path) -> Result<usize, LoadError> {
+    let mut vertex = None;
+    let mut face_seen = false;
+    for (e, element) in elements.iter_mut().enumerate() {
+        match element.name {
+            b"vertex" => {
+                if vertex.replace(e).is_some() {
+                    return Err(syntax(path, Some(element.line), "a second `element vertex`"));
+                }
+                for (axis, name) in [b"x", b"y", b"z"].into_iter().enumerate() {
+                    let Some(property) = element.properties.iter_mut().find(|p| p.name == name) else {
+                        let message = format!("`element vertex` has no property `{}`", show(name));
+                        return Err(syntax(path, Some(element.line), message));
+                    };
+                    if matches!(property.kind, Kind::List(..)) {
+                        let message = format!("vertex property `{}` is a list", show(name));
+                        return Err(syntax(path, Some(element.line), message));
+                    }
+                    property.role = Role::Coordinate(axis);
+                }
+            }
+            b"face" => {
+                if std::mem::replace(&mut face_seen, true) {
+                    return Err(syntax(path, Some(element.line), "a second `element face`"));
+                }
+                let indices = element
+                    .properties
+                    .iter_mut()
+                    .find(|p| matches!(p.name, b"vertex_indices" | b"vertex_index"));
+                let Some(property) = indices else {
+                    let message = "`element face` has no `vertex_indices` (or `vertex_index`) list";
+                    return Err(syntax(path, Some(element.line), message));
+                };
+                match property.kind {
+                    Kind::List(_, item) if item.is_integer() => property.role = Role::Indices,
+                    _ => {
+                        let message = "`vertex_indices` must be a list of an integer type";
+                        return Err(syntax(path, Some(element.line), message));
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    vertex.ok_or_else(|| syntax(path, Some(end_line), "the header has no `element vertex`"))
+}
+
+/// The parse state shared by the ascii and binary readers.
+struct Reader<'p> {
+    path: &'p Path,
+    vertex_count: usize,
+    positions: Vec<Vec3>,
+    faces: Faces,
+    encoding: Encoding,
+}
+
+impl Reader<'_> {
+    /// Reserves room for `element` if it is the vertex or face element, by what
+    /// the `remaining` bytes allow.
+    fn reserve(&mut self, element: &Element, remaining: u64) {
+        let capacity = |min_bytes: u64| {
+            let fits = remaining / min_bytes.max(1);
+            usize::try_from(element.count.min(fits)).unwrap_or(usize::MAX)
+        };
+        let min_bytes = element.min_bytes(self.encoding);
+        if has_role(element, |r| matches!(r, Role::Coordinate(_))) {
+            self.positions.reserve_exact(capacity(min_bytes));
+        } else if has_role(element, |r| r == Role::Indices) {
+            // Typical faces are triangles: 3 indices more than the minimum.
+            let per_face = match (self.encoding, indices_kind(element)) {
+                (Encoding::Ascii, _) => 6,
+                (_, Some(Kind::List(_, item))) => 3 * item.size() as u64,
+                _ => 0,
+            };
+            let faces = capacity(min_bytes + per_face);
+            self.faces = Faces::with_capacity(faces, faces.saturating_mul(3));
+        }
+    }
+
+    /// Reads all `element`s of an ascii file.
+    fn ascii_element<'a>(&mut self, element: &Element, tokens: &mut TokenStream<'a>) -> Result<(), LoadError> {
+        if element.properties.is_empty() {
+            return Ok(());
+        }
+        let is_vertex = has_role(element, |r| matches!(r, Role::Coordinate(_)));
+        for i in 0..element.count {
+            let mut xyz = [0.0f32; 3];
+            for property in &element.properties {
+                let next = |tokens: &mut TokenStream<'a>| next_value(tokens, element, i, self.path);
+                match (property.kind, property.role) {
+                    (Kind::Scalar(_), Role::Coordinate(axis)) => {
+                        let token = next(tokens)?;
+                        let value = parse_f32(token).ok_or_else(|| {
+                            syntax(self.path, Some(tokens.line()), format!("bad number `{}`", show(token)))
+                        })?;
+                        if let Some(slot) = xyz.get_mut(axis) {
+                            *slot = value;
+                        }
+                    }
+                    (Kind::Scalar(_), _) => {
+                        next(tokens)?;
+                    }
+                    (Kind::List(..), role) => {
+                        let token = next(tokens)?;
+                        let line = tokens.line();
+                        let len = parse_int(token).and_then(|n| u64::try_from(n).ok()).ok_or_else(|| {
+                            syntax(self.path, Some(line), format!("bad list length `{}`", show(token)))
+                        })?;
+                        for _ in 0..len {
+                            let token = tokens.next_token().ok_or_else(|| {
+                                let message = format!("a list of {len} values ends early");
+                                truncated(self.path, Some(tokens.line()), message)
+                            })?;
+                            if role == Role::Indices {
+                                let index = parse_int(token).ok_or_else(|| {
+                                    syntax(
+                                        self.path,
+                                        Some(tokens.line()),
+                                        format!("bad vertex index `{}`", show(token)),
+                                    )
+                                })?;
+                                self.push_index(index, Some(tokens.line()))?;
+                            }
+                        }
+                        if role == Role::Indices {
+                            self.faces.close().map_err(|e| error_at(self.path, Some(line), e))?;
+                        }
+                    }
+                }
+            }
+            if is_vertex {
+                let p = check_finite(
+                    Vec3::from_array(xyz),
+                    self.positions.len(),
+                    self.path,
+                    Some(tokens.line()),
+                )?;
+                self.positions.push(p);
+            }
+        }
+        Ok(())
+    }
+
+    /// Reads all `element`s of a binary file from `data[*pos..]`.
+    fn binary_element(&mut self, element: &Element, data: &[u8], pos: &mut usize) -> Result<(), LoadError> {
+        if element.properties.is_empty() {
+            return Ok(());
+        }
+        let big_endian = self.encoding == Encoding::BinaryBigEndian;
+        let is_vertex = has_role(element, |r| matches!(r, Role::Coordinate(_)));
+        for i in 0..element.count {
+            let ended = |pos: usize| {
+                let message = format!(
+                    "the header announces {} `{}` elements, but the data ends in number {} (byte {} of the data)",
+                    element.count,
+                    show(element.name),
+                    i + 1,
+                    pos
+                );
+                truncated(self.path, None, message)
+            };
+            let mut xyz = [0.0f32; 3];
+            for property in &element.properties {
+                match (property.kind, property.role) {
+                    (Kind::Scalar(t), Role::Coordinate(axis)) => {
+                        let value = read_f64(data, pos, t, big_endian).ok_or_else(|| ended(*pos))?;
+                        if let Some(slot) = xyz.get_mut(axis) {
+                            *slot = value as f32;
+                        }
+                    }
+                    (Kind::Scalar(t), _) => {
+                        skip(data, pos, t.size() as u64).ok_or_else(|| ended(*pos))?;
+                    }
+                    (Kind::List(count, item), role) => {
+                        let len = read_int(data, pos, count, big_endian).ok_or_else(|| ended(*pos))?;
+                        let len = u64::try_from(len).map_err(|_| {
+                            syntax(
+                                self.path,
+                                None,
+                                format!("negative list length {len} in element {}", i + 1),
+                            )
+                        })?;
+                        if role == Role::Indices {
+                            if len.saturating_mul(item.size() as u64) > (data.len() - *pos) as u64 {
+                                return Err(ended(*pos));
+                            }
+                            for _ in 0..len {
+                                let index = read_int(data, pos, item, big_endian).ok_or_else(|| ended(*pos))?;
+                                self.push_index(index, None)?;
+                            }
+                            self.faces.close().map_err(|e| error_at(self.path, None, e))?;
+                        } else {
+                            skip(data, pos, len.saturating_mul(item.size() as u64)).ok_or_else(|| ended(*pos))?;
+                        }
+                    }
+                }
+            }
+            if is_vertex {
+                self.positions.push(check_finite(
+                    Vec3::from_array(xyz),
+                    self.positions.len(),
+                    self.path,
+                    None,
+                )?);
+            }
+        }
+        Ok(())
+    }
+
+    /// Adds a vertex index to the face being read, checking its range.
+    #[inline]
+    fn push_index(&mut self, index: i64, line: Option<usize>) -> Result<(), LoadError> {
+        if index < 0 {
+            return Err(syntax(self.path, line, format!("negative vertex index {index}")));
+        }
+        match u32::try_from(index) {
+            Ok(i) if (i as usize) < self.vertex_count => {
+                self.faces.push(i);
+                Ok(())
+            }
+            _ => {
+                let error = MeshError::IndexOutOfRange {
+                    face: self.faces.count(),
+                    vertex: index as u64,
+                    vertex_count: self.vertex_count,
+                };
+                Err(error_at(self.path, line, error))
+            }
+        }
+    }
+}
+
+/// The next value of element number `i` (0-based) of `element`.
+#[inline]
+fn next_value<'a>(tokens: &mut TokenStream<'a>, element: &Element, i: u64, path: &Path) -> Result<&'a [u8], LoadError> {
+    tokens.next_token().ok_or_else(|| {
+        let message = format!(
+            "the header announces {} `{}` elements, but the data ends in number {}",
+            element.count,
+            show(element.name),
+            i + 1
+        );
+        truncated(path, Some(tokens.line()), message)
+    })
+}
+
+/// `true` when some property of `element` has a role matching `f`.
+fn has_role(element: &Element, f: impl Fn(Role) -> bool) -> bool {
+    element.properties.iter().any(|p| f(p.role))
+}
+
+/// The layout of the face-index list of `element`, if it has one.
+fn indices_kind(element: &Element) -> Option<Kind> {
+    element
+        .properties
+        .iter()
+        .find(|p| p.role == Role::Indices)
+        .map(|p| p.kind)
+}
+
+/// Advances `pos` by `n` bytes, or `None` when fewer remain.
+#[inline]
+fn skip(data: &[u8], pos: &mut usize, n: u64) -> Option<()> {
+    let end = u64::try_from(*pos).ok()?.checked_add(n)?;
+    if end > data.len() as u64 {
+        return None;
+    }
+    *pos = end as usize;
+    Some(())
+}
+
+/// The `N` bytes at `*pos`, advancing `pos`.
+#[inline]
+fn take<const N: usize>(data: &[u8], pos: &mut usize) -> Option<[u8; N]> {
+    let bytes = data.get(*pos..pos.checked_add(N)?)?;
+    *pos += N;
+    bytes.try_into().ok()
+}
+
+/// Reads a scalar of type `t` as `f64` (exact for every type).
+#[inline]
+fn read_f64(data: &[u8], pos: &mut usize, t: Scalar, big_endian: bool) -> Option<f64> {
+    macro_rules! read {
+        ($ty:ty) => {{
+            let bytes = take(data, pos)?;
+            if big_endian {
+                <$ty>::from_be_bytes(bytes)
+            } else {
+                <$ty>::from_le_bytes(bytes)
+            }
+        }};
+    }
+    Some(match t {
+        Scalar::I8 => f64::from(read!(i8)),
+        Scalar::U8 => f64::from(read!(u8)),
+        Scalar::I16 => f64::from(read!(i16)),
+        Scalar::U16 => f64::from(read!(u16)),
+        Scalar::I32 => f64::from(read!(i32)),
+        Scalar::U32 => f64::from(read!(u32)),
+        Scalar::F32 => f64::from(read!(f32)),
+        Scalar::F64 => read!(f64),
+    })
+}
+
+/// Reads an integer scalar of type `t`; `None` at the end of the data or for a
+/// float type (the header checks rule that out for counts and indices).
+#[inline]
+fn read_int(data: &[u8], pos: &mut usize, t: Scalar, big_endian: bool) -> Option<i64> {
+    macro_rules! read {
+        ($ty:ty) => {{
+            let bytes = take(data, pos)?;
+            i64::from(if big_endian {
+                <$ty>::from_be_bytes(bytes)
+            } else {
+                <$ty>::from_le_bytes(bytes)
+            })
+        }};
+    }
+    Some(match t {
+        Scalar::I8 => read!(i8),
+        Scalar::U8 => read!(u8),
+        Scalar::I16 => read!(i16),
+        Scalar::U16 => read!(u16),
+        Scalar::I32 => read!(i32),
+        Scalar::U32 => read!(u32),
+        Scalar::F32 | Scalar::F64 => return None,
+    })
+}
