@@ -28,16 +28,21 @@
 pub mod aabb;
 pub mod bvh;
 pub mod error;
+pub mod grid;
 pub mod io;
 pub mod linear;
 pub mod math;
 pub mod mesh;
 pub mod primitive;
 pub mod sample;
+pub mod traversal;
 
 pub use aabb::Aabb;
 pub use bvh::{AabbTree, BuildConfig, ClosestHit, TreeStats};
 pub use error::{BuildError, LoadError, LoadErrorKind, MeshError};
+pub use error::GridError;
+pub use grid::{GridConfig, HashGrid, InsertMethod};
+pub use traversal::{GridTraversal, TraversalConfig, TraversalStep};
 pub use linear::LinearSearch;
 pub use math::{Vec3, Vec3A};
 pub use mesh::Mesh;

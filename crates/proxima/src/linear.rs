@@ -58,8 +58,13 @@ impl<T: ClosestPoint> LinearSearch<T> {
                 ((q - pa).length_squared(), i, q)
             })
             .collect();
-        all.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        all.truncate(k);
+        let order = |a: &(f32, usize, Vec3A), b: &(f32, usize, Vec3A)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1));
+        if k < all.len() {
+            // Selection first: only the k kept need sorting.
+            all.select_nth_unstable_by(k, order);
+            all.truncate(k);
+        }
+        all.sort_unstable_by(order);
         all.into_iter()
             .map(|(d2, i, q)| ClosestHit {
                 primitive: i as u32,

@@ -32,16 +32,14 @@ fn rate(n: usize, seconds: f64) -> f64 {
     n as f64 / seconds
 }
 
-fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize) {
+fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &BuildConfig) {
     let diagonal = mesh.bounds().diagonal();
     println!(
         "\n## {name}: {} triangles, bbox diagonal {diagonal}",
         mesh.triangle_count()
     );
     let triangles = mesh.triangles();
-    let (tree, ours_build) = best_of(3, || {
-        AabbTree::build_set(triangles.clone(), &BuildConfig::default()).unwrap()
-    });
+    let (tree, ours_build) = best_of(3, || AabbTree::build_set(triangles.clone(), config).unwrap());
     let (trimesh, parry_build) = best_of(3, || parry_trimesh(mesh));
     println!(
         "build: proxima {:.3} s, parry3d {:.3} s, ratio {:.2}x",
@@ -76,6 +74,15 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize) {
             .map(|(a, b)| (a - b).abs())
             .fold(0.0f32, f32::max)
             / diagonal;
+        let visits: (u64, u64) = points.iter().fold((0, 0), |acc, &p| {
+            let s = tree.closest_with_stats(p).1;
+            (acc.0 + s.nodes_visited, acc.1 + s.primitives_tested)
+        });
+        println!(
+            "{set}: {:.1} nodes and {:.1} primitives visited per query",
+            visits.0 as f64 / points.len() as f64,
+            visits.1 as f64 / points.len() as f64
+        );
         println!(
             "| {set} | {:.0} | {:.0} | {:.0} | {:.2}x | {:.2}x | {:.1e} |",
             rate(points.len(), t_ours),
@@ -116,10 +123,12 @@ fn main() {
     let mut names = Vec::new();
     let mut n_queries = 20_000;
     let mut n_linear = 0;
+    let mut config = BuildConfig::default();
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         match a.as_str() {
             "--queries" => n_queries = args.next().and_then(|v| v.parse().ok()).expect("--queries N"),
+            "--leaf" => config.min_size = args.next().and_then(|v| v.parse().ok()).expect("--leaf N"),
             "--linear" => n_linear = args.next().and_then(|v| v.parse().ok()).expect("--linear N"),
             _ => names.push(a),
         }
@@ -129,7 +138,7 @@ fn main() {
     }
     for name in names {
         match load_named(&name) {
-            Ok(mesh) => compare(&name, &mesh, n_queries, n_linear),
+            Ok(mesh) => compare(&name, &mesh, n_queries, n_linear, &config),
             Err(e) => eprintln!("{name}: {e}"),
         }
     }

@@ -52,7 +52,7 @@ fn processing_order(points: &[Vec3], bounds: &Aabb, options: BatchOptions) -> Ve
 
 impl<T: ClosestPoint + Sync> AabbTree<T> {
     fn root_bounds(&self) -> Aabb {
-        self.nodes.first().map_or(Aabb::EMPTY, |n| n.bounds())
+        self.root().map_or(Aabb::EMPTY, |n| n.bounds())
     }
 
     /// [`closest`](Self::closest) for every point, in parallel on rayon's pool,

@@ -2,7 +2,7 @@
 
 use super::AabbTree;
 use super::config::{BuildConfig, SplitMethod};
-use super::node::Node;
+use super::node::{Node, NodePair};
 use crate::aabb::Aabb;
 use crate::error::BuildError;
 use crate::math::Vec3;
@@ -92,15 +92,20 @@ impl<T: Bounded + Copy> AabbTree<T> {
     }
 }
 
+const PLACEHOLDER: Node = Node::empty_leaf();
+/// Node 1: never referenced by any inner node.
+pub(crate) const PADDING: Node = Node::empty_leaf();
+
 /// Builds the node array over `items`, reordering them into leaf order.
 /// Returns the nodes and the depth of the deepest leaf.
-fn build_nodes(items: &mut [Item], config: &BuildConfig) -> (Vec<Node>, u32) {
+fn build_nodes(items: &mut [Item], config: &BuildConfig) -> (Vec<NodePair>, u32) {
     if items.is_empty() {
         return (Vec::new(), 0);
     }
     let min_size = config.min_size as usize;
-    let mut nodes = Vec::with_capacity(2 * items.len().div_ceil(min_size));
-    nodes.push(Node::leaf(Aabb::EMPTY, 0, 1)); // placeholder for the root
+    let mut nodes = Vec::with_capacity(items.len().div_ceil(min_size) + 1);
+    // The root, and a padding node so that every sibling pair is line-aligned.
+    nodes.push(NodePair([PLACEHOLDER, PADDING]));
     // Explicit work list instead of recursion: (node, begin, end, depth).
     let mut work = vec![(0usize, 0usize, items.len(), 0u32)];
     let mut max_depth = 0;
@@ -111,7 +116,7 @@ fn build_nodes(items: &mut [Item], config: &BuildConfig) -> (Vec<Node>, u32) {
             .fold(Aabb::EMPTY, |b, it| b.merge(&Aabb::new(it.min, it.max)));
         max_depth = max_depth.max(depth);
         if range.len() <= min_size || depth >= config.max_depth {
-            nodes[node] = Node::leaf(widen(bounds), begin as u32, range.len() as u32);
+            nodes[node >> 1].0[node & 1] = Node::leaf(widen(bounds), begin as u32, range.len() as u32);
             continue;
         }
         let half = range.len() / 2;
@@ -123,10 +128,9 @@ fn build_nodes(items: &mut [Item], config: &BuildConfig) -> (Vec<Node>, u32) {
                 range.select_nth_unstable_by(half, |a, b| a.key(axis).total_cmp(&b.key(axis)));
             }
         }
-        let first_child = nodes.len();
-        nodes.push(Node::leaf(Aabb::EMPTY, 0, 1));
-        nodes.push(Node::leaf(Aabb::EMPTY, 0, 1));
-        nodes[node] = Node::inner(widen(bounds), first_child as u32);
+        let first_child = 2 * nodes.len();
+        nodes.push(NodePair([PLACEHOLDER, PLACEHOLDER]));
+        nodes[node >> 1].0[node & 1] = Node::inner(widen(bounds), first_child as u32);
         // Left child is popped first, so its subtree is laid out next to it.
         work.push((first_child + 1, begin + half, end, depth + 1));
         work.push((first_child, begin, begin + half, depth + 1));

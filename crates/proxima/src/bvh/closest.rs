@@ -111,7 +111,7 @@ impl<T: ClosestPoint> AabbTree<T> {
         let p = Vec3A::from(p);
         let mut best = Best::new(&self.indices, f32::INFINITY);
         let mut queue = BinaryHeap::with_capacity(64);
-        if let Some(root) = self.nodes.first() {
+        if let Some(root) = self.root() {
             queue.push(Pending {
                 distance_squared: root.distance_squared(p),
                 node: 0,
@@ -121,14 +121,14 @@ impl<T: ClosestPoint> AabbTree<T> {
             if distance_squared > best.bound {
                 break;
             }
-            let n = &self.nodes[node as usize];
+            let n = self.node(node as usize);
             if n.is_leaf() {
                 for slot in n.primitive_range() {
                     DistanceVisitor::<T>::visit(&mut best, slot, &self.primitives[slot], p);
                 }
             } else {
                 for child in n.children() {
-                    let d = self.nodes[child as usize].distance_squared(p);
+                    let d = self.node(child as usize).distance_squared(p);
                     if d <= best.bound {
                         queue.push(Pending {
                             distance_squared: d,

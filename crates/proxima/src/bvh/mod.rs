@@ -17,6 +17,7 @@ pub use batch::BatchOptions;
 pub use config::{BuildConfig, MAX_DEPTH, SplitMethod};
 pub use knn::KnnScratch;
 pub use node::Node;
+use node::NodePair;
 pub use traverse::QueryStats;
 pub use validate::TreeStats;
 
@@ -30,7 +31,8 @@ use crate::math::Vec3;
 /// [`closest`](AabbTree::closest) or [`k_nearest`](AabbTree::k_nearest).
 #[derive(Clone, Debug)]
 pub struct AabbTree<T> {
-    nodes: Vec<Node>,
+    /// Node pairs; see [`Node`] for the indexing.
+    nodes: Vec<NodePair>,
     /// Primitives in leaf order.
     primitives: Vec<T>,
     /// `indices[i]`: position in the build input of `primitives[i]`.
@@ -54,9 +56,36 @@ pub struct ClosestHit {
 }
 
 impl<T> AabbTree<T> {
-    /// The node array; index 0 is the root (empty for an empty tree).
-    pub fn nodes(&self) -> &[Node] {
-        &self.nodes
+    /// The root node, `None` for an empty tree.
+    pub fn root(&self) -> Option<&Node> {
+        self.nodes.first().map(|pair| &pair.0[0])
+    }
+
+    /// Node `index` (0 is the root; children indices come from
+    /// [`Node::children`]).
+    #[inline(always)]
+    pub fn node(&self, index: usize) -> &Node {
+        &self.nodes[index >> 1].0[index & 1]
+    }
+
+    /// Number of nodes (inner and leaves).
+    pub fn node_count(&self) -> usize {
+        (2 * self.nodes.len()).saturating_sub(1)
+    }
+
+    /// Every node with its index, root first (the padding node is skipped).
+    pub fn nodes(&self) -> impl Iterator<Item = (usize, &Node)> + '_ {
+        self.nodes
+            .iter()
+            .flat_map(|pair| &pair.0)
+            .enumerate()
+            .filter(|&(i, _)| i != 1)
+    }
+
+    /// The two children of an inner node, which share a cache line.
+    #[inline(always)]
+    fn children_of(&self, node: &Node) -> &[Node; 2] {
+        &self.nodes[(node.children()[0] >> 1) as usize].0
     }
 
     /// The primitives in leaf order.

@@ -6,9 +6,9 @@ use crate::math::{Vec3, Vec3A};
 /// A node of the flat node array: its box, and either two children or a
 /// range of primitives.
 ///
-/// An inner node's children sit side by side at `first` and `first + 1`, so
-/// with 32-byte nodes both child boxes usually share one 64-byte cache line and
-/// the traversal reads them together. A leaf owns the primitives
+/// An inner node's children sit side by side at `first` and `first + 1` (an
+/// even index), in one 64-byte cache line, and the traversal reads them
+/// together. A leaf owns the primitives
 /// `first..first + count` of the tree's primitive array (kept in leaf order).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C, align(32))]
@@ -25,6 +25,16 @@ pub struct Node {
 // PERF: two nodes per cache line; a change of layout must be measured.
 const _: () = assert!(std::mem::size_of::<Node>() == 32);
 
+/// Two sibling nodes in one 64-byte cache line. The tree stores its nodes as
+/// pairs so that the traversal, which always reads both children of a node,
+/// touches exactly one line per step. Flat node index `i` lives at
+/// `pairs[i / 2][i % 2]`; the root is node 0 and node 1 is padding.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(64))]
+pub(crate) struct NodePair(pub(crate) [Node; 2]);
+
+const _: () = assert!(std::mem::size_of::<NodePair>() == 64 && std::mem::align_of::<NodePair>() == 64);
+
 impl Node {
     pub(crate) fn leaf(bounds: Aabb, first: u32, count: u32) -> Self {
         debug_assert!(count > 0);
@@ -33,6 +43,15 @@ impl Node {
             first,
             max: bounds.max,
             count,
+        }
+    }
+
+    pub(crate) const fn empty_leaf() -> Self {
+        Self {
+            min: Vec3::splat(f32::INFINITY),
+            first: 0,
+            max: Vec3::splat(f32::NEG_INFINITY),
+            count: 0,
         }
     }
 

@@ -51,8 +51,7 @@ impl<T> AabbTree<T> {
     /// that when it is popped it can be dropped if the radius shrank meanwhile.
     #[inline]
     pub(crate) fn nearest_first<V: DistanceVisitor<T>, C: Counter>(&self, p: Vec3A, visitor: &mut V, counter: &mut C) {
-        let nodes = &self.nodes[..];
-        let Some(root) = nodes.first() else { return };
+        let Some(root) = self.root() else { return };
         counter.nodes(1);
         let root_distance = root.distance_squared(p);
         // A NaN query visits nothing.
@@ -65,7 +64,7 @@ impl<T> AabbTree<T> {
         let mut top = 0usize;
         let mut node = 0usize;
         loop {
-            let n = &nodes[node];
+            let n = self.node(node);
             if n.is_leaf() {
                 let range = n.primitive_range();
                 counter.primitives(range.len() as u64);
@@ -74,8 +73,9 @@ impl<T> AabbTree<T> {
                 }
             } else {
                 let [left, right] = n.children();
-                let dl = nodes[left as usize].distance_squared(p);
-                let dr = nodes[right as usize].distance_squared(p);
+                let pair = self.children_of(n);
+                let dl = pair[0].distance_squared(p);
+                let dr = pair[1].distance_squared(p);
                 counter.nodes(2);
                 let (near, d_near, far, d_far) = if dl <= dr {
                     (left, dl, right, dr)

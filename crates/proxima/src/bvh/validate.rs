@@ -28,14 +28,13 @@ impl<T: Bounded> AabbTree<T> {
     /// Counts nodes, leaves and leaf sizes.
     pub fn stats(&self) -> TreeStats {
         let leaves: Vec<usize> = self
-            .nodes
-            .iter()
-            .filter(|n| n.is_leaf())
-            .map(|n| n.primitive_range().len())
+            .nodes()
+            .filter(|(_, n)| n.is_leaf())
+            .map(|(_, n)| n.primitive_range().len())
             .collect();
         TreeStats {
             primitives: self.len(),
-            nodes: self.nodes.len(),
+            nodes: self.node_count(),
             leaves: leaves.len(),
             depth: self.depth,
             min_leaf_size: leaves.iter().copied().min().unwrap_or(0),
@@ -65,7 +64,9 @@ impl<T: Bounded> AabbTree<T> {
             };
         }
         let mut covered = vec![false; self.primitives.len()];
-        let mut seen = vec![false; self.nodes.len()];
+        let flat = 2 * self.nodes.len();
+        let mut seen = vec![false; flat];
+        seen[1] = true; // padding
         let mut stack = vec![(0usize, 0u32)];
         let mut max_depth = 0;
         while let Some((i, depth)) = stack.pop() {
@@ -73,7 +74,7 @@ impl<T: Bounded> AabbTree<T> {
                 return Err(format!("node {i} reached twice"));
             }
             max_depth = max_depth.max(depth);
-            let n = &self.nodes[i];
+            let n = self.node(i);
             if n.is_leaf() {
                 for slot in n.primitive_range() {
                     let Some(c) = covered.get_mut(slot) else {
@@ -89,7 +90,7 @@ impl<T: Bounded> AabbTree<T> {
             } else {
                 for c in n.children() {
                     let c = c as usize;
-                    if c >= self.nodes.len() || !n.bounds().contains(&self.nodes[c].bounds()) {
+                    if c >= flat || n.children()[0] % 2 != 0 || !n.bounds().contains(&self.node(c).bounds()) {
                         return Err(format!("node {i} does not hold child {c}"));
                     }
                     stack.push((c, depth + 1));

@@ -16,7 +16,7 @@ const SLIVER_SIN2: f32 = 1e-4;
 /// regions using dot products only, so a point in a vertex or edge region
 /// costs no division. Slivers and degenerate triangles (repeated or collinear
 /// vertices) go to [`closest_on_sliver`].
-#[inline]
+#[inline(always)]
 pub(crate) fn closest_on_triangle(a: Vec3A, b: Vec3A, c: Vec3A, p: Vec3A) -> Vec3A {
     let ab = b - a;
     let ac = c - a;

@@ -12,7 +12,7 @@ mod point_aabb;
 pub mod ray_triangle;
 pub mod sat;
 mod segment;
-mod segment_aabb;
+pub(crate) mod segment_aabb;
 mod triangle;
 mod triangle_aabb;
 

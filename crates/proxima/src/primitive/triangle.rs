@@ -58,7 +58,7 @@ impl Bounded for Triangle {
 }
 
 impl ClosestPoint for Triangle {
-    #[inline]
+    #[inline(always)]
     fn closest_point(&self, p: Vec3A) -> Vec3A {
         closest_on_triangle(self.a.into(), self.b.into(), self.c.into(), p)
     }

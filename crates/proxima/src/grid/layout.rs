@@ -1,0 +1,262 @@
+//! Where the cells are: grid origin, per-axis cell extents, cell boxes and the
+//! cell ranges of boxes and points.
+//!
+//! # Cell boundaries
+//!
+//! The boundary planes along axis `a` are `b_a(i) = f32(origin_a + i · size_a)`,
+//! evaluated in `f64` and rounded once to `f32`. Cell `(i, j, k)` is the closed
+//! box `[b_x(i), b_x(i+1)] × [b_y(j), b_y(j+1)] × [b_z(k), b_z(k+1)]`
+//! ([`GridLayout::cell_box`]); neighbouring cells share their boundary value
+//! bit for bit, `b` never decreases, and cell `(0, 0, 0)` starts at the grid
+//! origin. Every test of the grid (cell ranges, exact overlap, traversal)
+//! compares against these same `f32` values, so all of them agree on which
+//! cell a boundary point touches.
+//!
+//! Far from the origin relative to the cell size (`|i| > 2^24`), `f32` cannot
+//! tell neighbouring boundaries apart and some cells have zero width; they are
+//! still handled consistently (a closed zero-width cell touches what lies on
+//! its plane). Cell indices are limited to `|i| ≤ 2^50`
+//! ([`MAX_CELL_INDEX`]); beyond that a query is an error, not a wrap-around.
+
+use super::Cell;
+use crate::aabb::Aabb;
+use crate::error::GridError;
+use crate::math::Vec3;
+
+/// The largest cell index magnitude on any axis.
+pub const MAX_CELL_INDEX: i64 = 1 << 50;
+
+/// The placement of a grid's cells: origin and per-axis extents, validated.
+///
+/// ```
+/// use proxima::grid::GridLayout;
+/// use proxima::{Aabb, Vec3};
+/// let layout = GridLayout::new(Vec3::ZERO, Vec3::splat(0.5)).unwrap();
+/// assert_eq!(layout.cell_of(Vec3::new(0.7, -0.2, 1.0)).unwrap(), [1, -1, 2]);
+/// assert_eq!(layout.cell_box([1, -1, 2]), Aabb::new(Vec3::new(0.5, -0.5, 1.0), Vec3::new(1.0, 0.0, 1.5)));
+/// // Closed cells: a box ending exactly on a boundary touches the next cell too.
+/// let range = layout.cell_range(&Aabb::new(Vec3::splat(0.1), Vec3::splat(0.5))).unwrap();
+/// assert_eq!((range.min, range.max), ([0, 0, 0], [1, 1, 1]));
+/// assert!(GridLayout::new(Vec3::ZERO, Vec3::new(1.0, 0.0, 1.0)).is_err());
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GridLayout {
+    origin: Vec3,
+    cell_size: Vec3,
+    origin64: [f64; 3],
+    size64: [f64; 3],
+}
+
+/// An inclusive box of cell indices: every cell `c` with `min ≤ c ≤ max` per axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct CellRange {
+    /// Smallest index on each axis.
+    pub min: Cell,
+    /// Largest index on each axis (inclusive).
+    pub max: Cell,
+}
+
+impl CellRange {
+    /// Number of cells along `axis` (0 when the range is empty).
+    #[inline]
+    pub fn extent(&self, axis: usize) -> u64 {
+        if self.max[axis] < self.min[axis] { 0 } else { (self.max[axis] - self.min[axis]) as u64 + 1 }
+    }
+
+    /// Number of cells (0 when empty).
+    #[inline]
+    pub fn count(&self) -> u128 {
+        (0..3).map(|a| self.extent(a) as u128).product()
+    }
+
+    /// `true` when the range holds no cell.
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        (0..3).any(|a| self.max[a] < self.min[a])
+    }
+
+    /// `true` when `cell` is in the range.
+    #[inline]
+    pub fn contains(&self, cell: Cell) -> bool {
+        (0..3).all(|a| self.min[a] <= cell[a] && cell[a] <= self.max[a])
+    }
+
+    /// The cells in both ranges (possibly empty).
+    #[inline]
+    pub fn intersection(&self, other: &CellRange) -> CellRange {
+        CellRange {
+            min: std::array::from_fn(|a| self.min[a].max(other.min[a])),
+            max: std::array::from_fn(|a| self.max[a].min(other.max[a])),
+        }
+    }
+
+    /// The smallest range holding both.
+    #[inline]
+    pub fn merge(&self, other: &CellRange) -> CellRange {
+        CellRange {
+            min: std::array::from_fn(|a| self.min[a].min(other.min[a])),
+            max: std::array::from_fn(|a| self.max[a].max(other.max[a])),
+        }
+    }
+
+    /// `true` when at most one axis holds more than one cell: the range is a
+    /// single cell or a line of cells. A connected primitive whose bounding
+    /// box has such a range overlaps every cell of it.
+    #[inline]
+    pub fn is_line(&self) -> bool {
+        (0..3).filter(|&a| self.extent(a) > 1).count() <= 1
+    }
+
+    /// The cells in x-fastest order (x, then y, then z).
+    pub fn iter(&self) -> impl Iterator<Item = Cell> + '_ {
+        let r = *self;
+        (r.min[2]..=r.max[2])
+            .flat_map(move |k| (r.min[1]..=r.max[1]).flat_map(move |j| (r.min[0]..=r.max[0]).map(move |i| [i, j, k])))
+    }
+}
+
+impl GridLayout {
+    /// Cells of extents `cell_size` with cell `(0, 0, 0)` starting at `origin`.
+    /// Fails on a non-finite origin and on a zero, negative or non-finite extent.
+    pub fn new(origin: Vec3, cell_size: Vec3) -> Result<Self, GridError> {
+        if !(cell_size.is_finite() && cell_size.cmpgt(Vec3::ZERO).all()) {
+            return Err(GridError::CellSize { x: cell_size.x, y: cell_size.y, z: cell_size.z });
+        }
+        if !origin.is_finite() {
+            return Err(GridError::GridOrigin);
+        }
+        let to64 = |v: Vec3| [v.x as f64, v.y as f64, v.z as f64];
+        Ok(Self { origin, cell_size, origin64: to64(origin), size64: to64(cell_size) })
+    }
+
+    /// Cubic cells of side `size`, grid origin at the world origin.
+    pub fn cubic(size: f32) -> Result<Self, GridError> {
+        Self::new(Vec3::ZERO, Vec3::splat(size))
+    }
+
+    /// The grid origin (the minimum corner of cell `(0, 0, 0)`).
+    #[inline]
+    pub fn origin(&self) -> Vec3 {
+        self.origin
+    }
+
+    /// The cell extents along x, y and z.
+    #[inline]
+    pub fn cell_size(&self) -> Vec3 {
+        self.cell_size
+    }
+
+    /// The boundary plane `b_axis(index)`: the lower side of the cells of that index.
+    #[inline]
+    pub fn boundary(&self, axis: usize, index: i64) -> f32 {
+        (self.origin64[axis] + index as f64 * self.size64[axis]) as f32
+    }
+
+    /// [`GridLayout::boundary`] widened to `f64` (exact).
+    #[inline]
+    pub(crate) fn boundary64(&self, axis: usize, index: i64) -> f64 {
+        self.boundary(axis, index) as f64
+    }
+
+    /// The closed box of `cell`.
+    #[inline]
+    pub fn cell_box(&self, cell: Cell) -> Aabb {
+        Aabb::new(
+            Vec3::new(self.boundary(0, cell[0]), self.boundary(1, cell[1]), self.boundary(2, cell[2])),
+            Vec3::new(self.boundary(0, cell[0] + 1), self.boundary(1, cell[1] + 1), self.boundary(2, cell[2] + 1)),
+        )
+    }
+
+    /// The cell holding `p` when cells are taken half-open, `[b(i), b(i+1))` on
+    /// each axis: every point belongs to exactly one such cell.
+    pub fn cell_of(&self, p: Vec3) -> Result<Cell, GridError> {
+        let mut cell = [0; 3];
+        for (axis, c) in cell.iter_mut().enumerate() {
+            *c = self.last_at_or_below(axis, p[axis] as f64)?;
+        }
+        Ok(cell)
+    }
+
+    /// Every cell whose closed box overlaps the closed box `b` (touching counts).
+    pub fn cell_range(&self, b: &Aabb) -> Result<CellRange, GridError> {
+        if !b.is_finite() || b.is_empty() {
+            return Err(GridError::OutOfRange);
+        }
+        let mut range = CellRange { min: [0; 3], max: [0; 3] };
+        for axis in 0..3 {
+            range.min[axis] = self.first_touching(axis, b.min[axis] as f64)?;
+            range.max[axis] = self.last_at_or_below(axis, b.max[axis] as f64)?;
+        }
+        Ok(range)
+    }
+
+    /// The largest `i` with `b(i) ≤ x`: the last cell along `axis` whose closed
+    /// extent touches `x` (and the half-open cell holding `x`).
+    #[inline]
+    pub(crate) fn last_at_or_below(&self, axis: usize, x: f64) -> Result<i64, GridError> {
+        let guess = ((x - self.origin64[axis]) / self.size64[axis]).floor();
+        last_true(guess, |i| self.boundary64(axis, i) <= x).ok_or(GridError::OutOfRange)
+    }
+
+    /// The smallest `i` with `b(i + 1) ≥ x`: the first cell along `axis` whose
+    /// closed extent touches `x`.
+    #[inline]
+    pub(crate) fn first_touching(&self, axis: usize, x: f64) -> Result<i64, GridError> {
+        let guess = ((x - self.origin64[axis]) / self.size64[axis]).ceil() - 1.0;
+        last_true(guess, |i| self.boundary64(axis, i + 1) < x).map(|i| i + 1).ok_or(GridError::OutOfRange)
+    }
+}
+
+/// The largest `i` in `[-MAX_CELL_INDEX, MAX_CELL_INDEX]` for which `pred`
+/// holds, for a `pred` that is true up to some index and false after it;
+/// `None` when it holds nowhere or at `MAX_CELL_INDEX` (out of range).
+/// Galloping search from `guess`: two evaluations when the guess is right.
+#[inline]
+pub(crate) fn last_true(guess: f64, pred: impl Fn(i64) -> bool) -> Option<i64> {
+    const MAX: i64 = MAX_CELL_INDEX;
+    if guess.is_nan() {
+        return None;
+    }
+    let g = guess.clamp(-MAX as f64, MAX as f64) as i64;
+    let (mut lo, mut hi);
+    if pred(g) {
+        lo = g;
+        let mut step = 1;
+        loop {
+            if lo == MAX {
+                return None;
+            }
+            let next = (lo + step).min(MAX);
+            if !pred(next) {
+                hi = next;
+                break;
+            }
+            lo = next;
+            step *= 2;
+        }
+    } else {
+        hi = g;
+        let mut step = 1;
+        loop {
+            if hi == -MAX {
+                return None;
+            }
+            let next = (hi - step).max(-MAX);
+            if pred(next) {
+                lo = next;
+                break;
+            }
+            hi = next;
+            step *= 2;
+        }
+    }
+    while hi - lo > 1 {
+        let mid = lo + (hi - lo) / 2;
+        if pred(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Some(lo)
+}

@@ -1,0 +1,107 @@
+//! First triangle hit along a ray, walking the grid's cells in ray order.
+//!
+//! The ray is first clipped to the box of the occupied cells (slightly
+//! widened, so rounding never loses the first cell), then the cells are
+//! visited by a [`GridTraversal`]. Every triangle of a visited cell is tested
+//! with the watertight test ([`WatertightRay`]); the walk stops as soon as the
+//! best hit so far lies at or before the exit of the current cell: every
+//! triangle meeting the ray earlier meets it inside a cell already visited,
+//! and is stored there. A triangle spanning several cells may be tested more
+//! than once (no mailbox: the query stays read-only and allocation-free).
+
+use super::HashGrid;
+use crate::aabb::Aabb;
+use crate::error::GridError;
+use crate::math::Vec3;
+use crate::primitive::{Triangle, WatertightRay};
+use crate::traversal::GridTraversal;
+use std::hash::BuildHasher;
+
+/// The first triangle a ray meets.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GridRayHit {
+    /// Index of the triangle in the grid's primitives.
+    pub primitive: u32,
+    /// The mesh face it came from.
+    pub source: u32,
+    /// Ray parameter of the hit (a distance when the direction is unit length).
+    pub t: f32,
+    /// The hit point, `a + u (b − a) + v (c − a)` on the triangle.
+    pub point: Vec3,
+    /// Barycentric weight of the triangle's vertex `b`.
+    pub u: f32,
+    /// Barycentric weight of the triangle's vertex `c`.
+    pub v: f32,
+    /// Number of cells visited.
+    pub cells_visited: u32,
+}
+
+impl<S: BuildHasher> HashGrid<Triangle, S> {
+    /// The first triangle hit by `origin + t · direction` with `t` in
+    /// `[t_min, t_max]` (`None` when there is none). Of several triangles hit
+    /// at the same `t`, the one of smallest index is returned.
+    ///
+    /// ```
+    /// use proxima::grid::{GridConfig, HashGrid};
+    /// use proxima::{Mesh, Vec3};
+    /// let mesh = Mesh::from_triangles(
+    ///     vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::new(0.0, 0.0, 3.0), Vec3::new(1.0, 0.0, 3.0), Vec3::new(0.0, 1.0, 3.0)],
+    ///     &[[3, 4, 5], [0, 1, 2]],
+    /// )
+    /// .unwrap();
+    /// let grid: HashGrid<_> = HashGrid::build(mesh.triangles(), &GridConfig::cubic(0.25)).unwrap();
+    /// let hit = grid.first_hit(Vec3::new(0.2, 0.2, -1.0), Vec3::Z, 0.0, f32::INFINITY).unwrap().unwrap();
+    /// assert_eq!((hit.source, hit.t), (1, 1.0));
+    /// assert!(grid.first_hit(Vec3::new(0.9, 0.9, -1.0), Vec3::Z, 0.0, f32::INFINITY).unwrap().is_none());
+    /// ```
+    pub fn first_hit(&self, origin: Vec3, direction: Vec3, t_min: f32, t_max: f32) -> Result<Option<GridRayHit>, GridError> {
+        if !origin.is_finite() {
+            return Err(GridError::RayOrigin);
+        }
+        let ray = WatertightRay::new(origin, direction).ok_or(GridError::RayDirection)?;
+        if !(t_min.is_finite() && t_min <= t_max) {
+            return Err(GridError::RayRange { t_min, t_max });
+        }
+        let Some(bounds) = self.bounds else { return Ok(None) };
+        let layout = &self.layout;
+        let lo = Vec3::new(layout.boundary(0, bounds.min[0]), layout.boundary(1, bounds.min[1]), layout.boundary(2, bounds.min[2]));
+        let hi = Vec3::new(
+            layout.boundary(0, bounds.max[0] + 1),
+            layout.boundary(1, bounds.max[1] + 1),
+            layout.boundary(2, bounds.max[2] + 1),
+        );
+        let margin = 1e-5 * (lo.abs().max(hi.abs()).max_element() + layout.cell_size().max_element());
+        let world = Aabb::new(lo, hi).inflate(margin);
+        let Some((t0, t1)) = world.ray_interval(origin, direction.recip(), t_min, t_max) else { return Ok(None) };
+        if !t1.is_finite() {
+            return Ok(None);
+        }
+        let walk = GridTraversal::in_layout(layout, origin, direction, t0, t1)?;
+        let mut best: Option<GridRayHit> = None;
+        let mut visited = 0u32;
+        for step in walk {
+            visited += 1;
+            let t_best = best.map_or(t_max, |b| b.t);
+            for &p in self.cell(&step.cell) {
+                let tri = &self.primitives[p as usize];
+                if let Some(hit) = ray.intersect(tri, t_min, t_best)
+                    && best.is_none_or(|b| hit.t < b.t || (hit.t == b.t && p < b.primitive))
+                {
+                    best = Some(GridRayHit {
+                        primitive: p,
+                        source: self.sources[p as usize],
+                        t: hit.t,
+                        point: tri.a + (tri.b - tri.a) * hit.u + (tri.c - tri.a) * hit.v,
+                        u: hit.u,
+                        v: hit.v,
+                        cells_visited: 0,
+                    });
+                }
+            }
+            if best.is_some_and(|b| b.t <= step.t_exit) {
+                break;
+            }
+        }
+        Ok(best.map(|b| GridRayHit { cells_visited: visited, ..b }))
+    }
+}

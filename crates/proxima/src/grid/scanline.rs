@@ -1,0 +1,181 @@
+//! Scan-line insertion: the cells of a segment or triangle without testing
+//! every cell of its bounding box.
+//!
+//! The primitive (a convex polygon of two or three vertices, in `f64`) is
+//! clipped to each slab of cells along one axis, then each slab's piece to each
+//! row along a second axis; the piece left in a row is convex, so the cells of
+//! that row it overlaps are exactly those whose extent along the third axis
+//! meets the piece's extent. Slabs and rows are clipped *widened* by a margin
+//! `ε` (a `1e-7` fraction of the coordinates' magnitude, far above the `f64`
+//! rounding of the clipping and of the exact test), so the candidates provably
+//! include every cell the exact test accepts; each candidate is then tested
+//! with the same exact test as the classic insertion. Hence both insertions
+//! give exactly the same cells, and the scan-line tests about as many cells as
+//! the primitive really overlaps instead of its whole box range.
+//!
+//! The axes are chosen per primitive: slabs along the axis of fewest cells,
+//! the innermost run along the axis of most cells, which minimizes the number
+//! of clipped rows. Small boxes (at most [`SMALL_RANGE`] cells) are handled
+//! classically: clipping would cost more than the tests it saves.
+
+use super::insert::for_each_cell_box;
+use super::layout::GridLayout;
+use super::{Cell, CellRange};
+
+/// Bounding-box ranges of at most this many cells are tested cell by cell.
+pub(crate) const SMALL_RANGE: u128 = 8;
+
+/// Relative clipping margin.
+const MARGIN: f64 = 1e-7;
+
+/// A convex polygon of at most 8 vertices (a triangle clipped by four planes
+/// has at most 7; a segment, as a 2-gon, at most 6).
+#[derive(Clone, Copy)]
+struct Poly {
+    v: [[f64; 3]; 8],
+    n: usize,
+}
+
+impl Poly {
+    #[inline]
+    fn from(vertices: &[[f64; 3]]) -> Self {
+        let mut p = Poly { v: [[0.0; 3]; 8], n: vertices.len() };
+        p.v[..vertices.len()].copy_from_slice(vertices);
+        p
+    }
+
+    #[inline]
+    fn push(&mut self, x: [f64; 3]) {
+        // Cannot overflow for convex input (see the type's doc); stay safe anyway.
+        if self.n < self.v.len() {
+            self.v[self.n] = x;
+            self.n += 1;
+        }
+    }
+
+    /// The range of the vertices along `axis`.
+    #[inline]
+    fn extent(&self, axis: usize) -> (f64, f64) {
+        let mut lo = f64::INFINITY;
+        let mut hi = f64::NEG_INFINITY;
+        for v in &self.v[..self.n] {
+            lo = lo.min(v[axis]);
+            hi = hi.max(v[axis]);
+        }
+        (lo, hi)
+    }
+
+    /// Sutherland–Hodgman against the closed half-space `sign · (x_axis − plane) ≤ 0`.
+    #[inline]
+    fn clip_half(&self, axis: usize, plane: f64, sign: f64) -> Poly {
+        let mut out = Poly { v: [[0.0; 3]; 8], n: 0 };
+        if self.n == 0 {
+            return out;
+        }
+        let mut prev = self.v[self.n - 1];
+        let mut dp = sign * (prev[axis] - plane);
+        for &cur in &self.v[..self.n] {
+            let dc = sign * (cur[axis] - plane);
+            if (dp <= 0.0) != (dc <= 0.0) {
+                let t = (plane - prev[axis]) / (cur[axis] - prev[axis]);
+                let mut x = [0.0; 3];
+                for k in 0..3 {
+                    x[k] = prev[k] + t * (cur[k] - prev[k]);
+                }
+                x[axis] = plane;
+                out.push(x);
+            }
+            if dc <= 0.0 {
+                out.push(cur);
+            }
+            prev = cur;
+            dp = dc;
+        }
+        out
+    }
+
+    /// The part with `lo ≤ x_axis ≤ hi`.
+    #[inline]
+    fn clip(&self, axis: usize, lo: f64, hi: f64) -> Poly {
+        let (min, max) = self.extent(axis);
+        if min > hi || max < lo {
+            return Poly { v: [[0.0; 3]; 8], n: 0 };
+        }
+        let mut p = *self;
+        if min < lo {
+            p = p.clip_half(axis, lo, -1.0);
+        }
+        if max > hi {
+            p = p.clip_half(axis, hi, 1.0);
+        }
+        p
+    }
+}
+
+/// Visits the cells of `window` that `test` accepts, generating candidates by
+/// clipping the polygon `vertices` (2 or 3 vertices) slab by slab and row by
+/// row. `full` is the polygon's whole bounding-box range, `window` the part of
+/// it to report.
+pub(crate) fn scan(
+    layout: &GridLayout,
+    full: &CellRange,
+    window: &CellRange,
+    vertices: &[[f64; 3]],
+    test: impl Fn([f64; 3], [f64; 3]) -> bool,
+    mut visit: impl FnMut(Cell),
+) {
+    if full.count() <= SMALL_RANGE {
+        for_each_cell_box(layout, window, |c, lo, hi| {
+            if test(lo, hi) {
+                visit(c)
+            }
+        });
+        return;
+    }
+    // Slab axis s: fewest cells; inner axis q: most cells; row axis r: the other.
+    let mut axes = [0usize, 1, 2];
+    axes.sort_by_key(|&a| window.extent(a));
+    let [s, r, q] = axes;
+
+    let mut scale = layout.origin().abs().max_element().max(layout.cell_size().max_element()) as f64;
+    for v in vertices {
+        scale = scale.max(v[0].abs()).max(v[1].abs()).max(v[2].abs());
+    }
+    let eps = scale * MARGIN;
+
+    let poly = Poly::from(vertices);
+    let mut lo = [0.0; 3];
+    let mut hi = [0.0; 3];
+    let mut cell = [0i64; 3];
+    for ks in window.min[s]..=window.max[s] {
+        let (s0, s1) = (layout.boundary64(s, ks), layout.boundary64(s, ks + 1));
+        let slab = poly.clip(s, s0 - eps, s1 + eps);
+        if slab.n == 0 {
+            continue;
+        }
+        let (rmin, rmax) = slab.extent(r);
+        let j0 = layout.first_touching(r, rmin - eps).unwrap_or(window.min[r]).max(window.min[r]);
+        let j1 = layout.last_at_or_below(r, rmax + eps).unwrap_or(window.max[r]).min(window.max[r]);
+        (lo[s], hi[s], cell[s]) = (s0, s1, ks);
+        for jr in j0..=j1 {
+            let (r0, r1) = (layout.boundary64(r, jr), layout.boundary64(r, jr + 1));
+            let row = slab.clip(r, r0 - eps, r1 + eps);
+            if row.n == 0 {
+                continue;
+            }
+            let (qmin, qmax) = row.extent(q);
+            let i0 = layout.first_touching(q, qmin - eps).unwrap_or(window.min[q]).max(window.min[q]);
+            let i1 = layout.last_at_or_below(q, qmax + eps).unwrap_or(window.max[q]).min(window.max[q]);
+            (lo[r], hi[r], cell[r]) = (r0, r1, jr);
+            let mut q0 = layout.boundary64(q, i0);
+            for iq in i0..=i1 {
+                let q1 = layout.boundary64(q, iq + 1);
+                (lo[q], hi[q], cell[q]) = (q0, q1, iq);
+                if test(lo, hi) {
+                    visit(cell);
+                }
+                q0 = q1;
+            }
+        }
+    }
+}

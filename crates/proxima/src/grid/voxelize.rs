@@ -1,0 +1,279 @@
+//! Surface voxelization: the cells of an `N × N × N` grid that a triangle soup
+//! touches.
+//!
+//! The grid covers a given box (usually the mesh's bounding box): cubic cells
+//! of side `longest side / N`, grid origin at the box minimum, and only cells
+//! with indices in `[0, N)` on each axis — a vertex on the box maximum touches
+//! cell `N`'s closed box but does not open it. A cell is occupied when some
+//! triangle shares at least one point with its closed box (the conservative
+//! count: touching counts), decided by the same insertion as the hash grid.
+//!
+//! Storage is a dense bitset (x fastest, then y, each z slice padded to whole
+//! 64-bit words) when `N³` bits fit [`VoxelConfig::dense_limit_bits`]
+//! (2^30 bits = 128 MiB, i.e. 1024³, by default), otherwise a sorted list of
+//! occupied cells gathered through a hash set.
+//!
+//! In parallel, the z slices are cut into chunks (a few per thread), the
+//! triangles are bucketed by the chunks their z extent may reach, and each
+//! chunk is filled by one task with the insertion restricted to its slices:
+//! no atomics, no shared writes, the same cells as sequentially.
+
+use super::insert::InsertParams;
+use super::{Cell, CellRange, FastHash, GridInsert, GridLayout, InsertMethod, Key};
+use crate::aabb::Aabb;
+use crate::error::GridError;
+use crate::math::Vec3;
+use crate::primitive::Triangle;
+use rayon::prelude::*;
+use std::collections::HashSet;
+
+/// Default of [`VoxelConfig::dense_limit_bits`]: 2^30 bits (128 MiB, 1024³ cells).
+pub const DEFAULT_DENSE_LIMIT_BITS: u64 = 1 << 30;
+
+/// Parameters of [`voxelize`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VoxelConfig {
+    /// Cells along the longest side of the box (at least 1).
+    pub resolution: u32,
+    /// A dense bitset is used when `resolution³` is at most this many bits.
+    pub dense_limit_bits: u64,
+    /// Sparse storage: more occupied cells than this is an error.
+    pub max_occupied: u64,
+    /// How triangles find their cells (same cells either way).
+    pub insert: InsertMethod,
+    /// Use the rayon thread pool.
+    pub parallel: bool,
+}
+
+impl VoxelConfig {
+    /// `resolution` cells along the longest side, scan-line insertion, in
+    /// parallel, default limits.
+    pub fn new(resolution: u32) -> Self {
+        Self {
+            resolution,
+            dense_limit_bits: DEFAULT_DENSE_LIMIT_BITS,
+            max_occupied: super::DEFAULT_MAX_ENTRIES,
+            insert: InsertMethod::Scanline,
+            parallel: true,
+        }
+    }
+}
+
+/// The occupied cells of a voxelization.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VoxelGrid {
+    resolution: u32,
+    layout: GridLayout,
+    storage: Storage,
+    occupied: u64,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+enum Storage {
+    /// Bit `(k · words_per_slice · 64) + j · N + i`.
+    Dense { words: Vec<u64>, words_per_slice: usize },
+    /// Sorted by (k, j, i).
+    Sparse(Vec<Cell>),
+}
+
+/// Voxelizes `triangles` over `bounds` (see the [module documentation](self)).
+///
+/// Errors: resolution 0 ([`GridError::Resolution`]); a box that is empty, not
+/// finite or of zero size (invalid cell size); a non-finite triangle; more
+/// occupied cells than `config.max_occupied` in sparse storage.
+///
+/// ```
+/// use proxima::grid::{VoxelConfig, voxelize};
+/// use proxima::{Aabb, Triangle, Vec3};
+/// // A square in the plane z = 0 made of two triangles, voxelized at 4³.
+/// let (a, b, c, d) = (Vec3::ZERO, Vec3::new(4.0, 0.0, 0.0), Vec3::new(4.0, 4.0, 0.0), Vec3::new(0.0, 4.0, 0.0));
+/// let tris = [Triangle::new(a, b, c), Triangle::new(a, c, d)];
+/// let bounds = Aabb::new(Vec3::ZERO, Vec3::new(4.0, 4.0, 4.0));
+/// let vox = voxelize(&tris, &bounds, &VoxelConfig::new(4)).unwrap();
+/// // Only the 16 cells of the bottom layer: z = 0 touches no cell k = -1 inside [0, 4).
+/// assert_eq!(vox.occupied(), 16);
+/// assert!(vox.contains([3, 3, 0]) && !vox.contains([0, 0, 1]));
+/// ```
+pub fn voxelize(triangles: &[Triangle], bounds: &Aabb, config: &VoxelConfig) -> Result<VoxelGrid, GridError> {
+    let n = config.resolution;
+    if n == 0 {
+        return Err(GridError::Resolution);
+    }
+    let side = bounds.size().max_element();
+    let cell = side / n as f32;
+    let layout = GridLayout::new(bounds.min, Vec3::splat(cell))?;
+    let n64 = n as u64;
+    let nn = n as usize * n as usize;
+    let dense = n64 * n64 * n64 <= config.dense_limit_bits;
+    let slices = n as usize;
+
+    // Chunks of z slices, and the triangles each may concern.
+    let chunks = if config.parallel { (rayon::current_num_threads() * 4).clamp(1, slices) } else { 1 };
+    let per_chunk = slices.div_ceil(chunks);
+    let chunks = slices.div_ceil(per_chunk);
+    let buckets: Vec<Vec<u32>> = if chunks == 1 {
+        Vec::new()
+    } else {
+        let mut buckets = vec![Vec::with_capacity(triangles.len() / chunks + 16); chunks];
+        let (z0, dz) = (layout.origin().z, cell);
+        for (t, tri) in triangles.iter().enumerate() {
+            let (lo, hi) = (tri.a.z.min(tri.b.z).min(tri.c.z), tri.a.z.max(tri.b.z).max(tri.c.z));
+            // A generous estimate: the exact window test inside each chunk decides.
+            let k0 = (((lo - z0) / dz).floor() as i64 - 1).clamp(0, slices as i64 - 1) as usize;
+            let k1 = (((hi - z0) / dz).floor() as i64 + 1).clamp(0, slices as i64 - 1) as usize;
+            for bucket in &mut buckets[k0 / per_chunk..=k1 / per_chunk] {
+                bucket.push(t as u32);
+            }
+        }
+        buckets
+    };
+    let chunk_tris = |c: usize| -> Box<dyn Iterator<Item = (usize, &Triangle)> + Send + '_> {
+        if chunks == 1 {
+            Box::new(triangles.iter().enumerate())
+        } else {
+            Box::new(buckets[c].iter().map(|&t| (t as usize, &triangles[t as usize])))
+        }
+    };
+    let params = |c: usize| InsertParams {
+        layout: &layout,
+        method: config.insert,
+        max_cells: u64::MAX,
+        window: Some(CellRange {
+            min: [0, 0, (c * per_chunk) as i64],
+            max: [n as i64 - 1, n as i64 - 1, (((c + 1) * per_chunk).min(slices) - 1) as i64],
+        }),
+    };
+    let indexed = |e: GridError, index: usize| match e {
+        GridError::NonFinite { .. } => GridError::NonFinite { index },
+        other => other,
+    };
+
+    let (storage, occupied) = if dense {
+        let words_per_slice = nn.div_ceil(64);
+        let mut words = vec![0u64; words_per_slice * slices];
+        let fill = |c: usize, out: &mut [u64]| -> Result<(), GridError> {
+            let p = params(c);
+            let k0 = (c * per_chunk) as i64;
+            for (index, tri) in chunk_tris(c) {
+                tri.visit_cells(&p, |cell| {
+                    let bit = (cell[2] - k0) as usize * words_per_slice * 64 + cell[1] as usize * n as usize + cell[0] as usize;
+                    out[bit >> 6] |= 1u64 << (bit & 63);
+                })
+                .map_err(|e| indexed(e, index))?;
+            }
+            Ok(())
+        };
+        let chunk_words = words_per_slice * per_chunk;
+        if chunks == 1 {
+            fill(0, &mut words)?;
+        } else {
+            words.par_chunks_mut(chunk_words).enumerate().try_for_each(|(c, out)| fill(c, out))?;
+        }
+        let occupied = words.iter().map(|w| w.count_ones() as u64).sum();
+        (Storage::Dense { words, words_per_slice }, occupied)
+    } else {
+        let limit = config.max_occupied;
+        let collect = |c: usize| -> Result<Vec<Cell>, GridError> {
+            let p = params(c);
+            let mut set: HashSet<Key, FastHash> = HashSet::default();
+            for (index, tri) in chunk_tris(c) {
+                tri.visit_cells(&p, |cell| {
+                    set.insert(Key(cell));
+                })
+                .map_err(|e| indexed(e, index))?;
+                if set.len() as u64 > limit {
+                    return Err(GridError::TooManyCells { limit });
+                }
+            }
+            let mut cells: Vec<Cell> = set.into_iter().map(|k| k.0).collect();
+            cells.sort_unstable_by_key(|c| [c[2], c[1], c[0]]);
+            Ok(cells)
+        };
+        let parts: Vec<Vec<Cell>> = if chunks == 1 {
+            vec![collect(0)?]
+        } else {
+            (0..chunks).into_par_iter().map(collect).collect::<Result<_, _>>()?
+        };
+        let total: usize = parts.iter().map(Vec::len).sum();
+        if total as u64 > limit {
+            return Err(GridError::TooManyCells { limit });
+        }
+        let cells = parts.concat();
+        (Storage::Sparse(cells), total as u64)
+    };
+    Ok(VoxelGrid { resolution: n, layout, storage, occupied })
+}
+
+impl VoxelGrid {
+    /// Cells along each axis.
+    pub fn resolution(&self) -> u32 {
+        self.resolution
+    }
+
+    /// The cell placement (origin at the box minimum, cubic cells).
+    pub fn layout(&self) -> &GridLayout {
+        &self.layout
+    }
+
+    /// Side of the cubic cells.
+    pub fn cell_size(&self) -> f32 {
+        self.layout.cell_size().x
+    }
+
+    /// Minimum corner of cell `(0, 0, 0)`.
+    pub fn origin(&self) -> Vec3 {
+        self.layout.origin()
+    }
+
+    /// Number of occupied cells.
+    pub fn occupied(&self) -> u64 {
+        self.occupied
+    }
+
+    /// `true` when the cells are stored as a dense bitset.
+    pub fn is_dense(&self) -> bool {
+        matches!(self.storage, Storage::Dense { .. })
+    }
+
+    /// `true` when `cell` is occupied (cells outside `[0, N)³` never are).
+    pub fn contains(&self, cell: Cell) -> bool {
+        let n = self.resolution as i64;
+        if cell.iter().any(|&c| c < 0 || c >= n) {
+            return false;
+        }
+        match &self.storage {
+            Storage::Dense { words, words_per_slice } => {
+                let bit = cell[2] as usize * words_per_slice * 64 + (cell[1] * n + cell[0]) as usize;
+                words[bit >> 6] >> (bit & 63) & 1 == 1
+            }
+            Storage::Sparse(cells) => cells.binary_search_by_key(&[cell[2], cell[1], cell[0]], |c| [c[2], c[1], c[0]]).is_ok(),
+        }
+    }
+
+    /// Calls `f` for every occupied cell, x fastest, then y, then z.
+    pub fn for_each_cell(&self, mut f: impl FnMut(Cell)) {
+        let n = self.resolution as usize;
+        match &self.storage {
+            Storage::Dense { words, words_per_slice } => {
+                for (k, slice) in words.chunks(*words_per_slice).enumerate() {
+                    for (w, &word) in slice.iter().enumerate() {
+                        let mut bits = word;
+                        while bits != 0 {
+                            let pos = w * 64 + bits.trailing_zeros() as usize;
+                            f([(pos % n) as i64, (pos / n) as i64, k as i64]);
+                            bits &= bits - 1;
+                        }
+                    }
+                }
+            }
+            Storage::Sparse(cells) => cells.iter().copied().for_each(f),
+        }
+    }
+
+    /// The occupied cells, x fastest, then y, then z.
+    pub fn cells(&self) -> Vec<Cell> {
+        let mut out = Vec::with_capacity(self.occupied as usize);
+        self.for_each_cell(|c| out.push(c));
+        out
+    }
+}
