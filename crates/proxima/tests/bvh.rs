@@ -25,7 +25,7 @@ fn configs() -> Vec<BuildConfig> {
 
 /// Checks tree against linear search on `points`, for closest, best-first,
 /// k-nearest and batch queries.
-fn check<T: ClosestPoint + Copy + Sync + std::fmt::Debug>(
+fn check<T: ClosestPoint + Copy + Send + Sync + std::fmt::Debug>(
     set: PrimitiveSet<T>,
     points: &[Vec3],
     config: &BuildConfig,
@@ -81,6 +81,17 @@ fn bumpy_sphere_matches_brute_force_inside_and_out() {
     // Deep inside a closed mesh every primitive is far: the hardest case.
     let inside: Vec<Vec3> = (0..20).map(|i| Vec3::splat(i as f32 * 0.01)).collect();
     check(mesh.triangles(), &inside, &BuildConfig::default(), &[2]);
+}
+
+#[test]
+fn large_meshes_use_the_parallel_build_and_stay_exact() {
+    // Above 32k primitives subtrees are built in parallel and joined.
+    let mesh = bumpy_sphere(60, 5);
+    assert!(mesh.triangle_count() > 70_000);
+    let points = queries(&mesh, 40, 11);
+    for split in [SplitMethod::Median, SplitMethod::BinnedSah] {
+        check(mesh.triangles(), &points, &BuildConfig { split, ..BuildConfig::default() }, &[2]);
+    }
 }
 
 #[test]

@@ -13,6 +13,12 @@ pub enum SplitMethod {
     /// node's box by their centroid, and cut them into two equal halves.
     #[default]
     Median,
+    /// Binned surface area heuristic: centroids are sorted into 16 bins along
+    /// each axis, and the cut between bins with the least
+    /// `area(left) * count(left) + area(right) * count(right)` is taken. Tighter
+    /// boxes than the median split, for a somewhat slower build. Falls back to
+    /// the median split when all centroids coincide.
+    BinnedSah,
 }
 
 /// Build parameters of an [`AabbTree`](super::AabbTree).
@@ -46,6 +52,19 @@ impl Default for BuildConfig {
 }
 
 impl BuildConfig {
+    /// The classic median split with leaves of up to 4 primitives: the fastest
+    /// build. The default.
+    pub fn fast_build() -> Self {
+        Self::default()
+    }
+
+    /// Binned SAH with leaves of up to 4 primitives: about 10-25% fewer nodes
+    /// and primitives visited per closest-point query than [`fast_build`](Self::fast_build),
+    /// for a build about twice as slow. For trees that answer many queries.
+    pub fn fast_queries() -> Self {
+        Self { split: SplitMethod::BinnedSah, ..Self::default() }
+    }
+
     /// Checks the parameters.
     pub fn validate(&self) -> Result<(), BuildError> {
         if self.max_depth == 0 || self.max_depth > MAX_DEPTH {

@@ -55,8 +55,10 @@ pub(crate) fn closest_on_triangle(a: Vec3A, b: Vec3A, c: Vec3A, p: Vec3A) -> Vec
     if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
         return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
     }
-    let inv = 1.0 / (va + vb + vc);
-    a + ab * (vb * inv) + ac * (vc * inv)
+    // Inside the face: drop the normal component of `ap`. Unlike summing the
+    // barycentric combination, this keeps the query's in-plane coordinates as
+    // they are (exactly, for axis-aligned faces).
+    p - n * (n.dot(ap) / n.length_squared())
 }
 
 /// The closest point for slivers and degenerate triangles, in `f64`: the

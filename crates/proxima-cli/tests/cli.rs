@@ -1,0 +1,150 @@
+//! The `proxima` binary: output formats, and one clear line for every kind of
+//! bad input (never a panic, always a non-zero exit).
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn proxima(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_proxima")).args(args).output().expect("run proxima")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// A fresh temporary directory for one test.
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("proxima-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn write(dir: &Path, name: &str, content: &str) -> String {
+    let path = dir.join(name);
+    std::fs::write(&path, content).unwrap();
+    path.display().to_string()
+}
+
+const TETRA: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+
+/// Asserts a failure with exit status 1, one line on stderr containing every
+/// `needle`, and no panic.
+fn assert_clear_error(o: &Output, needles: &[&str]) {
+    let err = stderr(o);
+    assert_eq!(o.status.code(), Some(1), "exit status; stderr: {err}");
+    assert!(!err.contains("panicked"), "panic: {err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "one line expected: {err}");
+    for needle in needles {
+        assert!(err.contains(needle), "'{needle}' missing from: {err}");
+    }
+}
+
+#[test]
+fn closest_prints_the_documented_csv() {
+    let dir = temp_dir("csv");
+    let mesh = write(&dir, "tetra.obj", TETRA);
+    let points = write(&dir, "q.pts", "# comment\n0.2 0.2 -1\n\n0.2, 0.2, -2\n");
+    let o = proxima(&["closest", &mesh, "--primitives", "faces", "--points", &points, "-k", "2"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = stdout(&o);
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines[0], "query,rank,primitive,cx,cy,cz,distance");
+    assert_eq!(lines.len(), 5);
+    // Face 0 (1 3 2) lies in z = 0, right under both queries.
+    assert_eq!(lines[1], "0,0,0,0.2,0.2,0,1");
+    assert!(lines[3].starts_with("1,0,0,0.2,0.2,0,2"));
+    assert!(lines[2].starts_with("0,1,") && lines[4].starts_with("1,1,"));
+    // Tree and linear search print the same thing.
+    for kind in ["vertices", "edges", "faces"] {
+        let tree = proxima(&["closest", &mesh, "--primitives", kind, "--points", &points, "-k", "3"]);
+        let linear =
+            proxima(&["closest", &mesh, "--primitives", kind, "--points", &points, "-k", "3", "--method", "linear"]);
+        assert!(tree.status.success() && linear.status.success());
+        assert_eq!(stdout(&tree), stdout(&linear), "{kind}");
+    }
+    // Negative coordinates are accepted as typed.
+    let o = proxima(&["closest", &mesh, "--point", "-0.1,-2,0.3"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stdout(&o).lines().nth(1).unwrap().starts_with("0,0,"));
+}
+
+#[test]
+fn info_and_bench_json_have_the_documented_keys() {
+    let dir = temp_dir("json");
+    let mesh = write(&dir, "tetra.obj", TETRA);
+    let o = proxima(&["info", &mesh, "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let info: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(info["vertices"], 4);
+    assert_eq!(info["edges"], 6);
+    assert_eq!(info["triangles"], 4);
+    assert_eq!(info["trees"].as_array().unwrap().len(), 3);
+    let o = proxima(&["bench", &mesh, "--queries", "50", "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let bench: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(bench["triangles"], 4);
+    let results = bench["results"].as_array().unwrap();
+    assert_eq!(results.len(), 9);
+    for r in results {
+        for key in ["primitives", "method", "build_seconds", "queries", "seconds", "queries_per_second"] {
+            assert!(r.get(key).is_some(), "{key} missing in {r}");
+        }
+        assert_eq!(r["agree"], true);
+    }
+}
+
+#[test]
+fn demo_runs_on_the_embedded_model() {
+    let o = proxima(&["demo", "--queries", "100"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = stdout(&o);
+    assert!(out.contains("3674 triangles") && out.contains("tree-batch"), "{out}");
+    assert!(!out.contains(" NO"), "tree and linear disagree: {out}");
+}
+
+#[test]
+fn every_bad_input_gets_one_clear_line() {
+    let dir = temp_dir("bad");
+    let good = write(&dir, "tetra.obj", TETRA);
+    let cases: Vec<(Vec<String>, Vec<&str>)> = vec![
+        (vec!["info".into(), dir.join("missing.obj").display().to_string()], vec!["missing.obj"]),
+        (vec!["info".into(), write(&dir, "mesh.xyz", "1 2 3\n")], vec!["mesh.xyz", "unknown mesh format"]),
+        (vec!["info".into(), write(&dir, "badnum.obj", "v 0 0 0\nv 1 x 0\n")], vec!["badnum.obj:2"]),
+        (vec!["info".into(), write(&dir, "range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")], vec!["range.obj:4"]),
+        (vec!["info".into(), write(&dir, "nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n")], vec!["nan.obj:2"]),
+        (vec!["info".into(), write(&dir, "trunc.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n")], vec!["trunc.off"]),
+        (
+            vec!["info".into(), write(&dir, "count.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n")],
+            vec!["count.ply"],
+        ),
+        (
+            vec!["closest".into(), write(&dir, "points.obj", "v 0 0 0\nv 1 1 1\n"), "--primitives".into(), "faces".into(), "--point".into(), "0,0,0".into()],
+            vec!["no faces"],
+        ),
+        (
+            vec!["closest".into(), good.clone(), "--points".into(), write(&dir, "bad.pts", "0 0 0\n# ok\n1 2\n")],
+            vec!["bad.pts:3"],
+        ),
+        (
+            vec!["closest".into(), good.clone(), "--points".into(), dir.join("nope.pts").display().to_string()],
+            vec!["nope.pts"],
+        ),
+        (vec!["bench".into(), write(&dir, "empty.obj", "# nothing\n"), "--queries".into(), "5".into()], vec!["empty.obj"]),
+    ];
+    for (args, needles) in cases {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let o = proxima(&args);
+        assert_clear_error(&o, &needles);
+    }
+    // Usage errors are clap's: exit status 2, no panic.
+    for args in [vec!["closest", good.as_str(), "--point", "1,2"], vec!["closest", good.as_str(), "--point", "1,nan,2"]] {
+        let o = proxima(&args);
+        assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+        assert!(!stderr(&o).contains("panicked"));
+    }
+}
