@@ -79,6 +79,25 @@ impl Primitives {
     }
 }
 
+/// How trees are split, on the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Split {
+    /// Classic median split (fastest build).
+    Median,
+    /// Binned surface area heuristic (fewer nodes visited per query).
+    Sah,
+}
+
+impl Split {
+    /// The build configuration this names.
+    pub fn config(self) -> BuildConfig {
+        match self {
+            Split::Median => BuildConfig::fast_build(),
+            Split::Sah => BuildConfig::fast_queries(),
+        }
+    }
+}
+
 /// The embedded default model (see `assets/README.md` for source and licence).
 pub const DEFAULT_MODEL_NAME: &str = "bunny-npm.obj (embedded)";
 const DEFAULT_MODEL: &[u8] = include_bytes!("../assets/bunny-npm.obj");

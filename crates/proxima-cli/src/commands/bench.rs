@@ -1,7 +1,7 @@
 //! `proxima bench MESH [--primitives P] [--queries N | --points FILE] [--threads T] [--json]`:
 //! linear search against the AABB tree on the same queries.
 
-use crate::common::{Primitives, load_mesh, read_points};
+use crate::common::{Primitives, Split, load_mesh, read_points};
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
 use proxima::bvh::BatchOptions;
@@ -43,6 +43,9 @@ pub struct Args {
     /// Worker threads for the query loops (1 = single-thread figures).
     #[arg(long, default_value_t = 1)]
     threads: usize,
+    /// How the tree is split.
+    #[arg(long, value_enum, default_value = "median")]
+    split: Split,
     /// Print one JSON object instead of a table.
     #[arg(long)]
     json: bool,
@@ -78,10 +81,11 @@ fn bench_set<T: ClosestPoint + Copy + Send + Sync>(
     set: PrimitiveSet<T>,
     kind: Primitives,
     points: &[Vec3],
+    config: &BuildConfig,
     progress: bool,
 ) -> anyhow::Result<Vec<Record>> {
     let start = Instant::now();
-    let tree = AabbTree::build_set(set.clone(), &BuildConfig::default())?;
+    let tree = AabbTree::build_set(set.clone(), config)?;
     let build_seconds = start.elapsed().as_secs_f64();
 
     let n_linear = (LINEAR_BUDGET / set.len().max(1))
@@ -159,6 +163,7 @@ pub fn measure(
     kinds: &[Primitives],
     points: &[Vec3],
     threads: usize,
+    config: &BuildConfig,
     progress: bool,
 ) -> anyhow::Result<Vec<Record>> {
     let pool = rayon::ThreadPoolBuilder::new()
@@ -169,9 +174,9 @@ pub fn measure(
         let mut records = Vec::new();
         for &kind in kinds {
             records.extend(match kind {
-                Primitives::Vertices => bench_set(mesh.vertices(), kind, points, progress)?,
-                Primitives::Edges => bench_set(mesh.edges(), kind, points, progress)?,
-                Primitives::Faces => bench_set(mesh.triangles(), kind, points, progress)?,
+                Primitives::Vertices => bench_set(mesh.vertices(), kind, points, config, progress)?,
+                Primitives::Edges => bench_set(mesh.edges(), kind, points, config, progress)?,
+                Primitives::Faces => bench_set(mesh.triangles(), kind, points, config, progress)?,
             });
         }
         Ok(records)
@@ -231,7 +236,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         None => Primitives::ALL.to_vec(),
     };
     crate::common::require_faces(&mesh, *kinds.last().unwrap_or(&Primitives::Vertices))?;
-    let records = measure(&mesh, &kinds, &points, args.threads, !args.json)?;
+    let records = measure(&mesh, &kinds, &points, args.threads, &args.split.config(), !args.json)?;
     if args.json {
         let results: Vec<_> = records
             .iter()
@@ -245,7 +250,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             .collect();
         let out = json!({
             "mesh": args.mesh.display().to_string(), "triangles": mesh.triangle_count(),
-            "query_set": set_name, "threads": args.threads, "results": results,
+            "query_set": set_name, "threads": args.threads, "split": format!("{:?}", args.split).to_lowercase(),
+            "results": results,
         });
         println!("{out:#}");
     } else {

@@ -1,9 +1,9 @@
 //! `proxima closest MESH --primitives P (--point X,Y,Z | --points FILE) [-k K] [--method tree|linear]`.
 
-use crate::common::{Primitives, build_tree, load_mesh, parse_vec3, read_points, require_faces};
+use crate::common::{Primitives, Split, build_tree, load_mesh, parse_vec3, read_points, require_faces};
 use crate::with_tree;
 use anyhow::bail;
-use proxima::{BuildConfig, ClosestHit, ClosestPoint, LinearSearch, PrimitiveSet, Vec3};
+use proxima::{ClosestHit, ClosestPoint, LinearSearch, PrimitiveSet, Vec3};
 use std::io::{BufWriter, Write};
 use std::path::PathBuf;
 
@@ -37,6 +37,9 @@ pub struct Args {
     /// Search method.
     #[arg(long, value_enum, default_value = "tree")]
     method: Method,
+    /// How the tree is split (same answers either way).
+    #[arg(long, value_enum, default_value = "median")]
+    split: Split,
 }
 
 /// Prints CSV `query,rank,primitive,cx,cy,cz,distance`, k rows per query.
@@ -49,7 +52,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     };
     let answers: Vec<Vec<ClosestHit>> = match args.method {
         Method::Tree => {
-            let (tree, _) = build_tree(&mesh, args.primitives, &BuildConfig::default())?;
+            let (tree, _) = build_tree(&mesh, args.primitives, &args.split.config())?;
             with_tree!(&tree, t => t.k_nearest_batch(&points, args.k))
         }
         Method::Linear => {

@@ -75,9 +75,9 @@ pub fn queries(mesh: &Mesh, n: usize, seed: u64) -> Vec<Vec3> {
     let b = mesh.bounds();
     let mut rng = Rng::new(seed + 2);
     let positions = mesh.positions();
+    let edges = mesh.edge_indices();
     for _ in 0..n / 4 + 1 {
         out.push(positions[rng.below(positions.len())]);
-        let edges = mesh.edge_indices();
         if !edges.is_empty() {
             let [a, c] = edges[rng.below(edges.len())];
             out.push((positions[a as usize] + positions[c as usize]) * 0.5);
