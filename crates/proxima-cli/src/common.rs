@@ -124,12 +124,19 @@ pub enum AnyTree {
     Faces(AabbTree<proxima::Triangle>),
 }
 
-/// Fails when faces are asked of a mesh that has none.
-pub fn require_faces(mesh: &Mesh, kind: Primitives) -> Result<()> {
-    if kind == Primitives::Faces && mesh.face_count() == 0 {
+/// Fails when the mesh has no primitive of `kind` (no vertices, no edges, or no faces).
+pub fn require_primitives(mesh: &Mesh, kind: Primitives, path: &Path) -> Result<()> {
+    let count = match kind {
+        Primitives::Vertices => mesh.vertex_count(),
+        Primitives::Edges | Primitives::Faces => mesh.face_count(),
+    };
+    if count == 0 {
         bail!(
-            "the mesh has no faces to search (it has {} vertices)",
-            mesh.vertex_count()
+            "{}: the mesh has no {} to search ({} vertices, {} faces)",
+            path.display(),
+            kind.name(),
+            mesh.vertex_count(),
+            mesh.face_count()
         );
     }
     Ok(())
@@ -137,7 +144,6 @@ pub fn require_faces(mesh: &Mesh, kind: Primitives) -> Result<()> {
 
 /// Builds the tree of `kind` over `mesh`, returning it with the build time in seconds.
 pub fn build_tree(mesh: &Mesh, kind: Primitives, config: &BuildConfig) -> Result<(AnyTree, f64)> {
-    require_faces(mesh, kind)?;
     let start = Instant::now();
     let tree = match kind {
         Primitives::Vertices => AnyTree::Vertices(AabbTree::build_set(mesh.vertices(), config)?),

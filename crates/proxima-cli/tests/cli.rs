@@ -5,7 +5,10 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn proxima(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_proxima")).args(args).output().expect("run proxima")
+    Command::new(env!("CARGO_BIN_EXE_proxima"))
+        .args(args)
+        .output()
+        .expect("run proxima")
 }
 
 fn stdout(o: &Output) -> String {
@@ -49,7 +52,16 @@ fn closest_prints_the_documented_csv() {
     let dir = temp_dir("csv");
     let mesh = write(&dir, "tetra.obj", TETRA);
     let points = write(&dir, "q.pts", "# comment\n0.2 0.2 -1\n\n0.2, 0.2, -2\n");
-    let o = proxima(&["closest", &mesh, "--primitives", "faces", "--points", &points, "-k", "2"]);
+    let o = proxima(&[
+        "closest",
+        &mesh,
+        "--primitives",
+        "faces",
+        "--points",
+        &points,
+        "-k",
+        "2",
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let out = stdout(&o);
     let lines: Vec<&str> = out.lines().collect();
@@ -62,8 +74,18 @@ fn closest_prints_the_documented_csv() {
     // Tree and linear search print the same thing.
     for kind in ["vertices", "edges", "faces"] {
         let tree = proxima(&["closest", &mesh, "--primitives", kind, "--points", &points, "-k", "3"]);
-        let linear =
-            proxima(&["closest", &mesh, "--primitives", kind, "--points", &points, "-k", "3", "--method", "linear"]);
+        let linear = proxima(&[
+            "closest",
+            &mesh,
+            "--primitives",
+            kind,
+            "--points",
+            &points,
+            "-k",
+            "3",
+            "--method",
+            "linear",
+        ]);
         assert!(tree.status.success() && linear.status.success());
         assert_eq!(stdout(&tree), stdout(&linear), "{kind}");
     }
@@ -91,7 +113,14 @@ fn info_and_bench_json_have_the_documented_keys() {
     let results = bench["results"].as_array().unwrap();
     assert_eq!(results.len(), 9);
     for r in results {
-        for key in ["primitives", "method", "build_seconds", "queries", "seconds", "queries_per_second"] {
+        for key in [
+            "primitives",
+            "method",
+            "build_seconds",
+            "queries",
+            "seconds",
+            "queries_per_second",
+        ] {
             assert!(r.get(key).is_some(), "{key} missing in {r}");
         }
         assert_eq!(r["agree"], true);
@@ -112,29 +141,125 @@ fn every_bad_input_gets_one_clear_line() {
     let dir = temp_dir("bad");
     let good = write(&dir, "tetra.obj", TETRA);
     let cases: Vec<(Vec<String>, Vec<&str>)> = vec![
-        (vec!["info".into(), dir.join("missing.obj").display().to_string()], vec!["missing.obj"]),
-        (vec!["info".into(), write(&dir, "mesh.xyz", "1 2 3\n")], vec!["mesh.xyz", "unknown mesh format"]),
-        (vec!["info".into(), write(&dir, "badnum.obj", "v 0 0 0\nv 1 x 0\n")], vec!["badnum.obj:2"]),
-        (vec!["info".into(), write(&dir, "range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")], vec!["range.obj:4"]),
-        (vec!["info".into(), write(&dir, "nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n")], vec!["nan.obj:2"]),
-        (vec!["info".into(), write(&dir, "trunc.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n")], vec!["trunc.off"]),
         (
-            vec!["info".into(), write(&dir, "count.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n")],
+            vec!["info".into(), dir.join("missing.obj").display().to_string()],
+            vec!["missing.obj"],
+        ),
+        (
+            vec!["info".into(), write(&dir, "mesh.xyz", "1 2 3\n")],
+            vec!["mesh.xyz", "unknown mesh format"],
+        ),
+        (
+            vec!["info".into(), write(&dir, "badnum.obj", "v 0 0 0\nv 1 x 0\n")],
+            vec!["badnum.obj:2"],
+        ),
+        (
+            vec![
+                "info".into(),
+                write(&dir, "range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"),
+            ],
+            vec!["range.obj:4"],
+        ),
+        (
+            vec![
+                "info".into(),
+                write(&dir, "nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n"),
+            ],
+            vec!["nan.obj:2"],
+        ),
+        (
+            vec!["info".into(), write(&dir, "trunc.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n")],
+            vec!["trunc.off"],
+        ),
+        (
+            vec![
+                "info".into(),
+                write(
+                    &dir,
+                    "count.ply",
+                    "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n",
+                ),
+            ],
             vec!["count.ply"],
         ),
         (
-            vec!["closest".into(), write(&dir, "points.obj", "v 0 0 0\nv 1 1 1\n"), "--primitives".into(), "faces".into(), "--point".into(), "0,0,0".into()],
-            vec!["no faces"],
+            vec![
+                "closest".into(),
+                write(&dir, "points.obj", "v 0 0 0\nv 1 1 1\n"),
+                "--primitives".into(),
+                "faces".into(),
+                "--point".into(),
+                "0,0,0".into(),
+            ],
+            vec!["points.obj", "no faces"],
         ),
         (
-            vec!["closest".into(), good.clone(), "--points".into(), write(&dir, "bad.pts", "0 0 0\n# ok\n1 2\n")],
+            vec![
+                "closest".into(),
+                good.clone(),
+                "--points".into(),
+                write(&dir, "bad.pts", "0 0 0\n# ok\n1 2\n"),
+            ],
             vec!["bad.pts:3"],
         ),
         (
-            vec!["closest".into(), good.clone(), "--points".into(), dir.join("nope.pts").display().to_string()],
+            vec![
+                "closest".into(),
+                good.clone(),
+                "--points".into(),
+                dir.join("nope.pts").display().to_string(),
+            ],
             vec!["nope.pts"],
         ),
-        (vec!["bench".into(), write(&dir, "empty.obj", "# nothing\n"), "--queries".into(), "5".into()], vec!["empty.obj"]),
+        (
+            vec![
+                "bench".into(),
+                write(&dir, "empty.obj", "# nothing\n"),
+                "--queries".into(),
+                "5".into(),
+            ],
+            vec!["empty.obj"],
+        ),
+        (
+            vec![
+                "closest".into(),
+                dir.join("empty.obj").display().to_string(),
+                "--primitives".into(),
+                "vertices".into(),
+                "--point".into(),
+                "0,0,0".into(),
+            ],
+            vec!["empty.obj", "no vertices"],
+        ),
+        (
+            vec![
+                "closest".into(),
+                dir.join("points.obj").display().to_string(),
+                "--primitives".into(),
+                "edges".into(),
+                "--point".into(),
+                "0,0,0".into(),
+            ],
+            vec!["points.obj", "no edges"],
+        ),
+        (
+            vec![
+                "info".into(),
+                write(&dir, "inf.off", "OFF\n3 1 0\n0 0 0\n1 inf 0\n0 1 0\n3 0 1 2\n"),
+            ],
+            vec!["inf.off:4"],
+        ),
+        (
+            vec![
+                "info".into(),
+                write(
+                    &dir,
+                    "short.stl",
+                    "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n",
+                ),
+            ],
+            vec!["short.stl"],
+        ),
     ];
     for (args, needles) in cases {
         let args: Vec<&str> = args.iter().map(String::as_str).collect();
@@ -142,7 +267,10 @@ fn every_bad_input_gets_one_clear_line() {
         assert_clear_error(&o, &needles);
     }
     // Usage errors are clap's: exit status 2, no panic.
-    for args in [vec!["closest", good.as_str(), "--point", "1,2"], vec!["closest", good.as_str(), "--point", "1,nan,2"]] {
+    for args in [
+        vec!["closest", good.as_str(), "--point", "1,2"],
+        vec!["closest", good.as_str(), "--point", "1,nan,2"],
+    ] {
         let o = proxima(&args);
         assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
         assert!(!stderr(&o).contains("panicked"));

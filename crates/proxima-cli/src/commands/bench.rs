@@ -235,7 +235,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         None if mesh.face_count() == 0 => vec![Primitives::Vertices, Primitives::Edges],
         None => Primitives::ALL.to_vec(),
     };
-    crate::common::require_faces(&mesh, *kinds.last().unwrap_or(&Primitives::Vertices))?;
+    for &kind in &kinds {
+        crate::common::require_primitives(&mesh, kind, &args.mesh)?;
+    }
     let records = measure(&mesh, &kinds, &points, args.threads, &args.split.config(), !args.json)?;
     if args.json {
         let results: Vec<_> = records

@@ -1,6 +1,6 @@
 //! `proxima closest MESH --primitives P (--point X,Y,Z | --points FILE) [-k K] [--method tree|linear]`.
 
-use crate::common::{Primitives, Split, build_tree, load_mesh, parse_vec3, read_points, require_faces};
+use crate::common::{Primitives, Split, build_tree, load_mesh, parse_vec3, read_points, require_primitives};
 use crate::with_tree;
 use anyhow::bail;
 use proxima::{ClosestHit, ClosestPoint, LinearSearch, PrimitiveSet, Vec3};
@@ -50,19 +50,17 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         (None, Some(file)) => read_points(file)?,
         (None, None) => bail!("give --point X,Y,Z or --points FILE"),
     };
+    require_primitives(&mesh, args.primitives, &args.mesh)?;
     let answers: Vec<Vec<ClosestHit>> = match args.method {
         Method::Tree => {
             let (tree, _) = build_tree(&mesh, args.primitives, &args.split.config())?;
             with_tree!(&tree, t => t.k_nearest_batch(&points, args.k))
         }
-        Method::Linear => {
-            require_faces(&mesh, args.primitives)?;
-            match args.primitives {
-                Primitives::Vertices => linear(mesh.vertices(), &points, args.k),
-                Primitives::Edges => linear(mesh.edges(), &points, args.k),
-                Primitives::Faces => linear(mesh.triangles(), &points, args.k),
-            }
-        }
+        Method::Linear => match args.primitives {
+            Primitives::Vertices => linear(mesh.vertices(), &points, args.k),
+            Primitives::Edges => linear(mesh.edges(), &points, args.k),
+            Primitives::Faces => linear(mesh.triangles(), &points, args.k),
+        },
     };
     let stdout = std::io::stdout();
     let mut out = BufWriter::new(stdout.lock());

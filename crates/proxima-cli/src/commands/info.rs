@@ -25,8 +25,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let config = BuildConfig::default();
     let mut trees = Vec::new();
     for kind in Primitives::ALL {
-        if kind == Primitives::Faces && mesh.face_count() == 0 {
-            continue;
+        if crate::common::require_primitives(&mesh, kind, &args.mesh).is_err() {
+            continue; // info reports what there is; nothing to build for this kind
         }
         let (tree, seconds) = build_tree(&mesh, kind, &config)?;
         let stats: TreeStats = with_tree!(&tree, t => t.stats());
