@@ -28,7 +28,10 @@ fn build(c: &mut Criterion) {
     for (name, mesh) in meshes() {
         let triangles = mesh.triangles();
         group.throughput(Throughput::Elements(triangles.len() as u64));
-        for (label, config) in [("median", BuildConfig::fast_build()), ("sah", BuildConfig::fast_queries())] {
+        for (label, config) in [
+            ("median", BuildConfig::fast_build()),
+            ("sah", BuildConfig::fast_queries()),
+        ] {
             group.bench_function(BenchmarkId::new(format!("proxima-{label}-1thread"), name), |b| {
                 b.iter(|| one_thread.install(|| AabbTree::build_set(black_box(triangles.clone()), &config).unwrap()))
             });
@@ -36,7 +39,9 @@ fn build(c: &mut Criterion) {
                 b.iter(|| AabbTree::build_set(black_box(triangles.clone()), &config).unwrap())
             });
         }
-        group.bench_function(BenchmarkId::new("parry3d", name), |b| b.iter(|| parry_trimesh(black_box(&mesh))));
+        group.bench_function(BenchmarkId::new("parry3d", name), |b| {
+            b.iter(|| parry_trimesh(black_box(&mesh)))
+        });
     }
     group.finish();
 }
@@ -62,7 +67,12 @@ fn closest(c: &mut Criterion) {
                 b.iter(|| points.iter().map(|&p| sah.closest(p).unwrap().distance).sum::<f32>())
             });
             group.bench_function(id("proxima-best-first"), |b| {
-                b.iter(|| points.iter().map(|&p| tree.closest_best_first(p).unwrap().distance).sum::<f32>())
+                b.iter(|| {
+                    points
+                        .iter()
+                        .map(|&p| tree.closest_best_first(p).unwrap().distance)
+                        .sum::<f32>()
+                })
             });
             group.bench_function(id("proxima-batch-1thread"), |b| {
                 b.iter(|| one_thread.install(|| tree.closest_batch_with(&points, BatchOptions { reorder: true })))
@@ -83,9 +93,15 @@ fn versus_linear(c: &mut Criterion) {
     let tree = AabbTree::build_set(mesh.triangles(), &BuildConfig::default()).unwrap();
     let linear = LinearSearch::new(mesh.triangles());
     group.throughput(Throughput::Elements(points.len() as u64));
-    group.bench_function("tree/ico100k", |b| b.iter(|| points.iter().map(|&p| tree.closest(p).unwrap().distance).sum::<f32>()));
-    group.bench_function("linear/ico100k", |b| b.iter(|| points.iter().map(|&p| linear.closest(p).unwrap().distance).sum::<f32>()));
-    group.bench_function("tree-k8/ico100k", |b| b.iter(|| points.iter().map(|&p| tree.k_nearest(p, 8).len()).sum::<usize>()));
+    group.bench_function("tree/ico100k", |b| {
+        b.iter(|| points.iter().map(|&p| tree.closest(p).unwrap().distance).sum::<f32>())
+    });
+    group.bench_function("linear/ico100k", |b| {
+        b.iter(|| points.iter().map(|&p| linear.closest(p).unwrap().distance).sum::<f32>())
+    });
+    group.bench_function("tree-k8/ico100k", |b| {
+        b.iter(|| points.iter().map(|&p| tree.k_nearest(p, 8).len()).sum::<usize>())
+    });
     group.finish();
 }
 

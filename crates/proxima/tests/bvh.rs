@@ -90,7 +90,15 @@ fn large_meshes_use_the_parallel_build_and_stay_exact() {
     assert!(mesh.triangle_count() > 70_000);
     let points = queries(&mesh, 40, 11);
     for split in [SplitMethod::Median, SplitMethod::BinnedSah] {
-        check(mesh.triangles(), &points, &BuildConfig { split, ..BuildConfig::default() }, &[2]);
+        check(
+            mesh.triangles(),
+            &points,
+            &BuildConfig {
+                split,
+                ..BuildConfig::default()
+            },
+            &[2],
+        );
     }
 }
 
@@ -104,10 +112,10 @@ fn degenerate_inputs() {
     // One triangle, and many identical ones.
     let one = Mesh::from_triangles(vec![Vec3::ZERO, Vec3::X, Vec3::Y], &[[0, 1, 2]]).unwrap();
     check_mesh(&one, 20, &BuildConfig::default(), &[0, 1, 2, 9]);
-    let same = Mesh::from_triangles(vec![Vec3::ZERO, Vec3::X, Vec3::Y], &vec![[0, 1, 2]; 50]).unwrap();
+    let same = Mesh::from_triangles(vec![Vec3::ZERO, Vec3::X, Vec3::Y], &[[0, 1, 2]; 50]).unwrap();
     check_mesh(&same, 20, &BuildConfig::default(), &[1, 7]);
     // All vertices equal: every triangle and edge is a point.
-    let point = Mesh::from_triangles(vec![Vec3::ONE; 3], &vec![[0, 1, 2]; 9]).unwrap();
+    let point = Mesh::from_triangles(vec![Vec3::ONE; 3], &[[0, 1, 2]; 9]).unwrap();
     check_mesh(&point, 10, &BuildConfig::default(), &[1, 4]);
     // Huge and far-offset coordinates with small features.
     for (scale, offset) in [(1e15f32, 0.0f32), (1e-30, 0.0), (1e-3, 1e7)] {

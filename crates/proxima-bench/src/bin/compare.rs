@@ -1,7 +1,7 @@
 //! proxima against parry3d and brute force, in one run, single thread.
 //!
 //! ```text
-//! cargo run --release -p proxima-bench --bin compare -- [MESH|ico1m|ico100k ...] [--queries N] [--linear N] [--leaf N] [--sah]
+//! cargo run --release -p proxima-bench --bin compare -- [MESH|ico1m|ico100k ...] [--queries N] [--linear N] [--leaf N] [--sah] [--wide]
 //! ```
 //!
 //! For each mesh: tree build time of both libraries (best of 3; ours on one
@@ -13,8 +13,12 @@
 //! round of each is kept, so a burst of load from another process hits both
 //! alike. Compare ratios across runs, not absolute figures: the machine is
 //! shared and noisy.
+//!
+//! `--wide` also times the 4-wide tree ([`WideTree`], made from the same binary
+//! tree) per query, in the same interleaved rounds, and checks that its answers
+//! equal the binary tree's.
 
-use proxima::bvh::{BatchOptions, SplitMethod};
+use proxima::bvh::{BatchOptions, SplitMethod, WideTree};
 use proxima::{AabbTree, BuildConfig, LinearSearch, Mesh};
 use proxima_bench::{load_named, parry_distance, parry_trimesh};
 use std::time::Instant;
@@ -30,9 +34,12 @@ fn rate(n: usize, seconds: f64) -> f64 {
     n as f64 / seconds
 }
 
-fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &BuildConfig) {
+fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &BuildConfig, with_wide: bool) {
     let diagonal = mesh.bounds().diagonal();
-    println!("\n## {name}: {} triangles, bbox diagonal {diagonal}, {config:?}", mesh.triangle_count());
+    println!(
+        "\n## {name}: {} triangles, bbox diagonal {diagonal}, {config:?}",
+        mesh.triangle_count()
+    );
     let triangles = mesh.triangles();
     let one_thread = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
     let (mut t_build, mut t_build_all, mut t_parry_build) = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
@@ -45,12 +52,27 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &
         (trimesh, t_parry_build) = (Some(m), t_parry_build.min(s));
     }
     let (tree, trimesh) = (tree.unwrap(), trimesh.unwrap());
+    let (wide, t_wide_build) = timed(|| with_wide.then(|| WideTree::from_tree(tree.clone())));
+    if let Some(wide) = &wide {
+        println!(
+            "wide tree: {} wide nodes (binary {}), depth {} (binary {}), collapsed in {t_wide_build:.3} s, {:.1} MB on top of the binary tree's {:.1} MB",
+            wide.node_count(),
+            tree.node_count(),
+            wide.depth(),
+            tree.depth(),
+            wide.extra_memory_bytes() as f64 / 1e6,
+            tree.stats().memory_bytes as f64 / 1e6,
+        );
+    }
+    let mut wide_rows = Vec::new();
     println!(
         "build: proxima {t_build:.3} s on 1 thread ({:.2}x parry3d), {t_build_all:.3} s on all threads ({:.2}x); parry3d {t_parry_build:.3} s",
         t_parry_build / t_build,
         t_parry_build / t_build_all,
     );
-    println!("| query set | nodes/query | primitives/query | proxima q/s | proxima batch q/s | parry3d q/s | ours/parry | batch/parry | max diff / diag |");
+    println!(
+        "| query set | nodes/query | primitives/query | proxima q/s | proxima batch q/s | parry3d q/s | ours/parry | batch/parry | max diff / diag |"
+    );
     println!("|---|---|---|---|---|---|---|---|---|");
     for (set, points) in [
         ("near", proxima::sample::near_surface(mesh, n_queries, 0.01, 1)),
@@ -58,20 +80,58 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &
     ] {
         let (mut t_ours, mut t_batch, mut t_parry) = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
         let (mut ours, mut theirs) = (Vec::new(), Vec::new());
+        let mut t_wide = f64::INFINITY;
         for _ in 0..5 {
-            let (o, t) = timed(|| points.iter().map(|&p| tree.closest(p).unwrap().distance).collect::<Vec<_>>());
+            let (o, t) = timed(|| {
+                points
+                    .iter()
+                    .map(|&p| tree.closest(p).unwrap().distance)
+                    .collect::<Vec<_>>()
+            });
             (ours, t_ours) = (o, t_ours.min(t));
             let batch = || one_thread.install(|| tree.closest_batch_with(&points, BatchOptions { reorder: true }));
             t_batch = t_batch.min(timed(batch).1);
+            if let Some(wide) = &wide {
+                let (w, t) = timed(|| {
+                    points
+                        .iter()
+                        .map(|&p| wide.closest(p).unwrap().distance)
+                        .collect::<Vec<_>>()
+                });
+                assert_eq!(w, ours, "wide and binary trees disagree");
+                t_wide = t_wide.min(t);
+            }
             let (o, t) = timed(|| points.iter().map(|&p| parry_distance(&trimesh, p)).collect::<Vec<_>>());
             (theirs, t_parry) = (o, t_parry.min(t));
         }
-        let worst = ours.iter().zip(&theirs).map(|(a, b)| (a - b).abs()).fold(0.0f32, f32::max) / diagonal;
+        let worst = ours
+            .iter()
+            .zip(&theirs)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0f32, f32::max)
+            / diagonal;
         let (nodes, prims) = points.iter().fold((0, 0), |acc, &p| {
             let s = tree.closest_with_stats(p).1;
             (acc.0 + s.nodes_visited, acc.1 + s.primitives_tested)
         });
         let n = points.len();
+        if let Some(wide) = &wide {
+            let (nodes, prims) = points.iter().fold((0, 0), |acc, &p| {
+                let s = wide.closest_with_stats(p).1;
+                (acc.0 + s.nodes_visited, acc.1 + s.primitives_tested)
+            });
+            wide_rows.push(format!(
+                "| {set} | {:.1} | {:.1} | {:.1} | {:.0} | {:.0} | {:.0} | {:.2}x | {:.2}x |",
+                nodes as f64 / n as f64,
+                4.0 * nodes as f64 / n as f64,
+                prims as f64 / n as f64,
+                rate(n, t_ours),
+                rate(n, t_wide),
+                rate(n, t_parry),
+                t_parry / t_wide,
+                t_ours / t_wide,
+            ));
+        }
         println!(
             "| {set} | {:.1} | {:.1} | {:.0} | {:.0} | {:.0} | {:.2}x | {:.2}x | {worst:.1e} |",
             nodes as f64 / n as f64,
@@ -83,11 +143,31 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &
             t_parry / t_batch,
         );
     }
+    if !wide_rows.is_empty() {
+        println!("\nwide tree, per query in input order (same rounds as above):");
+        println!(
+            "| query set | wide nodes/query | boxes/query | primitives/query | binary q/s | wide q/s | parry3d q/s | wide/parry | wide/binary |"
+        );
+        println!("|---|---|---|---|---|---|---|---|---|");
+        for row in wide_rows {
+            println!("{row}");
+        }
+    }
     if n_linear > 0 {
         let points = proxima::sample::near_surface(mesh, n_linear, 0.01, 3);
         let linear = LinearSearch::new(triangles);
-        let (a, t_linear) = timed(|| points.iter().map(|&p| linear.closest(p).unwrap().distance).collect::<Vec<_>>());
-        let (b, t_tree) = timed(|| points.iter().map(|&p| tree.closest(p).unwrap().distance).collect::<Vec<_>>());
+        let (a, t_linear) = timed(|| {
+            points
+                .iter()
+                .map(|&p| linear.closest(p).unwrap().distance)
+                .collect::<Vec<_>>()
+        });
+        let (b, t_tree) = timed(|| {
+            points
+                .iter()
+                .map(|&p| tree.closest(p).unwrap().distance)
+                .collect::<Vec<_>>()
+        });
         assert_eq!(a, b, "tree and linear search disagree");
         println!(
             "tree/linear on {} near queries: {:.0}x (linear {:.0} q/s, tree {:.0} q/s)",
@@ -104,15 +184,21 @@ fn main() {
     let mut n_queries = 20_000;
     let mut n_linear = 0;
     let mut config = BuildConfig::default();
+    let mut with_wide = false;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
-        let mut number = |flag: &str| args.next().and_then(|v| v.parse().ok()).unwrap_or_else(|| panic!("{flag} N"));
+        let mut number = |flag: &str| {
+            args.next()
+                .and_then(|v| v.parse().ok())
+                .unwrap_or_else(|| panic!("{flag} N"))
+        };
         match a.as_str() {
             "--queries" => n_queries = number("--queries"),
             "--linear" => n_linear = number("--linear"),
             "--leaf" => config.min_size = number("--leaf") as u32,
             "--sah" => config.split = SplitMethod::BinnedSah,
             "--median" => config.split = SplitMethod::Median,
+            "--wide" => with_wide = true,
             _ => names.push(a),
         }
     }
@@ -121,7 +207,7 @@ fn main() {
     }
     for name in names {
         match load_named(&name) {
-            Ok(mesh) => compare(&name, &mesh, n_queries, n_linear, &config),
+            Ok(mesh) => compare(&name, &mesh, n_queries, n_linear, &config, with_wide),
             Err(e) => eprintln!("{name}: {e}"),
         }
     }

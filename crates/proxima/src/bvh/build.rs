@@ -65,14 +65,21 @@ impl<T: Bounded + Copy + Send + Sync> AabbTree<T> {
             return Err(BuildError::TooMany { count: n });
         }
         if sources.len() != n {
-            return Err(BuildError::SourceCount { primitives: n, sources: sources.len() });
+            return Err(BuildError::SourceCount {
+                primitives: n,
+                sources: sources.len(),
+            });
         }
         let mut items: Vec<Item> = primitives
             .par_iter()
             .enumerate()
             .map(|(index, p)| {
                 let b = p.bounds();
-                Item { min: b.min, index: index as u32, max: b.max }
+                Item {
+                    min: b.min,
+                    index: index as u32,
+                    max: b.max,
+                }
             })
             .collect();
         if let Some(index) = items.iter().position(|it| !(it.min.is_finite() && it.max.is_finite())) {
@@ -82,7 +89,13 @@ impl<T: Bounded + Copy + Send + Sync> AabbTree<T> {
         let indices: Vec<u32> = items.par_iter().map(|it| it.index).collect();
         let ordered = indices.par_iter().map(|&i| primitives[i as usize]).collect();
         let sources = indices.par_iter().map(|&i| sources[i as usize]).collect();
-        Ok(Self { nodes, primitives: ordered, indices, sources, depth })
+        Ok(Self {
+            nodes,
+            primitives: ordered,
+            indices,
+            sources,
+            depth,
+        })
     }
 }
 
@@ -130,15 +143,29 @@ fn build_subtree(items: &mut [Item], offset: usize, depth: u32, config: &BuildCo
     let left_shift = 2;
     let right_shift = 2 + 2 * left.pairs.len() as u32;
     let mut pairs = Vec::with_capacity(1 + left.pairs.len() + right.pairs.len());
-    pairs.push(NodePair([left.root.shifted(left_shift), right.root.shifted(right_shift)]));
+    pairs.push(NodePair([
+        left.root.shifted(left_shift),
+        right.root.shifted(right_shift),
+    ]));
     pairs.extend(left.pairs.iter().map(|p| NodePair(p.0.map(|n| n.shifted(left_shift)))));
-    pairs.extend(right.pairs.iter().map(|p| NodePair(p.0.map(|n| n.shifted(right_shift)))));
-    Subtree { root: Node::inner(widen(bounds), 0), pairs, depth: left.depth.max(right.depth) }
+    pairs.extend(
+        right
+            .pairs
+            .iter()
+            .map(|p| NodePair(p.0.map(|n| n.shifted(right_shift)))),
+    );
+    Subtree {
+        root: Node::inner(widen(bounds), 0),
+        pairs,
+        depth: left.depth.max(right.depth),
+    }
 }
 
 /// The box of all items.
 fn bounds_of(items: &[Item]) -> Aabb {
-    items.iter().fold(Aabb::EMPTY, |b, it| b.merge(&Aabb::new(it.min, it.max)))
+    items
+        .iter()
+        .fold(Aabb::EMPTY, |b, it| b.merge(&Aabb::new(it.min, it.max)))
 }
 
 /// Decides whether the node over `items` is split and, if so, reorders the
@@ -177,8 +204,15 @@ fn build_sequential(items: &mut [Item], offset: usize, depth: u32, config: &Buil
     }
     // Drop pair 0: inner nodes' child indices move down by one pair.
     let root = pairs[0].0[0].shifted_down(2);
-    let pairs = pairs[1..].iter().map(|p| NodePair(p.0.map(|n| n.shifted_down(2)))).collect();
-    Subtree { root, pairs, depth: max_depth }
+    let pairs = pairs[1..]
+        .iter()
+        .map(|p| NodePair(p.0.map(|n| n.shifted_down(2))))
+        .collect();
+    Subtree {
+        root,
+        pairs,
+        depth: max_depth,
+    }
 }
 
 /// Splits `range` into two equal halves along the largest extent of `bounds`;

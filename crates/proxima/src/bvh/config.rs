@@ -62,7 +62,10 @@ impl BuildConfig {
     /// and primitives visited per closest-point query than [`fast_build`](Self::fast_build),
     /// for a build about twice as slow. For trees that answer many queries.
     pub fn fast_queries() -> Self {
-        Self { split: SplitMethod::BinnedSah, ..Self::default() }
+        Self {
+            split: SplitMethod::BinnedSah,
+            ..Self::default()
+        }
     }
 
     /// Checks the parameters.

@@ -12,7 +12,9 @@ mod knn;
 mod node;
 mod traverse;
 mod validate;
+pub mod wide;
 
+pub use self::wide::{WideChild, WideKnnScratch, WideNode, WideTree};
 pub use batch::BatchOptions;
 pub use config::{BuildConfig, MAX_DEPTH, SplitMethod};
 pub use knn::KnnScratch;

@@ -90,7 +90,7 @@ impl<T: Bounded> AabbTree<T> {
             } else {
                 for c in n.children() {
                     let c = c as usize;
-                    if c >= flat || n.children()[0] % 2 != 0 || !n.bounds().contains(&self.node(c).bounds()) {
+                    if c >= flat || !n.children()[0].is_multiple_of(2) || !n.bounds().contains(&self.node(c).bounds()) {
                         return Err(format!("node {i} does not hold child {c}"));
                     }
                     stack.push((c, depth + 1));

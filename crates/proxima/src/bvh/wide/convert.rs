@@ -1,0 +1,130 @@
+//! Collapsing a binary [`AabbTree`] into a [`WideTree`].
+
+use super::packet::TrianglePacket;
+use super::{WideNode, WideTree};
+use crate::bvh::AabbTree;
+use crate::bvh::config::BuildConfig;
+use crate::error::BuildError;
+use crate::primitive::{Bounded, PrimitiveSet, Triangle};
+use std::any::Any;
+use std::ops::Range;
+
+/// Up to four binary nodes that become the children of one wide node: the two
+/// children of binary node `index`, then, while there are fewer than four,
+/// the inner candidate of largest surface area is replaced by its two
+/// children. Large boxes are the ones a query most often enters, so opening
+/// them first saves the most node visits.
+fn collapse<T>(tree: &AabbTree<T>, index: usize) -> ([usize; 4], usize) {
+    let mut lanes = [0usize; 4];
+    let [a, b] = tree.node(index).children();
+    lanes[0] = a as usize;
+    lanes[1] = b as usize;
+    let mut n = 2;
+    while n < 4 {
+        let largest = lanes[..n]
+            .iter()
+            .enumerate()
+            .filter(|&(_, &c)| !tree.node(c).is_leaf())
+            .map(|(lane, &c)| (lane, tree.node(c).bounds().surface_area()))
+            .fold(None, |best: Option<(usize, f32)>, (lane, area)| match best {
+                Some((_, a)) if a >= area => best,
+                _ => Some((lane, area)),
+            });
+        let Some((lane, _)) = largest else { break };
+        let [left, right] = tree.node(lanes[lane]).children();
+        lanes[lane] = left as usize;
+        lanes[n] = right as usize;
+        n += 1;
+    }
+    (lanes, n)
+}
+
+/// The leaves' triangles as packets of four, when the primitives are
+/// [`Triangle`]s and the target is x86-64 (where the packet arithmetic is
+/// known to repeat glam's bit for bit).
+struct Packer<'a> {
+    triangles: Option<&'a [Triangle]>,
+    packets: Vec<TrianglePacket>,
+}
+
+impl<'a> Packer<'a> {
+    fn new<T: 'static>(tree: &'a AabbTree<T>) -> Self {
+        let triangles = (tree as &dyn Any)
+            .downcast_ref::<AabbTree<Triangle>>()
+            .map(AabbTree::primitives)
+            .filter(|_| cfg!(target_arch = "x86_64"));
+        Self {
+            triangles,
+            packets: Vec::new(),
+        }
+    }
+
+    /// What a leaf lane refers to: its first packet, or its first slot.
+    fn leaf(&mut self, range: Range<usize>) -> u32 {
+        let Some(triangles) = self.triangles else {
+            return range.start as u32;
+        };
+        let index = self.packets.len() as u32;
+        for start in range.clone().step_by(4) {
+            let end = (start + 4).min(range.end);
+            self.packets
+                .push(TrianglePacket::new(&triangles[start..end], start as u32));
+        }
+        index
+    }
+}
+
+impl<T: 'static> WideTree<T> {
+    /// Collapses the binary tree into wide nodes; the binary tree is kept and
+    /// its primitives are shared, not copied. Linear in the number of nodes.
+    ///
+    /// For [`Triangle`]s (on x86-64) the leaves' triangles are also copied into
+    /// packets of four, tested at once with the same results as one by one.
+    pub fn from_tree(tree: AabbTree<T>) -> Self {
+        let mut nodes = Vec::new();
+        let mut depth = 0;
+        let mut packer = Packer::new(&tree);
+        if let Some(root) = tree.root() {
+            nodes.push(WideNode::EMPTY);
+            if root.is_leaf() {
+                let range = root.primitive_range();
+                let first = packer.leaf(range.clone());
+                nodes[0].set_child(0, root.bounds(), first, Some(range.len() as u32));
+            } else {
+                // (wide node to fill, binary node it stands for, its depth)
+                let mut work = vec![(0usize, 0usize, 0u32)];
+                while let Some((wide, binary, d)) = work.pop() {
+                    depth = depth.max(d);
+                    let (lanes, n) = collapse(&tree, binary);
+                    for (lane, &child) in lanes[..n].iter().enumerate() {
+                        let node = tree.node(child);
+                        if node.is_leaf() {
+                            let range = node.primitive_range();
+                            let first = packer.leaf(range.clone());
+                            nodes[wide].set_child(lane, node.bounds(), first, Some(range.len() as u32));
+                        } else {
+                            let index = nodes.len();
+                            nodes.push(WideNode::EMPTY);
+                            nodes[wide].set_child(lane, node.bounds(), index as u32, None);
+                            work.push((index, child, d + 1));
+                        }
+                    }
+                }
+            }
+        }
+        let packets = packer.packets;
+        Self {
+            tree,
+            nodes,
+            packets,
+            depth,
+        }
+    }
+}
+
+impl<T: Bounded + Copy + Send + Sync + 'static> WideTree<T> {
+    /// Builds the binary tree ([`AabbTree::build_set`]) and collapses it.
+    pub fn build_set(set: PrimitiveSet<T>, config: &BuildConfig) -> Result<Self, BuildError> {
+        AabbTree::build_set(set, config).map(Self::from_tree)
+    }
+}

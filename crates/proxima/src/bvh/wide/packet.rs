@@ -1,0 +1,294 @@
+//! Four triangles tested at once: the closest point on each, branch free in
+//! `f32x4`, bit for bit the same as [`Triangle::closest_point`].
+//!
+//! The lanes repeat the scalar routine's arithmetic (`closest_triangle.rs`)
+//! operation for operation: the same differences, the same dot products
+//! summed in the same order (`(x + y) + z`, as glam's `Vec3A::dot`), the same
+//! cross product (fused exactly where glam fuses it), the same divisions, and
+//! the Voronoi regions chosen with the same priority (vertex a, vertex b, edge
+//! ab, vertex c, edge ac, edge bc, face). IEEE arithmetic is deterministic, so
+//! each lane gives the scalar answer. Slivers and degenerate triangles, which
+//! the scalar routine sends to its `f64` path, are marked at build time and
+//! answered by the scalar routine itself.
+
+use crate::math::Vec3A;
+use crate::primitive::Triangle;
+use wide::f32x4;
+
+/// The scalar routine sends a triangle to its `f64` path when
+/// `|n|² <= 1e-4 |ab|² |ac|²`. Packing marks for the scalar routine every
+/// triangle below four times that bound, a superset: the lanes answered in
+/// `f32x4` are certainly not slivers to the scalar routine, and the others
+/// get the scalar routine's own answer, whichever path it takes. (The test
+/// `packets_equal_the_scalar_routine` checks triangles across the bound.)
+const SCALAR_SIN2: f32 = 4e-4;
+
+/// Up to four triangles of one leaf in structure of arrays form, with the
+/// leaf-order slot of the first. Lanes past the leaf's end repeat a real
+/// triangle and are masked out.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(16))]
+pub(crate) struct TrianglePacket {
+    /// Slot of lane 0 in the tree's leaf-order primitive array.
+    pub(crate) first: u32,
+    /// Lanes answered in `f32x4`.
+    pub(crate) fast: u32,
+    /// Lanes answered by the scalar routine (slivers, degenerate triangles).
+    pub(crate) slow: u32,
+    _pad: u32,
+    pub(crate) a: [[f32; 4]; 3],
+    pub(crate) b: [[f32; 4]; 3],
+    pub(crate) c: [[f32; 4]; 3],
+}
+
+const _: () = assert!(std::mem::size_of::<TrianglePacket>() == 160);
+
+/// Three `f32x4`: one 3D vector per lane.
+#[derive(Clone, Copy)]
+pub(crate) struct V3 {
+    pub(crate) x: f32x4,
+    pub(crate) y: f32x4,
+    pub(crate) z: f32x4,
+}
+
+impl V3 {
+    #[inline(always)]
+    pub(crate) fn splat(p: Vec3A) -> Self {
+        Self {
+            x: f32x4::splat(p.x),
+            y: f32x4::splat(p.y),
+            z: f32x4::splat(p.z),
+        }
+    }
+
+    #[inline(always)]
+    fn load(v: &[[f32; 4]; 3]) -> Self {
+        Self {
+            x: f32x4::new(v[0]),
+            y: f32x4::new(v[1]),
+            z: f32x4::new(v[2]),
+        }
+    }
+
+    #[inline(always)]
+    fn sub(self, o: Self) -> Self {
+        Self {
+            x: self.x - o.x,
+            y: self.y - o.y,
+            z: self.z - o.z,
+        }
+    }
+
+    #[inline(always)]
+    fn add(self, o: Self) -> Self {
+        Self {
+            x: self.x + o.x,
+            y: self.y + o.y,
+            z: self.z + o.z,
+        }
+    }
+
+    #[inline(always)]
+    fn scale(self, s: f32x4) -> Self {
+        Self {
+            x: self.x * s,
+            y: self.y * s,
+            z: self.z * s,
+        }
+    }
+
+    /// `(x x' + y y') + z z'`, glam's order.
+    #[inline(always)]
+    pub(crate) fn dot(self, o: Self) -> f32x4 {
+        self.x * o.x + self.y * o.y + self.z * o.z
+    }
+
+    /// glam's SSE2 cross product: `(self.zxy * o - o.zxy * self).zxy`, the
+    /// second product fused into the difference where the target has FMA.
+    #[inline(always)]
+    fn cross(self, o: Self) -> Self {
+        Self {
+            x: o.y.mul_neg_add(self.z, self.y * o.z),
+            y: o.z.mul_neg_add(self.x, self.z * o.x),
+            z: o.x.mul_neg_add(self.y, self.x * o.y),
+        }
+    }
+
+    /// Lane by lane, `t` where `mask` is set, else `self`.
+    #[inline(always)]
+    fn replace(self, mask: f32x4, t: Self) -> Self {
+        Self {
+            x: mask.select(t.x, self.x),
+            y: mask.select(t.y, self.y),
+            z: mask.select(t.z, self.z),
+        }
+    }
+
+    /// Lane `lane` as a vector.
+    #[inline(always)]
+    pub(crate) fn lane(&self, lane: usize) -> Vec3A {
+        Vec3A::new(
+            self.x.as_array()[lane],
+            self.y.as_array()[lane],
+            self.z.as_array()[lane],
+        )
+    }
+}
+
+impl TrianglePacket {
+    /// Packs `triangles` (1 to 4), the first of which sits at slot `first`.
+    pub(crate) fn new(triangles: &[Triangle], first: u32) -> Self {
+        assert!((1..=4).contains(&triangles.len()));
+        let mut packet = Self {
+            first,
+            fast: 0,
+            slow: 0,
+            _pad: 0,
+            a: [[0.0; 4]; 3],
+            b: [[0.0; 4]; 3],
+            c: [[0.0; 4]; 3],
+        };
+        for lane in 0..4 {
+            let t = triangles[lane.min(triangles.len() - 1)];
+            for (axis, (a, (b, c))) in
+                t.a.to_array()
+                    .into_iter()
+                    .zip(t.b.to_array().into_iter().zip(t.c.to_array()))
+                    .enumerate()
+            {
+                packet.a[axis][lane] = a;
+                packet.b[axis][lane] = b;
+                packet.c[axis][lane] = c;
+            }
+            if lane < triangles.len() {
+                let (a, b, c) = (Vec3A::from(t.a), Vec3A::from(t.b), Vec3A::from(t.c));
+                let (ab, ac) = (b - a, c - a);
+                let n = ab.cross(ac);
+                if n.length_squared() <= SCALAR_SIN2 * ab.length_squared() * ac.length_squared() {
+                    packet.slow |= 1 << lane;
+                } else {
+                    packet.fast |= 1 << lane;
+                }
+            }
+        }
+        packet
+    }
+
+    /// The closest point of each lane's triangle to `p`, and its squared
+    /// distance; lanes outside [`fast`](Self::fast) are meaningless.
+    #[inline(always)]
+    pub(crate) fn closest(&self, p: &V3) -> (V3, f32x4) {
+        let zero = f32x4::ZERO;
+        let (a, b, c) = (V3::load(&self.a), V3::load(&self.b), V3::load(&self.c));
+        let ab = b.sub(a);
+        let ac = c.sub(a);
+        let n = ab.cross(ac);
+        let ap = p.sub(a);
+        let d1 = ab.dot(ap);
+        let d2 = ac.dot(ap);
+        let bp = p.sub(b);
+        let d3 = ab.dot(bp);
+        let d4 = ac.dot(bp);
+        let cp = p.sub(c);
+        let d5 = ab.dot(cp);
+        let d6 = ac.dot(cp);
+        let vc = d1 * d4 - d3 * d2;
+        let vb = d5 * d2 - d1 * d6;
+        let va = d3 * d6 - d5 * d4;
+        let e = d4 - d3;
+        let f = d5 - d6;
+        // Regions, each with the priority the scalar routine's early returns give it.
+        let in_a = d1.simd_le(zero) & d2.simd_le(zero);
+        let in_b = d3.simd_ge(zero) & d4.simd_le(d3);
+        let in_ab = vc.simd_le(zero) & d1.simd_ge(zero) & d3.simd_le(zero);
+        let in_c = d6.simd_ge(zero) & d5.simd_le(d6);
+        let in_ac = vb.simd_le(zero) & d2.simd_ge(zero) & d6.simd_le(zero);
+        let in_bc = va.simd_le(zero) & e.simd_ge(zero) & f.simd_ge(zero);
+        // Face, then the others from the lowest priority up.
+        let mut q = p.sub(n.scale(n.dot(ap) / n.dot(n)));
+        q = q.replace(in_bc, b.add(c.sub(b).scale(e / (e + f))));
+        q = q.replace(in_ac, a.add(ac.scale(d2 / (d2 - d6))));
+        q = q.replace(in_c, c);
+        q = q.replace(in_ab, a.add(ab.scale(d1 / (d1 - d3))));
+        q = q.replace(in_b, b);
+        q = q.replace(in_a, a);
+        let d = q.sub(*p);
+        (q, d.dot(d))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Vec3;
+    use crate::primitive::ClosestPoint;
+    use crate::sample::Rng;
+
+    fn vec(rng: &mut Rng, scale: f32) -> Vec3 {
+        Vec3::new(
+            rng.range(-scale, scale),
+            rng.range(-scale, scale),
+            rng.range(-scale, scale),
+        )
+    }
+
+    /// Triangles of every shape: ordinary, thin across the sliver bound
+    /// (sin² of the angle at `a` from 1e-7 to 1e-1), degenerate, tiny, huge.
+    fn triangles(rng: &mut Rng, n: usize) -> Vec<Triangle> {
+        (0..n)
+            .map(|i| {
+                let a = vec(rng, 1.0);
+                let (b, c) = (a + vec(rng, 0.5), a + vec(rng, 0.5));
+                match i % 8 {
+                    0..=2 => Triangle::new(a, b, c),
+                    3 | 4 => {
+                        // Angle at a with sin² = 10^-(1 + 6u): c off the line ab.
+                        let sin = 10f32.powf(-(1.0 + 6.0 * rng.unit() as f32) / 2.0);
+                        let ab = b - a;
+                        let off = ab.any_orthonormal_vector() * ab.length() * sin;
+                        let t = rng.range(0.2, 1.5);
+                        Triangle::new(a, b, a + ab * t + off * t)
+                    }
+                    5 => Triangle::new(a, b, if rng.unit() < 0.5 { a } else { a + (b - a) * 2.5 }),
+                    6 => Triangle::new(a * 1e-20, b * 1e-20, c * 1e-20),
+                    _ => Triangle::new(a * 1e18, b * 1e18, c * 1e18),
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn packets_equal_the_scalar_routine() {
+        let mut rng = Rng::new(17);
+        let tris = triangles(&mut rng, 4000);
+        let mut slow = 0;
+        for (k, chunk) in tris.chunks(4).enumerate() {
+            // Leaves of 1 to 4 triangles.
+            let chunk = &chunk[..1 + k % 4];
+            let packet = TrianglePacket::new(chunk, 0);
+            assert_eq!(packet.fast | packet.slow, (1 << chunk.len()) - 1);
+            assert_eq!(packet.fast & packet.slow, 0);
+            slow += packet.slow.count_ones();
+            for j in 0..40 {
+                let scale = [1e-20, 1.0, 3.0, 1e18][j % 4];
+                let p = Vec3A::from(vec(&mut rng, scale));
+                let (q, d2) = packet.closest(&V3::splat(p));
+                for (lane, t) in chunk.iter().enumerate() {
+                    if packet.fast & (1 << lane) == 0 {
+                        continue;
+                    }
+                    let expected = t.closest_point(p);
+                    let got = q.lane(lane);
+                    assert_eq!(
+                        got.to_array().map(f32::to_bits),
+                        expected.to_array().map(f32::to_bits),
+                        "{t:?} at {p}"
+                    );
+                    assert_eq!(d2.as_array()[lane].to_bits(), (expected - p).length_squared().to_bits());
+                }
+            }
+        }
+        // Some lanes went to the scalar routine, most did not.
+        assert!(slow > 100 && slow < 1500, "{slow} slow lanes");
+    }
+}

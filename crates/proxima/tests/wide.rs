@@ -1,0 +1,267 @@
+//! The 4-wide tree against brute force and the binary tree: closest and
+//! k-nearest answers must be identical (primitive, source, point, distance),
+//! for every primitive type, build configuration, and kind of query.
+
+mod common;
+
+use common::{bumpy_sphere, queries, random_soup, shared_meshes};
+use proxima::bvh::{BatchOptions, SplitMethod, WideChild, WideTree};
+use proxima::{AabbTree, BuildConfig, ClosestPoint, LinearSearch, Mesh, Point, PrimitiveSet, Triangle, Vec3};
+
+fn configs() -> Vec<BuildConfig> {
+    let d = BuildConfig::default();
+    let mut out = Vec::new();
+    for split in [SplitMethod::Median, SplitMethod::BinnedSah] {
+        for min_size in [1, 4, 7] {
+            out.push(BuildConfig { min_size, split, ..d });
+        }
+        for max_depth in [1, 3] {
+            out.push(BuildConfig { max_depth, split, ..d });
+        }
+    }
+    out
+}
+
+/// Every binary leaf appears in exactly one lane, with the binary node's own
+/// box; every wide node but the root is referenced once.
+fn check_structure<T>(wide: &WideTree<T>) {
+    let tree = wide.tree();
+    let mut binary: Vec<_> = tree
+        .nodes()
+        .filter(|(_, n)| n.is_leaf())
+        .map(|(_, n)| (n.primitive_range().start, n.primitive_range().end, n.bounds()))
+        .collect();
+    let mut leaves = Vec::new();
+    let mut referenced = vec![0u32; wide.node_count()];
+    for (index, node) in wide.nodes().iter().enumerate() {
+        let mut lanes = 0;
+        for lane in 0..4 {
+            match wide.child(index, lane) {
+                WideChild::Empty => assert!(node.child_bounds(lane).is_empty()),
+                WideChild::Inner(i) => {
+                    assert!(i > 0 && i < wide.node_count());
+                    referenced[i] += 1;
+                    lanes += 1;
+                }
+                WideChild::Leaf(r) => {
+                    leaves.push((r.start, r.end, node.child_bounds(lane)));
+                    lanes += 1;
+                }
+            }
+        }
+        // Only a root that is a single leaf has fewer than two children.
+        assert!(lanes >= 2 || wide.node_count() == 1);
+    }
+    assert!(referenced.iter().skip(1).all(|&r| r == 1));
+    let key = |a: &(usize, usize, proxima::Aabb)| (a.0, a.1);
+    binary.sort_by_key(key);
+    leaves.sort_by_key(key);
+    assert_eq!(leaves, binary);
+    assert!(wide.depth() <= tree.depth());
+}
+
+fn check<T: ClosestPoint + Copy + Send + Sync + std::fmt::Debug + 'static>(
+    set: PrimitiveSet<T>,
+    points: &[Vec3],
+    config: &BuildConfig,
+    ks: &[usize],
+) {
+    let wide = WideTree::build_set(set.clone(), config).unwrap();
+    check_structure(&wide);
+    let linear = LinearSearch::new(set);
+    for &p in points {
+        let expected = linear.closest(p);
+        assert_eq!(wide.closest(p), expected, "closest at {p}, config {config:?}");
+        for &k in ks {
+            assert_eq!(wide.k_nearest(p, k), linear.k_nearest(p, k), "k = {k} at {p}");
+        }
+    }
+    let batch = wide.closest_batch(points);
+    let plain = wide.closest_batch_with(points, BatchOptions { reorder: false });
+    for (i, &p) in points.iter().enumerate() {
+        assert_eq!(batch[i], linear.closest(p));
+        assert_eq!(plain[i], batch[i]);
+    }
+    if let Some(&k) = ks.iter().max() {
+        let batch = wide.k_nearest_batch(points, k);
+        for (i, &p) in points.iter().enumerate() {
+            assert_eq!(batch[i], linear.k_nearest(p, k));
+        }
+    }
+}
+
+fn check_mesh(mesh: &Mesh, n_queries: usize, config: &BuildConfig, ks: &[usize]) {
+    let points = queries(mesh, n_queries, 7);
+    check(mesh.vertices(), &points, config, ks);
+    check(mesh.edges(), &points, config, ks);
+    check(mesh.triangles(), &points, config, ks);
+}
+
+#[test]
+fn random_soups_match_brute_force() {
+    for seed in 0..3 {
+        let mesh = random_soup(300 + 70 * seed as usize, seed);
+        for config in configs() {
+            check_mesh(&mesh, 50, &config, &[1, 5]);
+        }
+    }
+}
+
+#[test]
+fn bumpy_sphere_matches_brute_force_inside_and_out() {
+    let mesh = bumpy_sphere(12, 3);
+    for config in [BuildConfig::default(), BuildConfig::fast_queries()] {
+        check_mesh(&mesh, 150, &config, &[3]);
+    }
+    let inside: Vec<Vec3> = (0..20).map(|i| Vec3::splat(i as f32 * 0.01)).collect();
+    check(mesh.triangles(), &inside, &BuildConfig::default(), &[2]);
+}
+
+#[test]
+fn large_mesh_matches_the_binary_tree() {
+    let mesh = bumpy_sphere(60, 5);
+    let points = queries(&mesh, 500, 11);
+    for config in [BuildConfig::default(), BuildConfig::fast_queries()] {
+        let wide = WideTree::build_set(mesh.triangles(), &config).unwrap();
+        check_structure(&wide);
+        for &p in &points {
+            assert_eq!(wide.closest(p), wide.tree().closest(p), "at {p}");
+        }
+    }
+    check(mesh.triangles(), &points[..60], &BuildConfig::default(), &[2]);
+}
+
+#[test]
+fn empty_one_and_degenerate() {
+    let empty: WideTree<Triangle> = WideTree::build_set(PrimitiveSet::default(), &BuildConfig::default()).unwrap();
+    assert_eq!(empty.node_count(), 0);
+    assert_eq!(empty.closest(Vec3::ZERO), None);
+    assert!(empty.k_nearest(Vec3::ZERO, 3).is_empty());
+    assert!(empty.closest_batch(&[Vec3::ZERO]) == vec![None]);
+    // One primitive: the root's single lane is a leaf.
+    let one = WideTree::from_tree(AabbTree::build(vec![Point(Vec3::ONE)], &BuildConfig::default()).unwrap());
+    assert_eq!(one.node_count(), 1);
+    let hit = one.closest(Vec3::ZERO).unwrap();
+    assert_eq!((hit.primitive, hit.point, hit.distance), (0, Vec3::ONE, 3f32.sqrt()));
+    let tri = Mesh::from_triangles(vec![Vec3::ZERO, Vec3::X, Vec3::Y], &[[0, 1, 2]]).unwrap();
+    check_mesh(&tri, 20, &BuildConfig::default(), &[0, 1, 2, 9]);
+    // Many identical triangles: ties everywhere, to the lowest index.
+    let same = Mesh::from_triangles(vec![Vec3::ZERO, Vec3::X, Vec3::Y], &vec![[0, 1, 2]; 50]).unwrap();
+    check_mesh(&same, 20, &BuildConfig::default(), &[1, 7]);
+    let point = Mesh::from_triangles(vec![Vec3::ONE; 3], &[[0, 1, 2]; 9]).unwrap();
+    check_mesh(&point, 10, &BuildConfig::default(), &[1, 4]);
+    for (scale, offset) in [(1e15f32, 0.0f32), (1e-30, 0.0), (1e-3, 1e7)] {
+        let positions = (0..30)
+            .map(|i| Vec3::new(i as f32 % 5.0, (i / 5) as f32, (i % 3) as f32) * scale + Vec3::splat(offset))
+            .collect();
+        let tris: Vec<[u32; 3]> = (0..28).map(|i| [i, i + 1, i + 2]).collect();
+        let m = Mesh::from_triangles(positions, &tris).unwrap();
+        check_mesh(&m, 30, &BuildConfig::default(), &[1, 3]);
+    }
+}
+
+#[test]
+fn triangles_are_tested_four_at_a_time() {
+    let mesh = random_soup(100, 4);
+    let config = BuildConfig::default();
+    let triangles = WideTree::build_set(mesh.triangles(), &config).unwrap();
+    assert_eq!(triangles.has_triangle_packets(), cfg!(target_arch = "x86_64"));
+    assert!(
+        !WideTree::build_set(mesh.edges(), &config)
+            .unwrap()
+            .has_triangle_packets()
+    );
+    assert!(
+        !WideTree::build_set(mesh.vertices(), &config)
+            .unwrap()
+            .has_triangle_packets()
+    );
+}
+
+#[test]
+fn closest_within_matches_the_binary_tree() {
+    let mesh = random_soup(400, 9);
+    let wide = WideTree::build_set(mesh.triangles(), &BuildConfig::default()).unwrap();
+    for p in queries(&mesh, 60, 3) {
+        for r in [0.0, 0.01, 0.05, 0.3, f32::INFINITY] {
+            assert_eq!(
+                wide.closest_within(p, r),
+                wide.tree().closest_within(p, r),
+                "at {p} within {r}"
+            );
+        }
+    }
+}
+
+#[test]
+fn non_finite_queries_answer_nothing() {
+    let mesh = random_soup(50, 1);
+    let wide = WideTree::build_set(mesh.triangles(), &BuildConfig::default()).unwrap();
+    for p in [
+        Vec3::NAN,
+        Vec3::new(f32::INFINITY, 0.0, 0.0),
+        Vec3::new(0.0, f32::NAN, 1.0),
+    ] {
+        assert_eq!(wide.closest(p), None);
+        assert!(wide.k_nearest(p, 3).is_empty());
+        assert_eq!(wide.closest_batch(&[p]), vec![None]);
+    }
+}
+
+#[test]
+fn fewer_node_visits_than_the_binary_tree() {
+    let mesh = bumpy_sphere(40, 2);
+    let wide = WideTree::build_set(mesh.triangles(), &BuildConfig::default()).unwrap();
+    let (mut binary_nodes, mut wide_nodes, mut binary_prims, mut wide_prims) = (0, 0, 0, 0);
+    for p in queries(&mesh, 300, 5) {
+        let (a, s) = wide.tree().closest_with_stats(p);
+        let (b, w) = wide.closest_with_stats(p);
+        assert_eq!(a, b);
+        binary_nodes += s.nodes_visited;
+        binary_prims += s.primitives_tested;
+        wide_nodes += w.nodes_visited;
+        wide_prims += w.primitives_tested;
+    }
+    // Binary nodes are visited two at a time, wide nodes four at a time.
+    assert!(
+        2 * wide_nodes < binary_nodes,
+        "{wide_nodes} wide, {binary_nodes} binary"
+    );
+    assert!(
+        wide_prims <= binary_prims + binary_prims / 4,
+        "{wide_prims} vs {binary_prims}"
+    );
+}
+
+#[test]
+fn real_meshes_match_brute_force() {
+    for path in shared_meshes() {
+        let mesh = proxima::io::load(&path).unwrap();
+        let n = (2_000_000 / mesh.triangle_count().max(1)).clamp(4, 150);
+        println!(
+            "{}: {} triangles, {} queries per kind",
+            path.display(),
+            mesh.triangle_count(),
+            n
+        );
+        let points = queries(&mesh, n, 7);
+        let triangles = mesh.triangles();
+        let wide = WideTree::build_set(triangles.clone(), &BuildConfig::default()).unwrap();
+        let linear = LinearSearch::new(triangles);
+        for &p in &points {
+            assert_eq!(wide.closest(p), linear.closest(p), "{} at {p}", path.display());
+        }
+        // The binary tree is itself checked against brute force: many more queries.
+        for &p in &queries(&mesh, 2000, 8) {
+            assert_eq!(wide.closest(p), wide.tree().closest(p), "{} at {p}", path.display());
+        }
+        if mesh.triangle_count() < 200_000 {
+            check(
+                mesh.edges(),
+                &points[..points.len().min(20)],
+                &BuildConfig::default(),
+                &[3],
+            );
+        }
+    }
+}
