@@ -111,7 +111,7 @@ fn info_and_bench_json_have_the_documented_keys() {
     let bench: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
     assert_eq!(bench["triangles"], 4);
     let results = bench["results"].as_array().unwrap();
-    assert_eq!(results.len(), 9);
+    assert_eq!(results.len(), 12);
     for r in results {
         for key in [
             "primitives",

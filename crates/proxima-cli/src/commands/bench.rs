@@ -4,7 +4,7 @@
 use crate::common::{Primitives, Split, load_mesh, read_points};
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
-use proxima::bvh::BatchOptions;
+use proxima::bvh::WideTree;
 use proxima::{AabbTree, BuildConfig, ClosestPoint, LinearSearch, Mesh, PrimitiveSet, Vec3};
 use rayon::prelude::*;
 use serde_json::json;
@@ -55,7 +55,8 @@ pub struct Args {
 pub struct Record {
     /// Primitive type.
     pub primitives: &'static str,
-    /// `linear`, `tree` (per query, input order) or `tree-batch` (Morton-ordered batch).
+    /// `linear`, `tree` (binary tree, per query in input order), `tree-wide`
+    /// (4-wide SIMD tree, per query) or `tree-batch` (4-wide tree, Morton-ordered batch).
     pub method: &'static str,
     /// Build time of the structure (0 for linear).
     pub build_seconds: f64,
@@ -77,7 +78,7 @@ impl Record {
 const LINEAR_BUDGET: usize = 100_000_000;
 
 /// Benchmarks one primitive type: tree build, linear and tree queries.
-fn bench_set<T: ClosestPoint + Copy + Send + Sync>(
+fn bench_set<T: ClosestPoint + Copy + Send + Sync + 'static>(
     set: PrimitiveSet<T>,
     kind: Primitives,
     points: &[Vec3],
@@ -104,45 +105,38 @@ fn bench_set<T: ClosestPoint + Copy + Send + Sync>(
     let linear_seconds = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
 
-    let start = Instant::now();
-    let per_query: Vec<Option<f32>> = points
-        .par_iter()
-        .map(|&p| tree.closest(p).map(|h| h.distance))
-        .collect();
-    let tree_seconds = start.elapsed().as_secs_f64();
-    let start = Instant::now();
-    let batch = tree.closest_batch_with(points, BatchOptions { reorder: true });
-    let batch_seconds = start.elapsed().as_secs_f64();
+    // Per query, in input order: the binary tree, then the 4-wide tree
+    // converted from it (same answers, SIMD nodes).
+    let (per_query, tree_seconds): (Vec<Option<f32>>, f64) = timed(|| points.par_iter().map(|&p| tree.closest(p).map(|h| h.distance)).collect());
+    let (wide, convert_seconds) = timed(|| WideTree::from_tree(tree));
+    let (per_query_wide, wide_seconds): (Vec<Option<f32>>, f64) =
+        timed(|| points.par_iter().map(|&p| wide.closest(p).map(|h| h.distance)).collect());
+    let (batch, batch_seconds) = timed(|| wide.closest_batch(points));
 
     let agree = expected.iter().zip(&per_query).all(|(a, b)| a == b)
+        && per_query_wide == per_query
         && batch.iter().zip(&per_query).all(|(a, b)| a.map(|h| h.distance) == *b);
-    let name = kind.name();
+    let row = |method, build_seconds, queries, seconds| Record {
+        primitives: kind.name(),
+        method,
+        build_seconds,
+        queries,
+        seconds,
+        agree,
+    };
     Ok(vec![
-        Record {
-            primitives: name,
-            method: "linear",
-            build_seconds: 0.0,
-            queries: n_linear,
-            seconds: linear_seconds,
-            agree,
-        },
-        Record {
-            primitives: name,
-            method: "tree",
-            build_seconds,
-            queries: points.len(),
-            seconds: tree_seconds,
-            agree,
-        },
-        Record {
-            primitives: name,
-            method: "tree-batch",
-            build_seconds,
-            queries: points.len(),
-            seconds: batch_seconds,
-            agree,
-        },
+        row("linear", 0.0, n_linear, linear_seconds),
+        row("tree", build_seconds, points.len(), tree_seconds),
+        row("tree-wide", build_seconds + convert_seconds, points.len(), wide_seconds),
+        row("tree-batch", build_seconds + convert_seconds, points.len(), batch_seconds),
     ])
+}
+
+/// Runs `f`, returning its value and its time in seconds.
+fn timed<R>(f: impl FnOnce() -> R) -> (R, f64) {
+    let start = Instant::now();
+    let value = f();
+    (value, start.elapsed().as_secs_f64())
 }
 
 fn bar(enabled: bool, len: usize, message: &str) -> ProgressBar {
