@@ -28,6 +28,14 @@ enum Command {
     Closest(commands::closest::Args),
     /// Linear search against the AABB tree on the same queries.
     Bench(commands::bench::Args),
+    /// Hash grid statistics per primitive type (occupied cells, primitives per cell, build time).
+    Grid(commands::grid::Args),
+    /// Surface voxelization at N³ over the bounding box: occupied cells and time.
+    Voxelize(commands::voxelize::Args),
+    /// The cells a ray walks through (Amanatides & Woo), as CSV.
+    Traverse(commands::traverse::Args),
+    /// The first face a ray hits, through a hash grid.
+    Raycast(commands::raycast::Args),
 }
 
 fn main() -> ExitCode {
@@ -37,6 +45,10 @@ fn main() -> ExitCode {
         Command::Info(args) => commands::info::run(args),
         Command::Closest(args) => commands::closest::run(args),
         Command::Bench(args) => commands::bench::run(args),
+        Command::Grid(args) => commands::grid::run(args),
+        Command::Voxelize(args) => commands::voxelize::run(args),
+        Command::Traverse(args) => commands::traverse::run(args),
+        Command::Raycast(args) => commands::raycast::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

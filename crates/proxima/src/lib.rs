@@ -39,11 +39,11 @@ pub mod traversal;
 
 pub use aabb::Aabb;
 pub use bvh::{AabbTree, BuildConfig, ClosestHit, TreeStats};
-pub use error::{BuildError, LoadError, LoadErrorKind, MeshError};
 pub use error::GridError;
+pub use error::{BuildError, LoadError, LoadErrorKind, MeshError};
 pub use grid::{GridConfig, HashGrid, InsertMethod};
-pub use traversal::{GridTraversal, TraversalConfig, TraversalStep};
 pub use linear::LinearSearch;
 pub use math::{Vec3, Vec3A};
 pub use mesh::Mesh;
 pub use primitive::{Bounded, BoxOverlap, ClosestPoint, LineSegment, Point, PrimitiveSet, Triangle};
+pub use traversal::{GridTraversal, TraversalConfig, TraversalStep};

@@ -83,7 +83,13 @@ impl TraversalConfig {
     /// Cells of extents `cell_size`, grid origin at the world origin, `t` from
     /// 0 to infinity, no step limit.
     pub fn new(cell_size: Vec3) -> Self {
-        Self { cell_size, grid_origin: Vec3::ZERO, t_min: 0.0, t_max: f32::INFINITY, max_steps: u64::MAX }
+        Self {
+            cell_size,
+            grid_origin: Vec3::ZERO,
+            t_min: 0.0,
+            t_max: f32::INFINITY,
+            max_steps: u64::MAX,
+        }
     }
 
     /// Cubic cells of side `size` (see [`TraversalConfig::new`]).
@@ -143,7 +149,13 @@ impl GridTraversal {
 
     /// The walk of `origin + t · direction`, `t ∈ [t_min, t_max]`, through the
     /// cells of `layout` (no step limit); errors as [`GridTraversal::new`].
-    pub fn in_layout(layout: &GridLayout, origin: Vec3, direction: Vec3, t_min: f32, t_max: f32) -> Result<Self, GridError> {
+    pub fn in_layout(
+        layout: &GridLayout,
+        origin: Vec3,
+        direction: Vec3,
+        t_min: f32,
+        t_max: f32,
+    ) -> Result<Self, GridError> {
         if !direction.is_finite() || direction == Vec3::ZERO {
             return Err(GridError::RayDirection);
         }
@@ -161,7 +173,15 @@ impl GridTraversal {
             origin: o,
             inv: d.map(|x| 1.0 / x),
             cell: [0; 3],
-            step: d.map(|x| if x > 0.0 { 1 } else if x < 0.0 { -1 } else { 0 }),
+            step: d.map(|x| {
+                if x > 0.0 {
+                    1
+                } else if x < 0.0 {
+                    -1
+                } else {
+                    0
+                }
+            }),
             offset: d.map(|x| (x > 0.0) as i64),
             t_next: [f64::INFINITY; 3],
             t: t0,
@@ -199,6 +219,39 @@ impl GridTraversal {
     }
 }
 
+impl GridTraversal {
+    /// Steps axis `a` to its next cell; `false` when the index would leave
+    /// the supported range.
+    #[inline(always)]
+    fn advance(&mut self, a: usize) -> bool {
+        let next = self.cell[a] + self.step[a];
+        if next.unsigned_abs() > MAX_CELL_INDEX as u64 {
+            return false;
+        }
+        self.cell[a] = next;
+        self.t_next[a] = self.crossing(a, next + self.offset[a]);
+        true
+    }
+
+    /// After a crossing at `self.t`: step every other axis crossed at the same
+    /// parameter, and skip cells of zero length (zero-width cells far from
+    /// the origin), until the current cell has positive length.
+    #[cold]
+    fn settle(&mut self) -> bool {
+        loop {
+            for a in 0..3 {
+                if self.t_next[a] <= self.t && !self.advance(a) {
+                    return false;
+                }
+            }
+            let [tx, ty, tz] = self.t_next;
+            if tx.min(ty).min(tz) > self.t {
+                return true;
+            }
+        }
+    }
+}
+
 impl Iterator for GridTraversal {
     type Item = TraversalStep;
 
@@ -209,32 +262,30 @@ impl Iterator for GridTraversal {
         }
         let [tx, ty, tz] = self.t_next;
         let t_cross = tx.min(ty).min(tz);
-        let t_exit = t_cross.min(self.t_max);
-        let out = TraversalStep { cell: self.cell, t_enter: self.t as f32, t_exit: t_exit as f32 };
+        let out = TraversalStep {
+            cell: self.cell,
+            t_enter: self.t as f32,
+            t_exit: t_cross.min(self.t_max) as f32,
+        };
         self.steps_left -= 1;
         if t_cross >= self.t_max || self.steps_left == 0 {
             self.done = true;
             return Some(out);
         }
         self.t = t_cross;
-        // Step every axis crossed at t; repeat while the new cell has zero
-        // length (several boundaries at one parameter, or zero-width cells).
-        loop {
-            for a in 0..3 {
-                if self.t_next[a] <= self.t {
-                    let next = self.cell[a] + self.step[a];
-                    if next.abs() > MAX_CELL_INDEX {
-                        self.done = true;
-                        return Some(out);
-                    }
-                    self.cell[a] = next;
-                    self.t_next[a] = self.crossing(a, next + self.offset[a]);
-                }
-            }
-            let [tx, ty, tz] = self.t_next;
-            if tx.min(ty).min(tz) > self.t {
-                break;
-            }
+        // Constant axis indices in each branch keep the state in registers,
+        // and a branch (not a select) lets the processor run ahead.
+        let ok = if tx == t_cross {
+            self.advance(0)
+        } else if ty == t_cross {
+            self.advance(1)
+        } else {
+            self.advance(2)
+        };
+        // Ties (edges, corners) and zero-width cells are rare: one test here.
+        let [tx, ty, tz] = self.t_next;
+        if !ok || ((tx <= t_cross) | (ty <= t_cross) | (tz <= t_cross) && !self.settle()) {
+            self.done = true;
         }
         Some(out)
     }

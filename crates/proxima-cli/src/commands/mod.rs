@@ -3,4 +3,8 @@
 pub mod bench;
 pub mod closest;
 pub mod demo;
+pub mod grid;
 pub mod info;
+pub mod raycast;
+pub mod traverse;
+pub mod voxelize;

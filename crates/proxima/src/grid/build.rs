@@ -28,10 +28,15 @@ impl<T: GridInsert, S: BuildHasher + Default> HashGrid<T, S> {
         let layout = config.layout()?;
         let PrimitiveSet { primitives, sources } = set;
         if primitives.len() != sources.len() {
-            return Err(GridError::SourceCount { primitives: primitives.len(), sources: sources.len() });
+            return Err(GridError::SourceCount {
+                primitives: primitives.len(),
+                sources: sources.len(),
+            });
         }
         if primitives.len() >= u32::MAX as usize {
-            return Err(GridError::TooManyPrimitives { count: primitives.len() });
+            return Err(GridError::TooManyPrimitives {
+                count: primitives.len(),
+            });
         }
         let max_entries = config.max_entries.min(u32::MAX as u64 - 1) as usize;
         let params = InsertParams {
@@ -59,7 +64,9 @@ impl<T: GridInsert, S: BuildHasher + Default> HashGrid<T, S> {
             })
             .map_err(|e| with_index(e, index))?;
             if pair_slots.len() > max_entries {
-                return Err(GridError::TooManyCells { limit: config.max_entries });
+                return Err(GridError::TooManyCells {
+                    limit: config.max_entries,
+                });
             }
             ends.push(pair_slots.len() as u32);
         }
@@ -87,8 +94,20 @@ impl<T: GridInsert, S: BuildHasher + Default> HashGrid<T, S> {
             begin = end as usize;
         }
 
-        let bounds = cells.iter().map(|&c| CellRange { min: c, max: c }).reduce(|a, b| a.merge(&b));
-        Ok(Self { layout, primitives, sources, slots, cells, starts, entries, bounds })
+        let bounds = cells
+            .iter()
+            .map(|&c| CellRange { min: c, max: c })
+            .reduce(|a, b| a.merge(&b));
+        Ok(Self {
+            layout,
+            primitives,
+            sources,
+            slots,
+            cells,
+            starts,
+            entries,
+            bounds,
+        })
     }
 }
 

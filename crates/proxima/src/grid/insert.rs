@@ -11,7 +11,8 @@
 //! cells (at most one axis spans more than one cell), every cell of the range
 //! is overlapped — the primitive's projection onto that axis is the whole
 //! interval of its box, and on the other axes every point lies in the one
-//! cell's slab — so no test is needed. Scan-line insertion
+//! cell's slab — so no test is needed. And when one axis spans a single cell,
+//! a triangle is tested in 2D (three axes instead of ten, see `FlatTest`). Scan-line insertion
 //! (`scanline.rs`) takes the same shortcut, so both methods give the same cells.
 
 use super::layout::GridLayout;
@@ -40,7 +41,12 @@ pub struct InsertParams<'a> {
 impl<'a> InsertParams<'a> {
     /// Classic insertion into `layout`, default per-primitive limit, no window.
     pub fn new(layout: &'a GridLayout) -> Self {
-        Self { layout, method: InsertMethod::Classic, max_cells: super::DEFAULT_MAX_CELLS_PER_PRIMITIVE, window: None }
+        Self {
+            layout,
+            method: InsertMethod::Classic,
+            max_cells: super::DEFAULT_MAX_CELLS_PER_PRIMITIVE,
+            window: None,
+        }
     }
 }
 
@@ -71,10 +77,15 @@ pub trait GridInsert: BoxOverlap {
     /// assert_eq!(cells, [[0, 0, 0], [1, 0, 0], [1, 1, 0], [2, 1, 0]]);
     /// ```
     fn visit_cells<F: FnMut(Cell)>(&self, params: &InsertParams<'_>, visit: F) -> Result<(), GridError> {
-        let Some((_, window)) = ranges(&self.bounds(), params)? else { return Ok(()) };
+        let Some((_, window)) = ranges(&self.bounds(), params)? else {
+            return Ok(());
+        };
         let mut visit = visit;
         for_each_cell_box(params.layout, &window, |cell, lo, hi| {
-            let b = Aabb::new(Vec3::new(lo[0] as f32, lo[1] as f32, lo[2] as f32), Vec3::new(hi[0] as f32, hi[1] as f32, hi[2] as f32));
+            let b = Aabb::new(
+                Vec3::new(lo[0] as f32, lo[1] as f32, lo[2] as f32),
+                Vec3::new(hi[0] as f32, hi[1] as f32, hi[2] as f32),
+            );
             if self.overlaps_box(&b) {
                 visit(cell);
             }
@@ -85,7 +96,7 @@ pub trait GridInsert: BoxOverlap {
 
 /// The primitive's full cell range and the part of it inside the window, after
 /// the checks; `None` when the window leaves nothing.
-#[inline]
+#[inline(always)]
 pub(crate) fn ranges(bounds: &Aabb, params: &InsertParams<'_>) -> Result<Option<(CellRange, CellRange)>, GridError> {
     if !bounds.is_finite() {
         return Err(GridError::NonFinite { index: 0 });
@@ -93,7 +104,11 @@ pub(crate) fn ranges(bounds: &Aabb, params: &InsertParams<'_>) -> Result<Option<
     let full = params.layout.cell_range(bounds)?;
     let count = full.count();
     if count > params.max_cells as u128 {
-        return Err(GridError::PrimitiveTooLarge { index: 0, cells: count, limit: params.max_cells });
+        return Err(GridError::PrimitiveTooLarge {
+            index: 0,
+            cells: count,
+            limit: params.max_cells,
+        });
     }
     let window = match params.window {
         Some(w) => full.intersection(&w),
@@ -114,6 +129,119 @@ pub(crate) fn for_each_cell_box(layout: &GridLayout, range: &CellRange, mut f: i
             for i in range.min[0]..=range.max[0] {
                 let x1 = layout.boundary64(0, i + 1);
                 f([i, j, k], [x0, y0, z0], [x1, y1, z1]);
+                x0 = x1;
+            }
+        }
+    }
+}
+
+/// An exact cell test split in two, so that the part that does not depend on
+/// a run's inner axis `q` is evaluated once per run of cells along `q`.
+/// Both parts see the same `f64` cell bounds, so a cell is accepted exactly
+/// when the unsplit test would accept it, whatever the axis and order.
+pub(crate) trait CellTest {
+    /// `false` when no cell of the run along `q` can overlap (`lo`, `hi` hold
+    /// the run's bounds on the other two axes).
+    #[inline]
+    fn run(&self, _q: usize, _lo: [f64; 3], _hi: [f64; 3]) -> bool {
+        true
+    }
+    /// The rest of the test for one cell of a run that passed [`CellTest::run`].
+    fn cell(&self, q: usize, lo: [f64; 3], hi: [f64; 3]) -> bool;
+}
+
+impl CellTest for TriangleBoxTest {
+    #[inline]
+    fn run(&self, q: usize, lo: [f64; 3], hi: [f64; 3]) -> bool {
+        self.overlaps_run_axes(q, lo, hi)
+    }
+    #[inline]
+    fn cell(&self, q: usize, lo: [f64; 3], hi: [f64; 3]) -> bool {
+        self.overlaps_cell_axes(q, lo, hi)
+    }
+}
+
+/// A triangle whose bounding box lies within one slab of cells along `s`.
+/// Every cell of its range holds the triangle's whole extent along `s`, so
+/// the triangle meets the cell exactly when their projections along `s` meet:
+/// a 2D test of a triangle against a rectangle, whose separating axes are the
+/// rectangle's two normals (already passed by the range) and the triangle's
+/// three edge normals — in 3D, `edge_i × unit_s`. Three axes instead of ten.
+pub(crate) struct FlatTest {
+    s: usize,
+    first: [f64; 3],
+    second: [f64; 3],
+    min: [f64; 3],
+    max: [f64; 3],
+}
+
+impl FlatTest {
+    fn new(v: &[[f64; 3]; 3], s: usize) -> Self {
+        let (s1, s2) = ((s + 1) % 3, (s + 2) % 3);
+        let mut t = FlatTest {
+            s,
+            first: [0.0; 3],
+            second: [0.0; 3],
+            min: [0.0; 3],
+            max: [0.0; 3],
+        };
+        for i in 0..3 {
+            let (p, q) = (v[i], v[(i + 1) % 3]);
+            // (q − p) × unit_s: components (q − p)[s2] at s1, −(q − p)[s1] at s2.
+            let (a1, a2) = (q[s2] - p[s2], -(q[s1] - p[s1]));
+            let proj = v.map(|x| x[s1] * a1 + x[s2] * a2);
+            let min = |a: f64, b: f64| if a < b { a } else { b };
+            let max = |a: f64, b: f64| if a > b { a } else { b };
+            (t.first[i], t.second[i]) = (a1, a2);
+            (t.min[i], t.max[i]) = (min(min(proj[0], proj[1]), proj[2]), max(max(proj[0], proj[1]), proj[2]));
+        }
+        t
+    }
+}
+
+impl CellTest for FlatTest {
+    #[inline]
+    fn cell(&self, _q: usize, lo: [f64; 3], hi: [f64; 3]) -> bool {
+        let (s1, s2) = ((self.s + 1) % 3, (self.s + 2) % 3);
+        let (c1, c2) = ((lo[s1] + hi[s1]) * 0.5, (lo[s2] + hi[s2]) * 0.5);
+        let (h1, h2) = ((hi[s1] - lo[s1]) * 0.5, (hi[s2] - lo[s2]) * 0.5);
+        (0..3).all(|i| {
+            let p = c1 * self.first[i] + c2 * self.second[i];
+            let r = h1 * self.first[i].abs() + h2 * self.second[i].abs();
+            p - r <= self.max[i] && p + r >= self.min[i]
+        })
+    }
+}
+
+/// Slab clipping of the segment `a`–`b`.
+pub(crate) struct SegmentTest {
+    a: [f64; 3],
+    b: [f64; 3],
+}
+
+impl CellTest for SegmentTest {
+    #[inline]
+    fn cell(&self, _q: usize, lo: [f64; 3], hi: [f64; 3]) -> bool {
+        segment_aabb_overlap(self.a, self.b, lo, hi)
+    }
+}
+
+/// The cells of `range` that `test` accepts, x fastest (runs along x).
+#[inline]
+pub(crate) fn classic_cells(layout: &GridLayout, range: &CellRange, test: &impl CellTest, mut visit: impl FnMut(Cell)) {
+    for k in range.min[2]..=range.max[2] {
+        let (z0, z1) = (layout.boundary64(2, k), layout.boundary64(2, k + 1));
+        for j in range.min[1]..=range.max[1] {
+            let (y0, y1) = (layout.boundary64(1, j), layout.boundary64(1, j + 1));
+            if !test.run(0, [0.0, y0, z0], [0.0, y1, z1]) {
+                continue;
+            }
+            let mut x0 = layout.boundary64(0, range.min[0]);
+            for i in range.min[0]..=range.max[0] {
+                let x1 = layout.boundary64(0, i + 1);
+                if test.cell(0, [x0, y0, z0], [x1, y1, z1]) {
+                    visit([i, j, k]);
+                }
                 x0 = x1;
             }
         }
@@ -146,21 +274,21 @@ impl GridInsert for Point {
 
 impl GridInsert for LineSegment {
     #[inline]
-    fn visit_cells<F: FnMut(Cell)>(&self, params: &InsertParams<'_>, mut visit: F) -> Result<(), GridError> {
-        let Some((full, window)) = ranges(&self.bounds(), params)? else { return Ok(()) };
+    fn visit_cells<F: FnMut(Cell)>(&self, params: &InsertParams<'_>, visit: F) -> Result<(), GridError> {
+        let Some((full, window)) = ranges(&self.bounds(), params)? else {
+            return Ok(());
+        };
         if full.is_line() {
             for_each_cell(&window, visit);
             return Ok(());
         }
-        let (a, b) = (to64(self.a), to64(self.b));
-        let test = |lo: [f64; 3], hi: [f64; 3]| segment_aabb_overlap(a, b, lo, hi);
+        let test = SegmentTest {
+            a: to64(self.a),
+            b: to64(self.b),
+        };
         match params.method {
-            InsertMethod::Classic => for_each_cell_box(params.layout, &window, |c, lo, hi| {
-                if test(lo, hi) {
-                    visit(c)
-                }
-            }),
-            InsertMethod::Scanline => scanline::scan(params.layout, &full, &window, &[a, b], test, visit),
+            InsertMethod::Classic => classic_cells(params.layout, &window, &test, visit),
+            InsertMethod::Scanline => scanline::scan(params.layout, &full, &window, &[test.a, test.b], &test, visit),
         }
         Ok(())
     }
@@ -168,26 +296,30 @@ impl GridInsert for LineSegment {
 
 impl GridInsert for Triangle {
     #[inline]
-    fn visit_cells<F: FnMut(Cell)>(&self, params: &InsertParams<'_>, mut visit: F) -> Result<(), GridError> {
-        let Some((full, window)) = ranges(&self.bounds(), params)? else { return Ok(()) };
+    fn visit_cells<F: FnMut(Cell)>(&self, params: &InsertParams<'_>, visit: F) -> Result<(), GridError> {
+        let Some((full, window)) = ranges(&self.bounds(), params)? else {
+            return Ok(());
+        };
         if full.is_line() {
             for_each_cell(&window, visit);
             return Ok(());
         }
-        let prepared = TriangleBoxTest::new(self);
+        let v = [to64(self.a), to64(self.b), to64(self.c)];
+        if let Some(s) = (0..3).find(|&a| full.extent(a) == 1) {
+            // The triangle lies within one slab of cells: a 2D problem.
+            let test = FlatTest::new(&v, s);
+            match params.method {
+                InsertMethod::Classic => classic_cells(params.layout, &window, &test, visit),
+                InsertMethod::Scanline => scanline::scan(params.layout, &full, &window, &v, &test, visit),
+            }
+            return Ok(());
+        }
         // Cells of the range overlap the triangle's box: the box normals
         // cannot separate, only the ten other axes are tested.
-        let test = |lo: [f64; 3], hi: [f64; 3]| prepared.overlaps_axes(lo, hi);
+        let test = TriangleBoxTest::new(self);
         match params.method {
-            InsertMethod::Classic => for_each_cell_box(params.layout, &window, |c, lo, hi| {
-                if test(lo, hi) {
-                    visit(c)
-                }
-            }),
-            InsertMethod::Scanline => {
-                let v = [to64(self.a), to64(self.b), to64(self.c)];
-                scanline::scan(params.layout, &full, &window, &v, test, visit)
-            }
+            InsertMethod::Classic => classic_cells(params.layout, &window, &test, visit),
+            InsertMethod::Scanline => scanline::scan(params.layout, &full, &window, &v, &test, visit),
         }
         Ok(())
     }

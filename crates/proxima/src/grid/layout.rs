@@ -26,6 +26,11 @@ use crate::math::Vec3;
 /// The largest cell index magnitude on any axis.
 pub const MAX_CELL_INDEX: i64 = 1 << 50;
 
+/// Relative distance to a boundary (in cells, per unit of index) beyond which
+/// the `f32` rounding of boundaries (at most 2^-24 relative) cannot change the
+/// cell of a value: 2^-22, with a factor 4 to spare.
+const FAST_MARGIN: f64 = 1.0 / (1u64 << 22) as f64;
+
 /// The placement of a grid's cells: origin and per-axis extents, validated.
 ///
 /// ```
@@ -45,6 +50,11 @@ pub struct GridLayout {
     cell_size: Vec3,
     origin64: [f64; 3],
     size64: [f64; 3],
+    /// `1 / size` per axis.
+    inv64: [f64; 3],
+    /// How far (in cells) the `f32` rounding of a boundary may move it near
+    /// the origin: `|origin| / size · 2^-23`, plus the same per cell of index.
+    slack64: [f64; 3],
 }
 
 /// An inclusive box of cell indices: every cell `c` with `min ≤ c ≤ max` per axis.
@@ -60,7 +70,11 @@ impl CellRange {
     /// Number of cells along `axis` (0 when the range is empty).
     #[inline]
     pub fn extent(&self, axis: usize) -> u64 {
-        if self.max[axis] < self.min[axis] { 0 } else { (self.max[axis] - self.min[axis]) as u64 + 1 }
+        if self.max[axis] < self.min[axis] {
+            0
+        } else {
+            (self.max[axis] - self.min[axis]) as u64 + 1
+        }
     }
 
     /// Number of cells (0 when empty).
@@ -120,13 +134,24 @@ impl GridLayout {
     /// Fails on a non-finite origin and on a zero, negative or non-finite extent.
     pub fn new(origin: Vec3, cell_size: Vec3) -> Result<Self, GridError> {
         if !(cell_size.is_finite() && cell_size.cmpgt(Vec3::ZERO).all()) {
-            return Err(GridError::CellSize { x: cell_size.x, y: cell_size.y, z: cell_size.z });
+            return Err(GridError::CellSize {
+                x: cell_size.x,
+                y: cell_size.y,
+                z: cell_size.z,
+            });
         }
         if !origin.is_finite() {
             return Err(GridError::GridOrigin);
         }
         let to64 = |v: Vec3| [v.x as f64, v.y as f64, v.z as f64];
-        Ok(Self { origin, cell_size, origin64: to64(origin), size64: to64(cell_size) })
+        Ok(Self {
+            origin,
+            cell_size,
+            origin64: to64(origin),
+            size64: to64(cell_size),
+            inv64: to64(cell_size).map(|s| 1.0 / s),
+            slack64: std::array::from_fn(|a| (origin[a].abs() as f64 / cell_size[a] as f64 + 1.0) * FAST_MARGIN),
+        })
     }
 
     /// Cubic cells of side `size`, grid origin at the world origin.
@@ -162,8 +187,16 @@ impl GridLayout {
     #[inline]
     pub fn cell_box(&self, cell: Cell) -> Aabb {
         Aabb::new(
-            Vec3::new(self.boundary(0, cell[0]), self.boundary(1, cell[1]), self.boundary(2, cell[2])),
-            Vec3::new(self.boundary(0, cell[0] + 1), self.boundary(1, cell[1] + 1), self.boundary(2, cell[2] + 1)),
+            Vec3::new(
+                self.boundary(0, cell[0]),
+                self.boundary(1, cell[1]),
+                self.boundary(2, cell[2]),
+            ),
+            Vec3::new(
+                self.boundary(0, cell[0] + 1),
+                self.boundary(1, cell[1] + 1),
+                self.boundary(2, cell[2] + 1),
+            ),
         )
     }
 
@@ -178,11 +211,15 @@ impl GridLayout {
     }
 
     /// Every cell whose closed box overlaps the closed box `b` (touching counts).
+    #[inline(always)]
     pub fn cell_range(&self, b: &Aabb) -> Result<CellRange, GridError> {
         if !b.is_finite() || b.is_empty() {
             return Err(GridError::OutOfRange);
         }
-        let mut range = CellRange { min: [0; 3], max: [0; 3] };
+        let mut range = CellRange {
+            min: [0; 3],
+            max: [0; 3],
+        };
         for axis in 0..3 {
             range.min[axis] = self.first_touching(axis, b.min[axis] as f64)?;
             range.max[axis] = self.last_at_or_below(axis, b.max[axis] as f64)?;
@@ -192,18 +229,56 @@ impl GridLayout {
 
     /// The largest `i` with `b(i) ≤ x`: the last cell along `axis` whose closed
     /// extent touches `x` (and the half-open cell holding `x`).
-    #[inline]
+    #[inline(always)]
     pub(crate) fn last_at_or_below(&self, axis: usize, x: f64) -> Result<i64, GridError> {
-        let guess = ((x - self.origin64[axis]) / self.size64[axis]).floor();
-        last_true(guess, |i| self.boundary64(axis, i) <= x).ok_or(GridError::OutOfRange)
+        let (guess, safe) = self.estimate(axis, x);
+        if safe {
+            Ok(guess)
+        } else {
+            self.last_at_or_below_slow(axis, x, guess)
+        }
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn last_at_or_below_slow(&self, axis: usize, x: f64, guess: i64) -> Result<i64, GridError> {
+        last_true(guess as f64, |i| self.boundary64(axis, i) <= x).ok_or(GridError::OutOfRange)
+    }
+
+    /// `floor((x − origin) / size)` and whether `x` is so far from both
+    /// boundaries of that cell that their `f32` rounding cannot matter: then
+    /// the cell strictly contains `x` and is the answer of both searches.
+    #[inline(always)]
+    fn estimate(&self, axis: usize, x: f64) -> (i64, bool) {
+        let t = (x - self.origin64[axis]) * self.inv64[axis];
+        if t.is_nan() || t.abs() >= MAX_CELL_INDEX as f64 {
+            return (if t > 0.0 { MAX_CELL_INDEX } else { -MAX_CELL_INDEX }, false);
+        }
+        let i = t as i64;
+        let i = if (i as f64) > t { i - 1 } else { i };
+        let frac = t - i as f64;
+        let margin = self.slack64[axis] + t.abs() * FAST_MARGIN;
+        (i, frac > margin && frac < 1.0 - margin)
     }
 
     /// The smallest `i` with `b(i + 1) ≥ x`: the first cell along `axis` whose
     /// closed extent touches `x`.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn first_touching(&self, axis: usize, x: f64) -> Result<i64, GridError> {
-        let guess = ((x - self.origin64[axis]) / self.size64[axis]).ceil() - 1.0;
-        last_true(guess, |i| self.boundary64(axis, i + 1) < x).map(|i| i + 1).ok_or(GridError::OutOfRange)
+        let (guess, safe) = self.estimate(axis, x);
+        if safe {
+            Ok(guess)
+        } else {
+            self.first_touching_slow(axis, x, guess)
+        }
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn first_touching_slow(&self, axis: usize, x: f64, guess: i64) -> Result<i64, GridError> {
+        last_true(guess as f64 - 1.0, |i| self.boundary64(axis, i + 1) < x)
+            .map(|i| i + 1)
+            .ok_or(GridError::OutOfRange)
     }
 }
 

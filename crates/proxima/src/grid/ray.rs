@@ -54,7 +54,13 @@ impl<S: BuildHasher> HashGrid<Triangle, S> {
     /// assert_eq!((hit.source, hit.t), (1, 1.0));
     /// assert!(grid.first_hit(Vec3::new(0.9, 0.9, -1.0), Vec3::Z, 0.0, f32::INFINITY).unwrap().is_none());
     /// ```
-    pub fn first_hit(&self, origin: Vec3, direction: Vec3, t_min: f32, t_max: f32) -> Result<Option<GridRayHit>, GridError> {
+    pub fn first_hit(
+        &self,
+        origin: Vec3,
+        direction: Vec3,
+        t_min: f32,
+        t_max: f32,
+    ) -> Result<Option<GridRayHit>, GridError> {
         if !origin.is_finite() {
             return Err(GridError::RayOrigin);
         }
@@ -64,7 +70,11 @@ impl<S: BuildHasher> HashGrid<Triangle, S> {
         }
         let Some(bounds) = self.bounds else { return Ok(None) };
         let layout = &self.layout;
-        let lo = Vec3::new(layout.boundary(0, bounds.min[0]), layout.boundary(1, bounds.min[1]), layout.boundary(2, bounds.min[2]));
+        let lo = Vec3::new(
+            layout.boundary(0, bounds.min[0]),
+            layout.boundary(1, bounds.min[1]),
+            layout.boundary(2, bounds.min[2]),
+        );
         let hi = Vec3::new(
             layout.boundary(0, bounds.max[0] + 1),
             layout.boundary(1, bounds.max[1] + 1),
@@ -72,7 +82,9 @@ impl<S: BuildHasher> HashGrid<Triangle, S> {
         );
         let margin = 1e-5 * (lo.abs().max(hi.abs()).max_element() + layout.cell_size().max_element());
         let world = Aabb::new(lo, hi).inflate(margin);
-        let Some((t0, t1)) = world.ray_interval(origin, direction.recip(), t_min, t_max) else { return Ok(None) };
+        let Some((t0, t1)) = world.ray_interval(origin, direction.recip(), t_min, t_max) else {
+            return Ok(None);
+        };
         if !t1.is_finite() {
             return Ok(None);
         }
@@ -102,6 +114,9 @@ impl<S: BuildHasher> HashGrid<Triangle, S> {
                 break;
             }
         }
-        Ok(best.map(|b| GridRayHit { cells_visited: visited, ..b }))
+        Ok(best.map(|b| GridRayHit {
+            cells_visited: visited,
+            ..b
+        }))
     }
 }

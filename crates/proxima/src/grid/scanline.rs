@@ -2,10 +2,12 @@
 //! every cell of its bounding box.
 //!
 //! The primitive (a convex polygon of two or three vertices, in `f64`) is
-//! clipped to each slab of cells along one axis, then each slab's piece to each
-//! row along a second axis; the piece left in a row is convex, so the cells of
-//! that row it overlaps are exactly those whose extent along the third axis
-//! meets the piece's extent. Slabs and rows are clipped *widened* by a margin
+//! clipped to each slab of cells along one axis (Sutherland–Hodgman), then each
+//! slab's piece is cut by each row along a second axis: the piece left in a
+//! row is convex, so the cells of that row it overlaps are exactly those whose
+//! extent along the third axis meets the piece's extent, which is read off
+//! the slab piece's vertices inside the row and its edges' crossings with the
+//! row's two lines (no polygon is built per row). Slabs and rows are clipped *widened* by a margin
 //! `ε` (a `1e-7` fraction of the coordinates' magnitude, far above the `f64`
 //! rounding of the clipping and of the exact test), so the candidates provably
 //! include every cell the exact test accepts; each candidate is then tested
@@ -18,12 +20,12 @@
 //! of clipped rows. Small boxes (at most [`SMALL_RANGE`] cells) are handled
 //! classically: clipping would cost more than the tests it saves.
 
-use super::insert::for_each_cell_box;
+use super::insert::{CellTest, classic_cells};
 use super::layout::GridLayout;
 use super::{Cell, CellRange};
 
 /// Bounding-box ranges of at most this many cells are tested cell by cell.
-pub(crate) const SMALL_RANGE: u128 = 8;
+pub(crate) const SMALL_RANGE: u128 = 27;
 
 /// Relative clipping margin.
 const MARGIN: f64 = 1e-7;
@@ -39,7 +41,10 @@ struct Poly {
 impl Poly {
     #[inline]
     fn from(vertices: &[[f64; 3]]) -> Self {
-        let mut p = Poly { v: [[0.0; 3]; 8], n: vertices.len() };
+        let mut p = Poly {
+            v: [[0.0; 3]; 8],
+            n: vertices.len(),
+        };
         p.v[..vertices.len()].copy_from_slice(vertices);
         p
     }
@@ -94,6 +99,31 @@ impl Poly {
         out
     }
 
+    /// The extent along `q` of the part with `lo ≤ x_r ≤ hi`, without
+    /// building that part: the vertices inside the strip and the crossings
+    /// of the edges with its two lines (`None` when the strip misses it).
+    #[inline]
+    fn strip_extent(&self, r: usize, lo: f64, hi: f64, q: usize) -> Option<(f64, f64)> {
+        let mut min = f64::INFINITY;
+        let mut max = f64::NEG_INFINITY;
+        let v = &self.v[..self.n];
+        for (k, a) in v.iter().enumerate() {
+            if lo <= a[r] && a[r] <= hi {
+                min = min.min(a[q]);
+                max = max.max(a[q]);
+            }
+            let b = &v[(k + 1) % v.len()];
+            for plane in [lo, hi] {
+                if (a[r] < plane && plane < b[r]) || (b[r] < plane && plane < a[r]) {
+                    let x = a[q] + (plane - a[r]) / (b[r] - a[r]) * (b[q] - a[q]);
+                    min = min.min(x);
+                    max = max.max(x);
+                }
+            }
+        }
+        (min <= max).then_some((min, max))
+    }
+
     /// The part with `lo ≤ x_axis ≤ hi`.
     #[inline]
     fn clip(&self, axis: usize, lo: f64, hi: f64) -> Poly {
@@ -121,15 +151,11 @@ pub(crate) fn scan(
     full: &CellRange,
     window: &CellRange,
     vertices: &[[f64; 3]],
-    test: impl Fn([f64; 3], [f64; 3]) -> bool,
+    test: &impl CellTest,
     mut visit: impl FnMut(Cell),
 ) {
     if full.count() <= SMALL_RANGE {
-        for_each_cell_box(layout, window, |c, lo, hi| {
-            if test(lo, hi) {
-                visit(c)
-            }
-        });
+        classic_cells(layout, window, test, visit);
         return;
     }
     // Slab axis s: fewest cells; inner axis q: most cells; row axis r: the other.
@@ -137,7 +163,11 @@ pub(crate) fn scan(
     axes.sort_by_key(|&a| window.extent(a));
     let [s, r, q] = axes;
 
-    let mut scale = layout.origin().abs().max_element().max(layout.cell_size().max_element()) as f64;
+    let mut scale = layout
+        .origin()
+        .abs()
+        .max_element()
+        .max(layout.cell_size().max_element()) as f64;
     for v in vertices {
         scale = scale.max(v[0].abs()).max(v[1].abs()).max(v[2].abs());
     }
@@ -154,24 +184,37 @@ pub(crate) fn scan(
             continue;
         }
         let (rmin, rmax) = slab.extent(r);
-        let j0 = layout.first_touching(r, rmin - eps).unwrap_or(window.min[r]).max(window.min[r]);
-        let j1 = layout.last_at_or_below(r, rmax + eps).unwrap_or(window.max[r]).min(window.max[r]);
+        let j0 = layout
+            .first_touching(r, rmin - eps)
+            .unwrap_or(window.min[r])
+            .max(window.min[r]);
+        let j1 = layout
+            .last_at_or_below(r, rmax + eps)
+            .unwrap_or(window.max[r])
+            .min(window.max[r]);
         (lo[s], hi[s], cell[s]) = (s0, s1, ks);
         for jr in j0..=j1 {
             let (r0, r1) = (layout.boundary64(r, jr), layout.boundary64(r, jr + 1));
-            let row = slab.clip(r, r0 - eps, r1 + eps);
-            if row.n == 0 {
+            let Some((qmin, qmax)) = slab.strip_extent(r, r0 - eps, r1 + eps, q) else {
+                continue;
+            };
+            let i0 = layout
+                .first_touching(q, qmin - eps)
+                .unwrap_or(window.min[q])
+                .max(window.min[q]);
+            let i1 = layout
+                .last_at_or_below(q, qmax + eps)
+                .unwrap_or(window.max[q])
+                .min(window.max[q]);
+            (lo[r], hi[r], cell[r]) = (r0, r1, jr);
+            if i0 > i1 || !test.run(q, lo, hi) {
                 continue;
             }
-            let (qmin, qmax) = row.extent(q);
-            let i0 = layout.first_touching(q, qmin - eps).unwrap_or(window.min[q]).max(window.min[q]);
-            let i1 = layout.last_at_or_below(q, qmax + eps).unwrap_or(window.max[q]).min(window.max[q]);
-            (lo[r], hi[r], cell[r]) = (r0, r1, jr);
             let mut q0 = layout.boundary64(q, i0);
             for iq in i0..=i1 {
                 let q1 = layout.boundary64(q, iq + 1);
                 (lo[q], hi[q], cell[q]) = (q0, q1, iq);
-                if test(lo, hi) {
+                if test.cell(q, lo, hi) {
                     visit(cell);
                 }
                 q0 = q1;

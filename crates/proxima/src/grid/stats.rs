@@ -25,8 +25,17 @@ impl<T, S: BuildHasher> HashGrid<T, S> {
     /// Occupancy and memory figures.
     pub fn stats(&self) -> GridStats {
         let occupied = self.cells.len();
-        let max_per_cell = self.starts.windows(2).map(|w| (w[1] - w[0]) as usize).max().unwrap_or(0);
-        let mean_per_cell = if occupied == 0 { 0.0 } else { self.entries.len() as f64 / occupied as f64 };
+        let max_per_cell = self
+            .starts
+            .windows(2)
+            .map(|w| (w[1] - w[0]) as usize)
+            .max()
+            .unwrap_or(0);
+        let mean_per_cell = if occupied == 0 {
+            0.0
+        } else {
+            self.entries.len() as f64 / occupied as f64
+        };
         // SwissTable: one (key, value) slot plus one control byte per bucket.
         let map = self.slots.capacity() * (size_of::<(Key, u32)>() + 1);
         let memory_bytes = map

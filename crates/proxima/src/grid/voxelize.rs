@@ -108,7 +108,11 @@ pub fn voxelize(triangles: &[Triangle], bounds: &Aabb, config: &VoxelConfig) -> 
     let slices = n as usize;
 
     // Chunks of z slices, and the triangles each may concern.
-    let chunks = if config.parallel { (rayon::current_num_threads() * 4).clamp(1, slices) } else { 1 };
+    let chunks = if config.parallel {
+        (rayon::current_num_threads() * 4).clamp(1, slices)
+    } else {
+        1
+    };
     let per_chunk = slices.div_ceil(chunks);
     let chunks = slices.div_ceil(per_chunk);
     let buckets: Vec<Vec<u32>> = if chunks == 1 {
@@ -119,8 +123,10 @@ pub fn voxelize(triangles: &[Triangle], bounds: &Aabb, config: &VoxelConfig) -> 
         for (t, tri) in triangles.iter().enumerate() {
             let (lo, hi) = (tri.a.z.min(tri.b.z).min(tri.c.z), tri.a.z.max(tri.b.z).max(tri.c.z));
             // A generous estimate: the exact window test inside each chunk decides.
-            let k0 = (((lo - z0) / dz).floor() as i64 - 1).clamp(0, slices as i64 - 1) as usize;
-            let k1 = (((hi - z0) / dz).floor() as i64 + 1).clamp(0, slices as i64 - 1) as usize;
+            // Truncation instead of floor (no libm call): off by one at most
+            // for negative values, which the margin of one slice covers.
+            let k0 = (((lo - z0) / dz) as i64 - 1).clamp(0, slices as i64 - 1) as usize;
+            let k1 = (((hi - z0) / dz) as i64 + 1).clamp(0, slices as i64 - 1) as usize;
             for bucket in &mut buckets[k0 / per_chunk..=k1 / per_chunk] {
                 bucket.push(t as u32);
             }
@@ -140,7 +146,11 @@ pub fn voxelize(triangles: &[Triangle], bounds: &Aabb, config: &VoxelConfig) -> 
         max_cells: u64::MAX,
         window: Some(CellRange {
             min: [0, 0, (c * per_chunk) as i64],
-            max: [n as i64 - 1, n as i64 - 1, (((c + 1) * per_chunk).min(slices) - 1) as i64],
+            max: [
+                n as i64 - 1,
+                n as i64 - 1,
+                (((c + 1) * per_chunk).min(slices) - 1) as i64,
+            ],
         }),
     };
     let indexed = |e: GridError, index: usize| match e {
@@ -156,7 +166,9 @@ pub fn voxelize(triangles: &[Triangle], bounds: &Aabb, config: &VoxelConfig) -> 
             let k0 = (c * per_chunk) as i64;
             for (index, tri) in chunk_tris(c) {
                 tri.visit_cells(&p, |cell| {
-                    let bit = (cell[2] - k0) as usize * words_per_slice * 64 + cell[1] as usize * n as usize + cell[0] as usize;
+                    let bit = (cell[2] - k0) as usize * words_per_slice * 64
+                        + cell[1] as usize * n as usize
+                        + cell[0] as usize;
                     out[bit >> 6] |= 1u64 << (bit & 63);
                 })
                 .map_err(|e| indexed(e, index))?;
@@ -167,7 +179,10 @@ pub fn voxelize(triangles: &[Triangle], bounds: &Aabb, config: &VoxelConfig) -> 
         if chunks == 1 {
             fill(0, &mut words)?;
         } else {
-            words.par_chunks_mut(chunk_words).enumerate().try_for_each(|(c, out)| fill(c, out))?;
+            words
+                .par_chunks_mut(chunk_words)
+                .enumerate()
+                .try_for_each(|(c, out)| fill(c, out))?;
         }
         let occupied = words.iter().map(|w| w.count_ones() as u64).sum();
         (Storage::Dense { words, words_per_slice }, occupied)
@@ -201,7 +216,12 @@ pub fn voxelize(triangles: &[Triangle], bounds: &Aabb, config: &VoxelConfig) -> 
         let cells = parts.concat();
         (Storage::Sparse(cells), total as u64)
     };
-    Ok(VoxelGrid { resolution: n, layout, storage, occupied })
+    Ok(VoxelGrid {
+        resolution: n,
+        layout,
+        storage,
+        occupied,
+    })
 }
 
 impl VoxelGrid {
@@ -246,7 +266,9 @@ impl VoxelGrid {
                 let bit = cell[2] as usize * words_per_slice * 64 + (cell[1] * n + cell[0]) as usize;
                 words[bit >> 6] >> (bit & 63) & 1 == 1
             }
-            Storage::Sparse(cells) => cells.binary_search_by_key(&[cell[2], cell[1], cell[0]], |c| [c[2], c[1], c[0]]).is_ok(),
+            Storage::Sparse(cells) => cells
+                .binary_search_by_key(&[cell[2], cell[1], cell[0]], |c| [c[2], c[1], c[0]])
+                .is_ok(),
         }
     }
 

@@ -34,7 +34,7 @@ pub(crate) fn segment_overlaps(a: [f64; 3], b: [f64; 3], lo: [f64; 3], hi: [f64;
         let (near, far) = if p <= q { (p, q) } else { (q, p) };
         t0 = t0.max(near);
         t1 = t1.min(far);
-        if !(t0 <= t1) {
+        if t0 > t1 || t0.is_nan() || t1.is_nan() {
             return false;
         }
     }

@@ -43,10 +43,17 @@ pub struct TriangleBoxTest {
     /// Bounding box of the triangle.
     lo: [f64; 3],
     hi: [f64; 3],
-    /// The normal, then `edge_i × unit_j` for i, j in 0..3.
-    axes: [[f64; 3]; 10],
-    /// The triangle's shadow on each axis.
-    shadows: [[f64; 2]; 10],
+    /// The normal, its absolute value, and the triangle's shadow on it.
+    normal: [f64; 3],
+    normal_abs: [f64; 3],
+    normal_shadow: [f64; 2],
+    /// The axis `edge_i × unit_j` at `3 j + i` has two non-zero components,
+    /// `first` at index `(j + 1) % 3` and `second` at `(j + 2) % 3`.
+    first: [f64; 9],
+    second: [f64; 9],
+    /// The triangle's shadow on each edge axis.
+    shadow_min: [f64; 9],
+    shadow_max: [f64; 9],
 }
 
 impl TriangleBoxTest {
@@ -56,28 +63,39 @@ impl TriangleBoxTest {
         let sub = |p: [f64; 3], q: [f64; 3]| [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
         let e = [sub(v[1], v[0]), sub(v[2], v[1]), sub(v[0], v[2])];
         let (e0, e1) = (e[0], sub(v[2], v[0]));
-        let mut axes = [[0.0; 3]; 10];
-        axes[0] = [
+        let normal = [
             e0[1] * e1[2] - e0[2] * e1[1],
             e0[2] * e1[0] - e0[0] * e1[2],
             e0[0] * e1[1] - e0[1] * e1[0],
         ];
-        for (i, edge) in e.iter().enumerate() {
-            for j in 0..3 {
-                // edge × unit_j: two non-zero components.
-                let axis = &mut axes[1 + 3 * i + j];
-                axis[(j + 1) % 3] = edge[(j + 2) % 3];
-                axis[(j + 2) % 3] = -edge[(j + 1) % 3];
+        // Plain comparisons (inputs are finite): no NaN handling needed.
+        let min = |a: f64, b: f64| if a < b { a } else { b };
+        let max = |a: f64, b: f64| if a > b { a } else { b };
+        let shadow = |p: [f64; 3]| [min(min(p[0], p[1]), p[2]), max(max(p[0], p[1]), p[2])];
+        let normal_shadow = shadow(v.map(|x| x[0] * normal[0] + x[1] * normal[1] + x[2] * normal[2]));
+        let mut t = Self {
+            lo: std::array::from_fn(|k| min(min(v[0][k], v[1][k]), v[2][k])),
+            hi: std::array::from_fn(|k| max(max(v[0][k], v[1][k]), v[2][k])),
+            normal,
+            normal_abs: normal.map(f64::abs),
+            normal_shadow,
+            first: [0.0; 9],
+            second: [0.0; 9],
+            shadow_min: [0.0; 9],
+            shadow_max: [0.0; 9],
+        };
+        for j in 0..3 {
+            let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
+            for (i, edge) in e.iter().enumerate() {
+                let x = 3 * j + i;
+                // edge × unit_j = (…, edge[j2] at j1, −edge[j1] at j2).
+                let (a1, a2) = (edge[j2], -edge[j1]);
+                let [lo, hi] = shadow(v.map(|p| p[j1] * a1 + p[j2] * a2));
+                (t.first[x], t.second[x]) = (a1, a2);
+                (t.shadow_min[x], t.shadow_max[x]) = (lo, hi);
             }
         }
-        let mut shadows = [[0.0; 2]; 10];
-        for (shadow, a) in shadows.iter_mut().zip(&axes) {
-            let p = v.map(|x| x[0] * a[0] + x[1] * a[1] + x[2] * a[2]);
-            *shadow = [p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2])];
-        }
-        let lo = std::array::from_fn(|k| v[0][k].min(v[1][k]).min(v[2][k]));
-        let hi = std::array::from_fn(|k| v[0][k].max(v[1][k]).max(v[2][k]));
-        Self { lo, hi, axes, shadows }
+        t
     }
 
     /// `true` when the triangle and the closed box share at least one point.
@@ -94,23 +112,63 @@ impl TriangleBoxTest {
 
     /// The ten non-box axes only, for a box already known to overlap the
     /// triangle's bounding box (a cell of the bounding box's cell range).
+    ///
+    /// On each axis `a` the box's shadow is `c·a ± h·|a|` with `c` the box
+    /// center and `h` its half extents (both exact in `f64`); the axis
+    /// separates when that interval misses the triangle's shadow.
     #[inline]
     pub(crate) fn overlaps_axes(&self, lo: [f64; 3], hi: [f64; 3]) -> bool {
-        for (a, s) in self.axes.iter().zip(&self.shadows) {
-            let mut bmin = 0.0;
-            let mut bmax = 0.0;
-            for k in 0..3 {
-                let (p, q) = (lo[k] * a[k], hi[k] * a[k]);
-                bmin += p.min(q);
-                bmax += p.max(q);
-            }
-            // Written so that a NaN anywhere reports no overlap.
-            if !(bmin <= s[1] && s[0] <= bmax) {
-                return false;
+        self.overlaps_run_axes(0, lo, hi) && self.overlaps_cell_axes(0, lo, hi)
+    }
+
+    /// The three axes `edge_i × unit_q`, which do not involve the box's
+    /// extent along `q`: one test decides them for a whole run of cells along
+    /// `q` (`lo[q]`, `hi[q]` are ignored).
+    #[inline]
+    pub(crate) fn overlaps_run_axes(&self, q: usize, lo: [f64; 3], hi: [f64; 3]) -> bool {
+        let (c, h) = center_half(lo, hi);
+        (0..3).all(|i| !self.edge_axis_separates(q, i, &c, &h))
+    }
+
+    /// The other seven non-box axes: the normal and `edge_i × unit_j`, j ≠ q.
+    #[inline]
+    pub(crate) fn overlaps_cell_axes(&self, q: usize, lo: [f64; 3], hi: [f64; 3]) -> bool {
+        let (c, h) = center_half(lo, hi);
+        let n = &self.normal;
+        let na = &self.normal_abs;
+        let p = c[0] * n[0] + c[1] * n[1] + c[2] * n[2];
+        let r = h[0] * na[0] + h[1] * na[1] + h[2] * na[2];
+        if p - r > self.normal_shadow[1] || p + r < self.normal_shadow[0] {
+            return false;
+        }
+        for j in (0..3).filter(|&j| j != q) {
+            for i in 0..3 {
+                if self.edge_axis_separates(j, i, &c, &h) {
+                    return false;
+                }
             }
         }
         true
     }
+
+    /// `true` when `edge_i × unit_j` separates the box `c ± h` from the triangle.
+    #[inline(always)]
+    fn edge_axis_separates(&self, j: usize, i: usize, c: &[f64; 3], h: &[f64; 3]) -> bool {
+        let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
+        let x = 3 * j + i;
+        let p = c[j1] * self.first[x] + c[j2] * self.second[x];
+        let r = h[j1] * self.first[x].abs() + h[j2] * self.second[x].abs();
+        p - r > self.shadow_max[x] || p + r < self.shadow_min[x]
+    }
+}
+
+/// Center and half extents of the box `[lo, hi]` (exact in `f64`).
+#[inline(always)]
+fn center_half(lo: [f64; 3], hi: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+    (
+        [(lo[0] + hi[0]) * 0.5, (lo[1] + hi[1]) * 0.5, (lo[2] + hi[2]) * 0.5],
+        [(hi[0] - lo[0]) * 0.5, (hi[1] - lo[1]) * 0.5, (hi[2] - lo[2]) * 0.5],
+    )
 }
 
 impl BoxOverlap for Triangle {
