@@ -35,7 +35,10 @@ fn agree(name: &str, mesh: &Mesh, n: usize) {
             ours.source
         );
     }
-    println!("{name}: worst difference {:.2e} of the diagonal", worst / mesh.bounds().diagonal());
+    println!(
+        "{name}: worst difference {:.2e} of the diagonal",
+        worst / mesh.bounds().diagonal()
+    );
 }
 
 #[test]

@@ -107,10 +107,19 @@ fn bench_set<T: ClosestPoint + Copy + Send + Sync + 'static>(
 
     // Per query, in input order: the binary tree, then the 4-wide tree
     // converted from it (same answers, SIMD nodes).
-    let (per_query, tree_seconds): (Vec<Option<f32>>, f64) = timed(|| points.par_iter().map(|&p| tree.closest(p).map(|h| h.distance)).collect());
+    let (per_query, tree_seconds): (Vec<Option<f32>>, f64) = timed(|| {
+        points
+            .par_iter()
+            .map(|&p| tree.closest(p).map(|h| h.distance))
+            .collect()
+    });
     let (wide, convert_seconds) = timed(|| WideTree::from_tree(tree));
-    let (per_query_wide, wide_seconds): (Vec<Option<f32>>, f64) =
-        timed(|| points.par_iter().map(|&p| wide.closest(p).map(|h| h.distance)).collect());
+    let (per_query_wide, wide_seconds): (Vec<Option<f32>>, f64) = timed(|| {
+        points
+            .par_iter()
+            .map(|&p| wide.closest(p).map(|h| h.distance))
+            .collect()
+    });
     let (batch, batch_seconds) = timed(|| wide.closest_batch(points));
 
     let agree = expected.iter().zip(&per_query).all(|(a, b)| a == b)
@@ -128,7 +137,12 @@ fn bench_set<T: ClosestPoint + Copy + Send + Sync + 'static>(
         row("linear", 0.0, n_linear, linear_seconds),
         row("tree", build_seconds, points.len(), tree_seconds),
         row("tree-wide", build_seconds + convert_seconds, points.len(), wide_seconds),
-        row("tree-batch", build_seconds + convert_seconds, points.len(), batch_seconds),
+        row(
+            "tree-batch",
+            build_seconds + convert_seconds,
+            points.len(),
+            batch_seconds,
+        ),
     ])
 }
 
