@@ -40,14 +40,37 @@ pub(crate) fn morton_code(p: Vec3, bounds: &Aabb) -> u32 {
     spread_bits(t.x as u32) | (spread_bits(t.y as u32) << 1) | (spread_bits(t.z as u32) << 2)
 }
 
-/// The order in which to process `points`: input order, or Morton order.
-fn processing_order(points: &[Vec3], bounds: &Aabb, options: BatchOptions) -> Vec<u32> {
-    let mut order: Vec<u32> = (0..points.len() as u32).collect();
-    if options.reorder {
-        let codes: Vec<u32> = points.par_iter().map(|&p| morton_code(p, bounds)).collect();
-        order.par_sort_unstable_by_key(|&i| codes[i as usize]);
+/// Answers `query` for every point on rayon's pool and returns the answers
+/// in input order. With `reorder`, the points are processed in Morton order
+/// within `bounds`, so consecutive queries walk mostly the same nodes while
+/// they are in cache. `init` makes one scratch value per worker, so queries do
+/// not allocate. Shared by every tree's batch queries.
+pub(crate) fn answer_batch<S, R: Send>(
+    points: &[Vec3],
+    bounds: &Aabb,
+    reorder: bool,
+    init: impl Fn() -> S + Sync + Send,
+    query: impl Fn(&mut S, Vec3) -> R + Sync + Send,
+) -> Vec<R> {
+    if !reorder {
+        return points
+            .par_iter()
+            .map_init(&init, |scratch, &p| query(scratch, p))
+            .collect();
     }
-    order
+    let codes: Vec<u32> = points.par_iter().map(|&p| morton_code(p, bounds)).collect();
+    let mut order: Vec<u32> = (0..points.len() as u32).collect();
+    order.par_sort_unstable_by_key(|&i| codes[i as usize]);
+    let answers: Vec<R> = order
+        .par_iter()
+        .map_init(&init, |scratch, &i| query(scratch, points[i as usize]))
+        .collect();
+    let mut slots: Vec<Option<R>> = std::iter::repeat_with(|| None).take(points.len()).collect();
+    for (&i, answer) in order.iter().zip(answers) {
+        slots[i as usize] = Some(answer);
+    }
+    // `order` is a permutation, so every slot is filled.
+    slots.into_iter().flatten().collect()
 }
 
 impl<T: ClosestPoint + Sync> AabbTree<T> {
@@ -63,35 +86,23 @@ impl<T: ClosestPoint + Sync> AabbTree<T> {
 
     /// [`closest_batch`](Self::closest_batch) with explicit options.
     pub fn closest_batch_with(&self, points: &[Vec3], options: BatchOptions) -> Vec<Option<ClosestHit>> {
-        if !options.reorder {
-            return points.par_iter().map(|&p| self.closest(p)).collect();
-        }
-        let order = processing_order(points, &self.root_bounds(), options);
-        let answers: Vec<Option<ClosestHit>> = order.par_iter().map(|&i| self.closest(points[i as usize])).collect();
-        let mut out = vec![None; points.len()];
-        for (&i, answer) in order.iter().zip(answers) {
-            out[i as usize] = answer;
-        }
-        out
+        answer_batch(
+            points,
+            &self.root_bounds(),
+            options.reorder,
+            || (),
+            |_, p| self.closest(p),
+        )
     }
 
     /// [`k_nearest`](Self::k_nearest) for every point, in parallel, in Morton
     /// order; results in input order. Scratch memory is allocated once per
     /// worker, not per query.
     pub fn k_nearest_batch(&self, points: &[Vec3], k: usize) -> Vec<Vec<ClosestHit>> {
-        let order = processing_order(points, &self.root_bounds(), BatchOptions::default());
-        let answers: Vec<Vec<ClosestHit>> = order
-            .par_iter()
-            .map_init(KnnScratch::new, |scratch, &i| {
-                let mut out = Vec::with_capacity(k.min(self.len()));
-                self.k_nearest_into(points[i as usize], k, scratch, &mut out);
-                out
-            })
-            .collect();
-        let mut out = vec![Vec::new(); points.len()];
-        for (&i, answer) in order.iter().zip(answers) {
-            out[i as usize] = answer;
-        }
-        out
+        answer_batch(points, &self.root_bounds(), true, KnnScratch::new, |scratch, p| {
+            let mut out = Vec::with_capacity(k.min(self.len()));
+            self.k_nearest_into(p, k, scratch, &mut out);
+            out
+        })
     }
 }
