@@ -9,17 +9,18 @@ use std::collections::BinaryHeap;
 
 /// Keeps the best candidate; ties in distance go to the lower input index, so
 /// the answer is the same as a linear scan's, primitive for primitive.
-struct Best<'a> {
+/// Shared with the wide tree, whose answers must be the same.
+pub(crate) struct Best<'a> {
     indices: &'a [u32],
-    slot: usize,
-    point: Vec3A,
-    distance_squared: f32,
+    pub(crate) slot: usize,
+    pub(crate) point: Vec3A,
+    pub(crate) distance_squared: f32,
     bound: f32,
-    found: bool,
+    pub(crate) found: bool,
 }
 
 impl<'a> Best<'a> {
-    fn new(indices: &'a [u32], max_distance_squared: f32) -> Self {
+    pub(crate) fn new(indices: &'a [u32], max_distance_squared: f32) -> Self {
         Self {
             indices,
             slot: 0,
@@ -31,7 +32,7 @@ impl<'a> Best<'a> {
     }
 
     #[inline(always)]
-    fn offer(&mut self, slot: usize, q: Vec3A, d2: f32) {
+    pub(crate) fn offer(&mut self, slot: usize, q: Vec3A, d2: f32) {
         let better = d2 < self.distance_squared
             || (d2 == self.distance_squared && (!self.found || self.indices[slot] < self.indices[self.slot]));
         if better {

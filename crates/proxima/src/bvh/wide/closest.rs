@@ -2,59 +2,11 @@
 
 use super::WideTree;
 use super::traverse::LaneVisitor;
-use crate::bvh::traverse::{Counter, DistanceVisitor, QueryStats};
-use crate::bvh::{ClosestHit, PRUNE_SLACK};
+use crate::bvh::ClosestHit;
+use crate::bvh::closest::Best;
+use crate::bvh::traverse::{Counter, QueryStats};
 use crate::math::{Vec3, Vec3A};
 use crate::primitive::ClosestPoint;
-
-/// Keeps the best candidate; ties in distance go to the lower input index, so
-/// the answer is the same as a linear scan's (the binary tree's `Best`).
-pub(super) struct Best<'a> {
-    indices: &'a [u32],
-    pub(super) slot: usize,
-    pub(super) point: Vec3A,
-    pub(super) distance_squared: f32,
-    bound: f32,
-    pub(super) found: bool,
-}
-
-impl<'a> Best<'a> {
-    pub(super) fn new(indices: &'a [u32], max_distance_squared: f32) -> Self {
-        Self {
-            indices,
-            slot: 0,
-            point: Vec3A::ZERO,
-            distance_squared: max_distance_squared,
-            bound: max_distance_squared * PRUNE_SLACK,
-            found: false,
-        }
-    }
-
-    #[inline(always)]
-    pub(super) fn offer(&mut self, slot: usize, q: Vec3A, d2: f32) {
-        let better = d2 < self.distance_squared
-            || (d2 == self.distance_squared && (!self.found || self.indices[slot] < self.indices[self.slot]));
-        if better {
-            self.slot = slot;
-            self.point = q;
-            self.distance_squared = d2;
-            self.bound = d2 * PRUNE_SLACK;
-            self.found = true;
-        }
-    }
-}
-
-impl<T: ClosestPoint> DistanceVisitor<T> for Best<'_> {
-    #[inline(always)]
-    fn bound(&self) -> f32 {
-        self.bound
-    }
-    #[inline(always)]
-    fn visit(&mut self, slot: usize, primitive: &T, p: Vec3A) {
-        let q = primitive.closest_point(p);
-        self.offer(slot, q, (q - p).length_squared());
-    }
-}
 
 impl<T: ClosestPoint> LaneVisitor<T> for Best<'_> {
     #[inline(always)]
