@@ -36,6 +36,8 @@ enum Command {
     Traverse(commands::traverse::Args),
     /// The first face a ray hits, through a hash grid.
     Raycast(commands::raycast::Args),
+    /// Interactive viewer (needs a display); `--screenshot` renders one frame to a PNG.
+    View(commands::view::Args),
 }
 
 fn main() -> ExitCode {
@@ -45,6 +47,7 @@ fn main() -> ExitCode {
         Command::Info(args) => commands::info::run(args),
         Command::Closest(args) => commands::closest::run(args),
         Command::Bench(args) => commands::bench::run(args),
+        Command::View(args) => commands::view::run(args),
         Command::Grid(args) => commands::grid::run(args),
         Command::Voxelize(args) => commands::voxelize::run(args),
         Command::Traverse(args) => commands::traverse::run(args),

@@ -7,4 +7,5 @@ pub mod grid;
 pub mod info;
 pub mod raycast;
 pub mod traverse;
+pub mod view;
 pub mod voxelize;

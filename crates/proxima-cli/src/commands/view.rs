@@ -1,0 +1,159 @@
+//! `proxima view [MESH]`: the interactive viewer, or (with `--screenshot`)
+//! one rendered frame written to a PNG.
+
+use crate::common::{DEFAULT_MODEL_NAME, Primitives, load_or_default, parse_vec3};
+use anyhow::Result;
+use proxima::Vec3;
+use proxima_viewer::{InitialView, ModelSource, PrimitiveKind, ScreenshotOptions, ViewerOptions};
+use std::path::PathBuf;
+use std::time::Duration;
+
+/// Arguments of `proxima view`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Mesh file (.obj, .ply, .stl, .off, optionally .gz); the embedded bunny when omitted.
+    mesh: Option<PathBuf>,
+    /// Render one frame to this PNG and exit (needs a display; under CI use xvfb-run).
+    #[arg(long, value_name = "PNG")]
+    screenshot: Option<PathBuf>,
+    /// Frames drawn before the screenshot (their times are printed).
+    #[arg(long, default_value_t = 5, value_name = "N", requires = "screenshot")]
+    frames: u32,
+    /// Draw the measured frames as while the camera moves (many boxes as points).
+    #[arg(long, requires = "screenshot")]
+    moving: bool,
+    /// Query point.
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
+    query: Option<Vec3>,
+    /// Primitives queried, put in the grid and shown in the tree.
+    #[arg(long, value_enum)]
+    primitives: Option<Primitives>,
+    /// Show the occupied cells of a hash grid with this cell size.
+    #[arg(long, value_name = "SIZE", value_parser = parse_cell_size)]
+    show_cells: Option<f32>,
+    /// Show a ray and the cells it walks through.
+    #[arg(long, value_name = "OX,OY,OZ,DX,DY,DZ", value_parser = parse_ray, allow_hyphen_values = true)]
+    show_ray: Option<(Vec3, Vec3)>,
+    /// Number of cells the ray walks.
+    #[arg(long, value_name = "N")]
+    ray_steps: Option<u32>,
+    /// Show the AABB tree's nodes at this depth.
+    #[arg(long, value_name = "DEPTH")]
+    tree_depth: Option<u32>,
+    /// Highlight the k nearest primitives.
+    #[arg(short, value_name = "K")]
+    k: Option<usize>,
+    /// Window size in points.
+    #[arg(long, value_name = "WxH", default_value = "1280x800", value_parser = parse_size)]
+    size: [f32; 2],
+}
+
+fn parse_cell_size(text: &str) -> Result<f32, String> {
+    match text.trim().parse::<f32>() {
+        Ok(h) if h.is_finite() && h > 0.0 => Ok(h),
+        _ => Err(format!("expected a positive cell size, got '{text}'")),
+    }
+}
+
+fn parse_ray(text: &str) -> Result<(Vec3, Vec3), String> {
+    let numbers: Vec<&str> = text.split([',', ' ', '\t']).filter(|s| !s.is_empty()).collect();
+    if numbers.len() != 6 {
+        return Err(format!("expected six numbers OX,OY,OZ,DX,DY,DZ, got '{text}'"));
+    }
+    let origin = parse_vec3(&numbers[..3].join(","))?;
+    let direction = parse_vec3(&numbers[3..].join(","))?;
+    if direction == Vec3::ZERO {
+        return Err("the ray direction must not be zero".into());
+    }
+    Ok((origin, direction))
+}
+
+fn parse_size(text: &str) -> Result<[f32; 2], String> {
+    let (w, h) = text
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("expected WIDTHxHEIGHT, got '{text}'"))?;
+    let parse = |s: &str| match s.trim().parse::<f32>() {
+        Ok(v) if (64.0..=8192.0).contains(&v) => Ok(v),
+        _ => Err(format!("'{s}' is not a size between 64 and 8192")),
+    };
+    Ok([parse(w)?, parse(h)?])
+}
+
+/// Opens the viewer (or renders the screenshot).
+pub fn run(args: Args) -> Result<()> {
+    // Fail before opening a window when there is no display to open it on.
+    if !proxima_viewer::display_available() {
+        return Err(proxima_viewer::ViewerError::NoDisplay.into());
+    }
+    let source = match args.mesh {
+        Some(path) => ModelSource::File(path),
+        None => {
+            let (mesh, name) = load_or_default(None)?;
+            debug_assert_eq!(name, DEFAULT_MODEL_NAME);
+            ModelSource::Mesh { mesh, name }
+        }
+    };
+    let kind = args.primitives.map(|p| match p {
+        Primitives::Vertices => PrimitiveKind::Vertices,
+        Primitives::Edges => PrimitiveKind::Edges,
+        Primitives::Faces => PrimitiveKind::Faces,
+    });
+    let options = ViewerOptions {
+        source,
+        initial: InitialView {
+            query: args.query,
+            kind,
+            cells: args.show_cells,
+            ray: args.show_ray,
+            ray_steps: args.ray_steps,
+            tree_depth: args.tree_depth,
+            k: args.k,
+        },
+        screenshot: args.screenshot.map(|path| ScreenshotOptions {
+            path,
+            frames: args.frames,
+            timeout: Duration::from_secs(300),
+            moving: args.moving,
+        }),
+        window_size: args.size,
+    };
+    let screenshot = options.screenshot.as_ref().map(|s| s.path.clone());
+    if let Some(report) = proxima_viewer::run(options)? {
+        let path = screenshot.unwrap_or_default();
+        print!(
+            "{}: {}x{} px",
+            path.display(),
+            report.image_size[0],
+            report.image_size[1]
+        );
+        if let Some(f) = report.frames {
+            print!(
+                ", frame time {:.1} ms mean, {:.1} ms median, {:.1} ms max over {} frames",
+                f.mean_ms, f.median_ms, f.max_ms, f.count
+            );
+        }
+        println!(
+            " ({}, {} triangles, {} cells)",
+            report.model, report.triangles, report.cells
+        );
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ray_and_size_arguments() {
+        let (o, d) = parse_ray("0,0.1,-1, 0 0 1").unwrap();
+        assert_eq!((o, d), (Vec3::new(0.0, 0.1, -1.0), Vec3::Z));
+        assert!(parse_ray("0,0,0,0,0,0").is_err());
+        assert!(parse_ray("1,2,3").is_err());
+        assert!(parse_ray("1,2,3,nan,0,1").is_err());
+        assert_eq!(parse_size("640x480").unwrap(), [640.0, 480.0]);
+        assert!(parse_size("640").is_err() && parse_size("0x10").is_err());
+        assert_eq!(parse_cell_size("0.05").unwrap(), 0.05);
+        assert!(parse_cell_size("0").is_err() && parse_cell_size("-1").is_err() && parse_cell_size("x").is_err());
+    }
+}

@@ -1,0 +1,219 @@
+//! # proxima-viewer
+//!
+//! The interactive viewer of proxima, started by `proxima view [MESH]`: a
+//! shaded mesh with a query point and its closest vertex, edge or face
+//! (tree and brute-force timings side by side), the k nearest primitives,
+//! the occupied cells of a hash grid, a ray with the cells it walks through,
+//! the AABB tree's nodes at a chosen depth, and statistics.
+//!
+//! The only crate of the workspace with windowing and GPU dependencies
+//! (eframe/egui with the glow backend). The 3D view is drawn in an egui paint
+//! callback with raw OpenGL calls.
+//!
+//! - [`camera`]: the orbit camera, projection to pixels and picking rays;
+//! - [`model`]: a loaded mesh with its trees and the closest-point queries;
+//! - [`scene`]: draw data (buffers, boxes, overlay lines and markers) and
+//!   picking;
+//! - [`cells`]: occupied grid cells and the ray walk;
+//! - [`state`]: the panel settings and the composition of a frame;
+//! - [`screenshot`]: the scripted mode (one PNG and exit);
+//! - `gl` (private): the OpenGL renderer; `app` (private): the eframe app.
+//!
+//! Everything but `gl` and `app` is plain data and functions, unit-tested
+//! without a window.
+#![deny(unsafe_code)]
+#![deny(missing_docs)]
+
+mod app;
+pub mod camera;
+pub mod cells;
+mod gl;
+pub mod model;
+pub mod scene;
+pub mod screenshot;
+pub mod state;
+
+pub use camera::{OrbitCamera, Viewport};
+pub use model::{Model, ModelSource, PrimitiveKind};
+pub use screenshot::{ScreenshotOptions, ScreenshotReport};
+pub use state::Settings;
+
+use eframe::egui;
+use proxima::math::Vec3;
+use std::sync::Arc;
+
+/// Settings given on the command line, applied when the first model is
+/// loaded (the rest comes from [`Settings::for_bounds`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct InitialView {
+    /// The query point.
+    pub query: Option<Vec3>,
+    /// Primitive kind (faces when not given).
+    pub kind: Option<PrimitiveKind>,
+    /// Show the occupied cells of a grid with this cell size.
+    pub cells: Option<f32>,
+    /// Show a ray from this origin along this direction.
+    pub ray: Option<(Vec3, Vec3)>,
+    /// Number of cells the ray walks.
+    pub ray_steps: Option<u32>,
+    /// Show the tree nodes at this depth.
+    pub tree_depth: Option<u32>,
+    /// Highlight this many nearest primitives.
+    pub k: Option<usize>,
+}
+
+impl InitialView {
+    /// Overrides `settings` with what was given.
+    pub fn apply(&self, settings: &mut Settings) {
+        if let Some(q) = self.query {
+            settings.query = q;
+        }
+        if let Some(kind) = self.kind {
+            settings.kind = kind;
+        }
+        if let Some(h) = self.cells {
+            settings.show_cells = true;
+            settings.cell_size = h;
+        }
+        if let Some((origin, direction)) = self.ray {
+            settings.show_ray = true;
+            settings.ray_origin = origin;
+            settings.ray_direction = direction;
+        }
+        if let Some(steps) = self.ray_steps {
+            settings.ray_steps = steps;
+        }
+        if let Some(depth) = self.tree_depth {
+            settings.show_nodes = true;
+            settings.node_depth = depth;
+        }
+        if let Some(k) = self.k {
+            settings.k = k;
+        }
+    }
+}
+
+/// How to start the viewer.
+#[derive(Debug)]
+pub struct ViewerOptions {
+    /// The first model.
+    pub source: ModelSource,
+    /// Settings for the first model.
+    pub initial: InitialView,
+    /// Scripted mode: render, save a PNG, exit.
+    pub screenshot: Option<ScreenshotOptions>,
+    /// Inner size of the window in points.
+    pub window_size: [f32; 2],
+}
+
+impl ViewerOptions {
+    /// Interactive viewer of `source` in a 1280×800 window.
+    pub fn new(source: ModelSource) -> Self {
+        Self {
+            source,
+            initial: InitialView::default(),
+            screenshot: None,
+            window_size: [1280.0, 800.0],
+        }
+    }
+}
+
+/// Why the viewer could not run (or the scripted mode failed).
+#[derive(Debug, thiserror::Error)]
+pub enum ViewerError {
+    /// No X11 display to open a window on.
+    #[error(
+        "no display to open a window on (DISPLAY is not set); `proxima demo` runs the main job without one, \
+         and `xvfb-run -a proxima view MESH --screenshot out.png` renders the viewer to a PNG"
+    )]
+    NoDisplay,
+    /// The window or the OpenGL context could not be created.
+    #[error("cannot open the viewer window: {0}")]
+    Window(String),
+    /// The scripted mode failed (loading, building, drawing or writing).
+    #[error("screenshot: {0}")]
+    Screenshot(String),
+}
+
+/// `true` when an X11 display is named (the viewer is built for X11 only).
+pub fn display_available() -> bool {
+    std::env::var_os("DISPLAY").is_some_and(|d| !d.is_empty())
+}
+
+/// Opens the viewer window and runs until it is closed (or, in scripted
+/// mode, until the screenshot is written). Must be called on the main thread.
+pub fn run(options: ViewerOptions) -> Result<Option<ScreenshotReport>, ViewerError> {
+    if !display_available() {
+        return Err(ViewerError::NoDisplay);
+    }
+    let scripted = options.screenshot.is_some();
+    let native = eframe::NativeOptions {
+        renderer: eframe::Renderer::Glow,
+        depth_buffer: 24,
+        multisampling: 0,
+        viewport: egui::ViewportBuilder::default()
+            .with_inner_size(options.window_size)
+            .with_title("proxima viewer")
+            .with_drag_and_drop(true),
+        glow_options: eframe::egui_glow::GlowConfiguration {
+            // Frame times in the scripted mode measure the drawing, not the display's refresh.
+            vsync: !scripted,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let outcome: app::Outcome = Arc::new(egui::mutex::Mutex::new(None));
+    let slot = outcome.clone();
+    eframe::run_native(
+        "proxima viewer",
+        native,
+        Box::new(move |cc| Ok(Box::new(app::ViewerApp::new(cc, options, slot)))),
+    )
+    .map_err(|e| ViewerError::Window(e.to_string()))?;
+    if !scripted {
+        return Ok(None);
+    }
+    match outcome.lock().take() {
+        Some(Ok(report)) => Ok(Some(report)),
+        Some(Err(e)) => Err(ViewerError::Screenshot(e)),
+        None => Err(ViewerError::Screenshot(
+            "the window closed before the screenshot was taken".into(),
+        )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_initial_view_overrides_only_what_was_given() {
+        let mut s = Settings::default();
+        let before = s.clone();
+        InitialView::default().apply(&mut s);
+        assert_eq!(s, before);
+        let v = InitialView {
+            query: Some(Vec3::ONE),
+            kind: Some(PrimitiveKind::Edges),
+            cells: Some(0.05),
+            ray: Some((Vec3::ZERO, Vec3::X)),
+            ray_steps: Some(7),
+            tree_depth: Some(4),
+            k: Some(3),
+        };
+        v.apply(&mut s);
+        assert_eq!(s.query, Vec3::ONE);
+        assert_eq!(s.kind, PrimitiveKind::Edges);
+        assert!(s.show_cells && s.cell_size == 0.05);
+        assert!(s.show_ray && s.ray_direction == Vec3::X && s.ray_steps == 7);
+        assert!(s.show_nodes && s.node_depth == 4);
+        assert_eq!(s.k, 3);
+    }
+
+    #[test]
+    fn no_display_is_a_one_line_error() {
+        let text = ViewerError::NoDisplay.to_string();
+        assert!(!text.contains('\n'));
+        assert!(text.contains("proxima demo") && text.contains("--screenshot"));
+    }
+}
