@@ -8,7 +8,7 @@
 mod common;
 
 use proptest::prelude::*;
-use proxima::bvh::{RayHit, SplitMethod};
+use proxima::bvh::{RayHit, SplitMethod, WideTree};
 use proxima::grid::{FastHash, GridConfig, HashGrid};
 use proxima::primitive::{RayIntersect, WatertightRay};
 use proxima::sample::Rng;
@@ -61,7 +61,7 @@ fn configs() -> [BuildConfig; 3] {
 fn check_rays(
     name: &str,
     set: &PrimitiveSet<Triangle>,
-    trees: &[AabbTree<Triangle>],
+    trees: &[WideTree<Triangle>],
     rays: &[(Vec3, Vec3, f32, f32)],
 ) -> usize {
     rays.par_iter()
@@ -70,7 +70,8 @@ fn check_rays(
             let want = brute_first(set, o, d, t_min, t_max);
             let any = brute_any(set, o, d, t_min, t_max);
             assert_eq!(any, want.is_some());
-            for (c, tree) in trees.iter().enumerate() {
+            for (c, wide) in trees.iter().enumerate() {
+                let tree = wide.tree();
                 let got = tree.first_hit(o, d, t_min, t_max).unwrap();
                 assert_eq!(got, want, "{name}: ray {k} ({o}, {d}, [{t_min}, {t_max}]), tree {c}");
                 assert_eq!(
@@ -78,16 +79,27 @@ fn check_rays(
                     any,
                     "{name}: any hit, ray {k}, tree {c}"
                 );
+                let got = wide.first_hit(o, d, t_min, t_max).unwrap();
+                assert_eq!(
+                    got, want,
+                    "{name}: ray {k} ({o}, {d}, [{t_min}, {t_max}]), wide tree {c}"
+                );
+                assert_eq!(
+                    wide.any_hit(o, d, t_min, t_max).unwrap(),
+                    any,
+                    "{name}: any hit, ray {k}, wide {c}"
+                );
             }
             usize::from(any)
         })
         .sum()
 }
 
-fn trees(set: &PrimitiveSet<Triangle>) -> Vec<AabbTree<Triangle>> {
+/// A wide tree (holding its binary tree) per build configuration.
+fn trees(set: &PrimitiveSet<Triangle>) -> Vec<WideTree<Triangle>> {
     configs()
         .iter()
-        .map(|c| AabbTree::build_set(set.clone(), c).unwrap())
+        .map(|c| WideTree::from_tree(AabbTree::build_set(set.clone(), c).unwrap()))
         .collect()
 }
 
@@ -176,8 +188,9 @@ proptest! {
         for &(o, d, t_min, span) in &rays {
             let (o, d) = (v(&o), v(&d));
             if d == Vec3::ZERO {
-                for tree in &trees {
-                    prop_assert_eq!(tree.first_hit(o, d, 0.0, 1.0).unwrap_err(), RayError::Direction);
+                for wide in &trees {
+                    prop_assert_eq!(wide.tree().first_hit(o, d, 0.0, 1.0).unwrap_err(), RayError::Direction);
+                    prop_assert_eq!(wide.first_hit(o, d, 0.0, 1.0).unwrap_err(), RayError::Direction);
                 }
                 continue;
             }
@@ -185,9 +198,12 @@ proptest! {
             for (o, d) in [(o, d), (o * 0.5, d), (o, d * 0.5)] {
                 let t_max = if span == 6 { f32::INFINITY } else { t_min as f32 + span as f32 };
                 let want = brute_first(&set, o, d, t_min as f32, t_max);
-                for tree in &trees {
+                for wide in &trees {
+                    let tree = wide.tree();
                     prop_assert_eq!(tree.first_hit(o, d, t_min as f32, t_max).unwrap(), want);
                     prop_assert_eq!(tree.any_hit(o, d, t_min as f32, t_max).unwrap(), want.is_some());
+                    prop_assert_eq!(wide.first_hit(o, d, t_min as f32, t_max).unwrap(), want);
+                    prop_assert_eq!(wide.any_hit(o, d, t_min as f32, t_max).unwrap(), want.is_some());
                 }
             }
         }
@@ -217,9 +233,12 @@ proptest! {
                     continue;
                 }
                 let want = brute_first(&set, o, d, 0.0, f32::INFINITY);
-                for tree in &trees {
+                for wide in &trees {
+                    let tree = wide.tree();
                     prop_assert_eq!(tree.first_hit(o, d, 0.0, f32::INFINITY).unwrap(), want);
                     prop_assert_eq!(tree.any_hit(o, d, 0.0, f32::INFINITY).unwrap(), want.is_some());
+                    prop_assert_eq!(wide.first_hit(o, d, 0.0, f32::INFINITY).unwrap(), want);
+                    prop_assert_eq!(wide.any_hit(o, d, 0.0, f32::INFINITY).unwrap(), want.is_some());
                 }
             }
         }
@@ -273,6 +292,7 @@ fn degenerate_triangles_and_boxes() {
         for j in 1..12 {
             let o = Vec3::new(i as f32 * 0.5, j as f32 * 0.5, 1.0);
             for d in [-Vec3::Z, Vec3::new(0.1, 0.0, -1.0), Vec3::new(-0.1, 0.2, -1.0)] {
+                assert!(trees[0].tree().any_hit(o - d * 3.0, d, 0.0, f32::INFINITY).unwrap());
                 assert!(trees[0].any_hit(o - d * 3.0, d, 0.0, f32::INFINITY).unwrap());
             }
         }
@@ -282,6 +302,9 @@ fn degenerate_triangles_and_boxes() {
 #[test]
 fn empty_tree_and_errors() {
     let empty = AabbTree::build_set(PrimitiveSet::<Triangle>::default(), &Default::default()).unwrap();
+    assert_eq!(empty.first_hit(Vec3::ZERO, Vec3::X, 0.0, f32::INFINITY).unwrap(), None);
+    assert!(!empty.any_hit(Vec3::ZERO, Vec3::X, 0.0, f32::INFINITY).unwrap());
+    let empty = WideTree::from_tree(empty);
     assert_eq!(empty.first_hit(Vec3::ZERO, Vec3::X, 0.0, f32::INFINITY).unwrap(), None);
     assert!(!empty.any_hit(Vec3::ZERO, Vec3::X, 0.0, f32::INFINITY).unwrap());
     let tree = AabbTree::build_set(common::bumpy_sphere(8, 1).triangles(), &Default::default()).unwrap();
@@ -331,7 +354,12 @@ fn empty_tree_and_errors() {
             },
         ),
     ];
+    let wide = WideTree::from_tree(tree.clone());
+    #[cfg(target_arch = "x86_64")]
+    assert!(wide.has_triangle_packets(), "the wide tests must cover the packet path");
     for (o, d, t_min, t_max, want) in cases {
+        assert_eq!(wide.first_hit(o, d, t_min, t_max).unwrap_err(), want);
+        assert_eq!(wide.any_hit(o, d, t_min, t_max).unwrap_err(), want);
         assert_eq!(tree.first_hit(o, d, t_min, t_max).unwrap_err(), want);
         assert_eq!(tree.any_hit(o, d, t_min, t_max).unwrap_err(), want);
     }
@@ -466,12 +494,18 @@ fn shared_meshes_match_brute_force_and_grid_and_never_leak() {
         rays.extend(aimed.iter().copied());
         let hits = check_rays(&name, &set, &trees, &rays);
         // Aimed rays never slip through.
-        let tree = &trees[0];
+        let (wide, tree) = (&trees[0], trees[0].tree());
         let many_aimed = aimed_rays(&mesh, 20_000, 9);
         let misses = many_aimed
             .par_iter()
             .filter(|&&(o, d, t0, t1)| {
-                !tree.any_hit(o, d, t0, t1).unwrap() || tree.first_hit(o, d, t0, t1).unwrap().is_none()
+                let first = tree.first_hit(o, d, t0, t1).unwrap();
+                assert_eq!(
+                    wide.first_hit(o, d, t0, t1).unwrap(),
+                    first,
+                    "{name}: wide tree differs"
+                );
+                !tree.any_hit(o, d, t0, t1).unwrap() || !wide.any_hit(o, d, t0, t1).unwrap() || first.is_none()
             })
             .count();
         assert_eq!(
@@ -488,6 +522,7 @@ fn shared_meshes_match_brute_force_and_grid_and_never_leak() {
         grid_rays.extend(many_aimed.iter().take(5_000));
         grid_rays.par_iter().for_each(|&(o, d, t0, t1)| {
             let got = tree.first_hit(o, d, t0, t1).unwrap();
+            assert_eq!(wide.first_hit(o, d, t0, t1).unwrap(), got, "{name}: wide tree differs");
             let g = grid.first_hit(o, d, t0, t1).unwrap();
             assert_eq!(
                 got.map(|h| (h.primitive, h.source, h.t, h.point, h.u, h.v)),

@@ -135,18 +135,23 @@ pub(crate) fn prepare_ray(origin: Vec3, direction: Vec3, t_min: f32, t_max: f32)
 }
 
 /// What a ray query does with the primitives of the leaves it reaches.
-trait RayVisitor<T> {
+/// Shared with the wide tree, whose answers must be the same.
+pub(crate) trait RayVisitor<T> {
     /// The end of the parameter range still of interest.
     fn t_hi(&self) -> f32;
     /// Tests the primitive at leaf-order slot `slot`; `true` ends the query.
     fn visit(&mut self, slot: usize, primitive: &T, ray: &WatertightRay, t_min: f32) -> bool;
+    /// Considers a hit of the primitive at `slot` computed elsewhere (four
+    /// triangles at a time), exactly as `visit` would have found it; `true`
+    /// ends the query.
+    fn offer(&mut self, slot: usize, hit: TriangleHit) -> bool;
 }
 
 /// Keeps the hit of smallest `t`, ties to the lowest input index.
-struct FirstHit<'a> {
-    indices: &'a [u32],
-    t_hi: f32,
-    best: Option<(usize, TriangleHit)>,
+pub(crate) struct FirstHit<'a> {
+    pub(crate) indices: &'a [u32],
+    pub(crate) t_hi: f32,
+    pub(crate) best: Option<(usize, TriangleHit)>,
 }
 
 impl<T: RayIntersect> RayVisitor<T> for FirstHit<'_> {
@@ -158,25 +163,31 @@ impl<T: RayIntersect> RayVisitor<T> for FirstHit<'_> {
     #[inline(always)]
     fn visit(&mut self, slot: usize, primitive: &T, ray: &WatertightRay, t_min: f32) -> bool {
         if let Some(hit) = primitive.intersect_ray(ray, t_min, self.t_hi) {
-            let better = match self.best {
-                None => true,
-                Some((best_slot, best)) => {
-                    hit.t < best.t || (hit.t == best.t && self.indices[slot] < self.indices[best_slot])
-                }
-            };
-            if better {
-                self.best = Some((slot, hit));
-                self.t_hi = hit.t;
+            RayVisitor::<T>::offer(self, slot, hit);
+        }
+        false
+    }
+
+    #[inline(always)]
+    fn offer(&mut self, slot: usize, hit: TriangleHit) -> bool {
+        let better = match self.best {
+            None => true,
+            Some((best_slot, best)) => {
+                hit.t < best.t || (hit.t == best.t && self.indices[slot] < self.indices[best_slot])
             }
+        };
+        if better {
+            self.best = Some((slot, hit));
+            self.t_hi = hit.t;
         }
         false
     }
 }
 
 /// Stops at the first hit in range.
-struct AnyHit {
-    t_max: f32,
-    found: bool,
+pub(crate) struct AnyHit {
+    pub(crate) t_max: f32,
+    pub(crate) found: bool,
 }
 
 impl<T: RayIntersect> RayVisitor<T> for AnyHit {
@@ -189,6 +200,12 @@ impl<T: RayIntersect> RayVisitor<T> for AnyHit {
     fn visit(&mut self, _: usize, primitive: &T, ray: &WatertightRay, t_min: f32) -> bool {
         self.found = primitive.intersect_ray(ray, t_min, self.t_max).is_some();
         self.found
+    }
+
+    #[inline(always)]
+    fn offer(&mut self, _: usize, _: TriangleHit) -> bool {
+        self.found = true;
+        true
     }
 }
 
@@ -290,17 +307,19 @@ impl<T: RayIntersect> AabbTree<T> {
             best: None,
         };
         self.ray_walk(&ray, direction, t_min, &mut first, counter);
-        Ok(first.best.map(|(slot, hit)| {
-            let primitive = &self.primitives[slot];
-            RayHit {
-                primitive: self.indices[slot],
-                source: self.sources[slot],
-                t: hit.t,
-                point: primitive.hit_point(&hit),
-                u: hit.u,
-                v: hit.v,
-            }
-        }))
+        Ok(first.best.map(|(slot, hit)| self.ray_hit(slot, &hit)))
+    }
+
+    /// The answer for a hit of the primitive at leaf-order slot `slot`.
+    pub(crate) fn ray_hit(&self, slot: usize, hit: &TriangleHit) -> RayHit {
+        RayHit {
+            primitive: self.indices[slot],
+            source: self.sources[slot],
+            t: hit.t,
+            point: self.primitives[slot].hit_point(hit),
+            u: hit.u,
+            v: hit.v,
+        }
     }
 
     /// Depth-first, nearer child first, on a fixed stack: the nearer child is

@@ -31,6 +31,7 @@ mod closest;
 mod convert;
 mod knn;
 mod packet;
+mod ray;
 mod traverse;
 
 pub use knn::WideKnnScratch;
