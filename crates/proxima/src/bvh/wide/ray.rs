@@ -11,6 +11,7 @@
 //! answers are therefore the binary tree's, and brute force's.
 
 use super::packet::TrianglePacket;
+use super::traverse::prefetch;
 use super::{LEAF, WideNode, WideTree};
 use crate::bvh::config::MAX_DEPTH;
 use crate::bvh::ray::{AnyHit, FirstHit, RayHit, RaySlabs, RayVisitor, prepare_ray};
@@ -207,6 +208,20 @@ impl<T: RayIntersect> WideTree<T> {
                         }
                         order[j] = lane;
                         n += 1;
+                        // Start loading every child crossed now, so that the
+                        // cache misses overlap instead of following one another.
+                        let (c, k) = (node.children[lane] as usize, node.counts[lane]);
+                        if k == 0 {
+                            let next = &self.nodes[c];
+                            prefetch(&next.min_x);
+                            prefetch(&next.max_y);
+                        } else if let Some(packet) = packets.get(c) {
+                            prefetch(packet);
+                            prefetch(&packet.b);
+                            prefetch(&packet.c);
+                        } else if packets.is_empty() && k != LEAF {
+                            prefetch(&primitives[c]);
+                        }
                     }
                     for &lane in order[1..n].iter().rev() {
                         stack[top] = (node.children[lane], node.counts[lane], e[lane]);
