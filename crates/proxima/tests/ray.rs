@@ -157,7 +157,10 @@ fn random_soups_match_brute_force() {
 
 /// Triangles and rays on a small integer grid: many rays lie in a triangle's
 /// plane, run along its edges, start on box faces or on vertices.
-fn grid_case() -> impl Strategy<Value = (Vec<[i8; 9]>, Vec<([i8; 3], [i8; 3], i8, i8)>)> {
+/// A ray on the integer grid: origin, direction, `t_min`, span of the range (6: unbounded).
+type GridRay = ([i8; 3], [i8; 3], i8, i8);
+
+fn grid_case() -> impl Strategy<Value = (Vec<[i8; 9]>, Vec<GridRay>)> {
     (
         prop::collection::vec(prop::array::uniform9(-3i8..=3), 1..40),
         prop::collection::vec(

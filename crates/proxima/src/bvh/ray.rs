@@ -29,6 +29,7 @@ use super::AabbTree;
 use super::config::MAX_DEPTH;
 use super::node::Node;
 use super::traverse::{Counter, QueryStats};
+use super::wide::prefetch;
 use crate::error::RayError;
 use crate::math::{Vec3, Vec3A};
 use crate::primitive::{RayIntersect, TriangleHit, WatertightRay};
@@ -358,17 +359,23 @@ impl<T: RayIntersect> AabbTree<T> {
             } else {
                 let [left, right] = n.children();
                 let pair = self.children_of(n);
-                // Touch the grandchild pairs now so their cache misses overlap
-                // with this step's arithmetic (as the closest-point walk does).
-                for child in pair {
-                    if !child.is_leaf() {
-                        std::hint::black_box(self.children_of(child)[0].min.x);
-                    }
-                }
                 let t_hi = visitor.t_hi();
                 let el = slabs.entry(&pair[0], t_min, t_hi);
                 let er = slabs.entry(&pair[1], t_min, t_hi);
                 counter.nodes(2);
+                // Ask for the children of each child crossed, so that their
+                // cache misses overlap. (Touching every grandchild, as the
+                // closest-point walk does, stalled on lines a ray mostly
+                // never visits.)
+                for (child, entry) in [(&pair[0], el), (&pair[1], er)] {
+                    if entry != f32::INFINITY {
+                        if child.is_leaf() {
+                            prefetch(&self.primitives[child.primitive_range().start]);
+                        } else {
+                            prefetch(self.children_of(child));
+                        }
+                    }
+                }
                 let (near, e_near, far, e_far) = if el <= er {
                     (left, el, right, er)
                 } else {

@@ -35,6 +35,7 @@ mod ray;
 mod traverse;
 
 pub use knn::WideKnnScratch;
+pub(crate) use traverse::prefetch;
 
 use super::AabbTree;
 use crate::aabb::Aabb;
