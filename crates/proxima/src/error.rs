@@ -208,3 +208,23 @@ pub enum GridError {
         sources: usize,
     },
 }
+
+/// A ray that cannot be cast: the ray queries of the trees return it instead
+/// of answering.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RayError {
+    /// A ray origin with a NaN or infinite coordinate.
+    #[error("ray origin must be finite")]
+    Origin,
+    /// A ray direction that is zero, or has a NaN or infinite component.
+    #[error("ray direction must be finite and non-zero")]
+    Direction,
+    /// A ray parameter range that is NaN, starts at an infinity, or has `t_min > t_max`.
+    #[error("ray range [{t_min}, {t_max}] is not a valid interval")]
+    Range {
+        /// Start of the range.
+        t_min: f32,
+        /// End of the range.
+        t_max: f32,
+    },
+}

@@ -1,7 +1,7 @@
 //! proxima against parry3d and brute force, in one run, single thread.
 //!
 //! ```text
-//! cargo run --release -p proxima-bench --bin compare -- [MESH|ico1m|ico100k ...] [--queries N] [--linear N] [--leaf N] [--sah] [--wide]
+//! cargo run --release -p proxima-bench --bin compare -- [MESH|ico1m|ico100k ...] [--queries N] [--linear N] [--leaf N] [--sah] [--wide] [--rays] [--aimed N]
 //! ```
 //!
 //! For each mesh: tree build time of both libraries (best of 3; ours on one
@@ -14,13 +14,15 @@
 //! alike. Compare ratios across runs, not absolute figures: the machine is
 //! shared and noisy.
 //!
+//! `--rays` compares ray casting instead (see [`compare_rays`]).
+//!
 //! `--wide` also times the 4-wide tree ([`WideTree`], made from the same binary
 //! tree) per query, in the same interleaved rounds, and checks that its answers
 //! equal the binary tree's.
 
 use proxima::bvh::{BatchOptions, SplitMethod, WideTree};
 use proxima::{AabbTree, BuildConfig, LinearSearch, Mesh};
-use proxima_bench::{load_named, parry_distance, parry_trimesh};
+use proxima_bench::{Ray, aimed_rays, load_named, parry_distance, parry_ray, parry_trimesh, ray_sets};
 use std::time::Instant;
 
 /// Runs `f`, returning its value and its time in seconds.
@@ -179,12 +181,110 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &
     }
 }
 
+/// Ray casting, single thread, in interleaved rounds (best of 5 kept): rays
+/// per second of our first hit (binary tree; the wide tree with `--wide`) and
+/// of parry3d's `cast_local_ray` (hollow triangles, first time of impact) on
+/// the `outside` and `inside` ray sets of [`ray_sets`], with how often the two
+/// disagree (hit against miss, or t off by more than 1e-5 of the diagonal).
+/// Then `n_aimed` rays aimed exactly at shared edges and vertices
+/// ([`aimed_rays`]): each must hit, and the misses of each library are counted.
+fn compare_rays(name: &str, mesh: &Mesh, n_rays: usize, n_aimed: usize, config: &BuildConfig, with_wide: bool) {
+    let diagonal = mesh.bounds().diagonal();
+    println!(
+        "\n## rays, {name}: {} triangles, bbox diagonal {diagonal}, {config:?}",
+        mesh.triangle_count()
+    );
+    let tree = AabbTree::build_set(mesh.triangles(), config).unwrap();
+    let trimesh = parry_trimesh(mesh);
+    let wide = with_wide.then(|| WideTree::from_tree(tree.clone()));
+    let ours = |rays: &[Ray]| -> Vec<Option<f32>> {
+        rays.iter()
+            .map(|&(o, d)| tree.first_hit(o, d, 0.0, f32::INFINITY).unwrap().map(|h| h.t))
+            .collect()
+    };
+    let theirs = |rays: &[Ray]| -> Vec<Option<f32>> { rays.iter().map(|&r| parry_ray(&trimesh, r)).collect() };
+    let wide_hits = |rays: &[Ray]| -> Vec<Option<f32>> {
+        let wide = wide.as_ref().unwrap();
+        rays.iter()
+            .map(|&(o, d)| wide.first_hit(o, d, 0.0, f32::INFINITY).unwrap().map(|h| h.t))
+            .collect()
+    };
+    println!(
+        "| ray set | hits | nodes/ray | triangles/ray | proxima rays/s | wide rays/s | parry3d rays/s | ours/parry | wide/parry | disagree |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|");
+    for (set, rays) in ray_sets(mesh, n_rays, 5) {
+        let (mut t_ours, mut t_wide, mut t_parry) = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        for _ in 0..5 {
+            let (x, t) = timed(|| ours(&rays));
+            (a, t_ours) = (x, t_ours.min(t));
+            if wide.is_some() {
+                let (w, t) = timed(|| wide_hits(&rays));
+                assert_eq!(w, a, "wide and binary trees disagree");
+                t_wide = t_wide.min(t);
+            }
+            let (y, t) = timed(|| theirs(&rays));
+            (b, t_parry) = (y, t_parry.min(t));
+        }
+        let disagree = a
+            .iter()
+            .zip(&b)
+            .filter(|(x, y)| match (x, y) {
+                (Some(x), Some(y)) => (x - y).abs() > 1e-5 * diagonal,
+                (None, None) => false,
+                _ => true,
+            })
+            .count();
+        let (nodes, prims) = rays.iter().fold((0, 0), |acc, &(o, d)| {
+            let s = tree.first_hit_with_stats(o, d, 0.0, f32::INFINITY).unwrap().1;
+            (acc.0 + s.nodes_visited, acc.1 + s.primitives_tested)
+        });
+        let n = rays.len();
+        let wide_cells = if wide.is_some() {
+            (format!("{:.0}", rate(n, t_wide)), format!("{:.2}x", t_parry / t_wide))
+        } else {
+            ("-".into(), "-".into())
+        };
+        println!(
+            "| {set} | {:.1}% | {:.1} | {:.1} | {:.0} | {} | {:.0} | {:.2}x | {} | {disagree} |",
+            100.0 * a.iter().flatten().count() as f64 / n as f64,
+            nodes as f64 / n as f64,
+            prims as f64 / n as f64,
+            rate(n, t_ours),
+            wide_cells.0,
+            rate(n, t_parry),
+            t_parry / t_ours,
+            wide_cells.1,
+        );
+    }
+    if n_aimed > 0 {
+        let rays = aimed_rays(mesh, n_aimed, 6);
+        let (a, t_ours) = timed(|| ours(&rays));
+        let (b, t_parry) = timed(|| theirs(&rays));
+        let misses = |hits: &[Option<f32>]| hits.iter().filter(|h| h.is_none()).count();
+        println!(
+            "aimed at edge midpoints and vertices: {} rays, misses: proxima {}, parry3d {} ({:.0} and {:.0} rays/s)",
+            rays.len(),
+            misses(&a),
+            misses(&b),
+            rate(rays.len(), t_ours),
+            rate(rays.len(), t_parry),
+        );
+        if wide.is_some() {
+            assert_eq!(wide_hits(&rays), a, "wide and binary trees disagree");
+        }
+    }
+}
+
 fn main() {
     let mut names = Vec::new();
     let mut n_queries = 20_000;
     let mut n_linear = 0;
     let mut config = BuildConfig::default();
     let mut with_wide = false;
+    let mut rays = false;
+    let mut n_aimed = 1_000_000;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         let mut number = |flag: &str| {
@@ -199,6 +299,8 @@ fn main() {
             "--sah" => config.split = SplitMethod::BinnedSah,
             "--median" => config.split = SplitMethod::Median,
             "--wide" => with_wide = true,
+            "--rays" => rays = true,
+            "--aimed" => n_aimed = number("--aimed"),
             _ => names.push(a),
         }
     }
@@ -207,6 +309,7 @@ fn main() {
     }
     for name in names {
         match load_named(&name) {
+            Ok(mesh) if rays => compare_rays(&name, &mesh, n_queries, n_aimed, &config, with_wide),
             Ok(mesh) => compare(&name, &mesh, n_queries, n_linear, &config, with_wide),
             Err(e) => eprintln!("{name}: {e}"),
         }

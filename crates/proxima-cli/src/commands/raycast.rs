@@ -1,14 +1,24 @@
-//! `proxima raycast MESH --origin X,Y,Z --dir X,Y,Z [--cell W]`: the first face
-//! a ray hits, found by walking a hash grid of the faces.
+//! `proxima raycast MESH --origin X,Y,Z --dir X,Y,Z [--method tree|grid] [--cell W] [--any]`:
+//! the first face a ray hits, found with the AABB tree (default) or by walking
+//! a hash grid of the faces; with `--any`, only whether it hits one.
 
 use super::grid::parse_cell;
 use crate::common::{load_mesh, parse_vec3};
 use anyhow::{Result, bail};
 use proxima::grid::{FastHash, GridConfig, HashGrid};
-use proxima::{GridError, Triangle, Vec3};
+use proxima::{AabbTree, BuildConfig, RayError, Triangle, Vec3};
 use serde_json::json;
 use std::path::PathBuf;
 use std::time::Instant;
+
+/// How the ray is cast.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum RayMethod {
+    /// The AABB tree of the faces.
+    Tree,
+    /// A hash grid of the faces, walked cell by cell along the ray.
+    Grid,
+}
 
 /// Arguments of `proxima raycast`.
 #[derive(clap::Args)]
@@ -21,54 +31,148 @@ pub struct Args {
     /// Ray direction (normalized here, so t is a distance).
     #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
     dir: Vec3,
-    /// Cell extents (W or W,H,D); by default about one cell per triangle
-    /// along the bounding box (longest side / cube root of the triangle count).
+    /// Search structure; default `tree`, or `grid` when `--cell` is given.
+    #[arg(long, value_enum)]
+    method: Option<RayMethod>,
+    /// Grid cell extents (W or W,H,D); by default about one cell per triangle
+    /// along the bounding box (longest side / cube root of the triangle
+    /// count). Implies `--method grid`.
     #[arg(long, value_name = "W[,H,D]", value_parser = parse_cell, allow_hyphen_values = true)]
     cell: Option<Vec3>,
+    /// Only say whether the ray hits a face (occlusion test; stops at the first
+    /// hit found).
+    #[arg(long)]
+    any: bool,
     /// Print one JSON object instead of text.
     #[arg(long)]
     json: bool,
 }
 
+/// What was found, in the terms both methods share.
+struct Found {
+    face: u32,
+    t: f32,
+    point: Vec3,
+    /// Nodes (tree) or cells (grid) visited.
+    visited: u64,
+}
+
 /// Prints the hit face, t and point, or "no hit".
 pub fn run(args: Args) -> Result<()> {
-    if args.dir == Vec3::ZERO {
-        return Err(GridError::RayDirection.into());
+    let method = match (args.method, args.cell) {
+        (Some(RayMethod::Tree), Some(_)) => {
+            use clap::CommandFactory;
+            crate::Cli::command()
+                .error(
+                    clap::error::ErrorKind::ArgumentConflict,
+                    "--cell sets the grid's cells; it cannot be used with --method tree",
+                )
+                .exit()
+        }
+        (Some(m), _) => m,
+        (None, Some(_)) => RayMethod::Grid,
+        (None, None) => RayMethod::Tree,
+    };
+    if !args.dir.is_finite() || args.dir == Vec3::ZERO {
+        return Err(RayError::Direction.into());
     }
     let mesh = load_mesh(&args.mesh)?;
     if mesh.face_count() == 0 {
         bail!("the mesh has no faces to hit");
     }
     let triangles = mesh.triangles();
-    let cell = args.cell.unwrap_or_else(|| {
-        let side = mesh.bounds().size().max_element();
-        Vec3::splat(side / (triangles.len() as f32).cbrt().max(1.0))
-    });
-    let start = Instant::now();
-    let grid: HashGrid<Triangle, FastHash> = HashGrid::build(triangles, &GridConfig::new(cell))?;
-    let build = start.elapsed().as_secs_f64();
-    let start = Instant::now();
-    let hit = grid.first_hit(args.origin, args.dir.normalize(), 0.0, f32::INFINITY)?;
-    let query = start.elapsed().as_secs_f64();
+    let direction = args.dir.normalize();
+    let (found, any, build, query, structure, label) = match method {
+        RayMethod::Tree => {
+            let start = Instant::now();
+            let tree = AabbTree::build_set(triangles, &BuildConfig::default())?;
+            let build = start.elapsed().as_secs_f64();
+            let start = Instant::now();
+            let (found, any) = if args.any {
+                (None, tree.any_hit(args.origin, direction, 0.0, f32::INFINITY)?)
+            } else {
+                let (hit, stats) = tree.first_hit_with_stats(args.origin, direction, 0.0, f32::INFINITY)?;
+                let found = hit.map(|h| Found {
+                    face: h.source,
+                    t: h.t,
+                    point: h.point,
+                    visited: stats.nodes_visited,
+                });
+                let any = found.is_some();
+                (found, any)
+            };
+            let query = start.elapsed().as_secs_f64();
+            let nodes = tree.node_count();
+            let label = format!("tree of {nodes} nodes");
+            (
+                found,
+                any,
+                build,
+                query,
+                json!({"method": "tree", "nodes": nodes}),
+                label,
+            )
+        }
+        RayMethod::Grid => {
+            let cell = args.cell.unwrap_or_else(|| {
+                let side = mesh.bounds().size().max_element();
+                Vec3::splat(side / (triangles.len() as f32).cbrt().max(1.0))
+            });
+            let start = Instant::now();
+            let grid: HashGrid<Triangle, FastHash> = HashGrid::build(triangles, &GridConfig::new(cell))?;
+            let build = start.elapsed().as_secs_f64();
+            let start = Instant::now();
+            let hit = grid.first_hit(args.origin, direction, 0.0, f32::INFINITY)?;
+            let query = start.elapsed().as_secs_f64();
+            let found = hit.map(|h| Found {
+                face: h.source,
+                t: h.t,
+                point: h.point,
+                visited: h.cells_visited.into(),
+            });
+            let any = found.is_some();
+            let label = format!("grid cell {:?}", cell.to_array());
+            (
+                found,
+                any,
+                build,
+                query,
+                json!({"method": "grid", "cell": cell.to_array()}),
+                label,
+            )
+        }
+    };
+    let visited_key = match method {
+        RayMethod::Tree => "nodes_visited",
+        RayMethod::Grid => "cells_visited",
+    };
     if args.json {
-        let hit = hit.map(
-            |h| json!({"face": h.source, "t": h.t, "point": h.point.to_array(), "cells_visited": h.cells_visited}),
-        );
-        let out = json!({"hit": hit, "cell": cell.to_array(), "build_seconds": build, "query_seconds": query});
+        let mut out = json!({"build_seconds": build, "query_seconds": query});
+        if args.any {
+            out["any_hit"] = json!(any);
+        } else {
+            out["hit"] = json!(
+                found.map(|h| json!({"face": h.face, "t": h.t, "point": h.point.to_array(), visited_key: h.visited}))
+            );
+        }
+        for (key, value) in structure.as_object().into_iter().flatten() {
+            out[key] = value.clone();
+        }
         println!("{out:#}");
         return Ok(());
     }
-    match hit {
-        Some(h) => println!(
-            "hit face {} at t = {} point {} {} {} ({} cells visited, grid cell {:?})",
-            h.source,
-            h.t,
-            h.point.x,
-            h.point.y,
-            h.point.z,
-            h.cells_visited,
-            cell.to_array()
-        ),
+    if args.any {
+        println!("{}", if any { "hit" } else { "no hit" });
+        return Ok(());
+    }
+    match found {
+        Some(h) => {
+            let visited = visited_key.replace('_', " ");
+            println!(
+                "hit face {} at t = {} point {} {} {} ({} {visited}, {label})",
+                h.face, h.t, h.point.x, h.point.y, h.point.z, h.visited
+            )
+        }
         None => println!("no hit"),
     }
     Ok(())

@@ -2,7 +2,8 @@
 //!
 //! One file per operation: [`build`](AabbTree::build) in `build.rs`, the
 //! closest-primitive search in `closest.rs`, k-nearest in `knn.rs`, batches
-//! over many points in `batch.rs`, statistics and invariants in `validate.rs`.
+//! over many points in `batch.rs`, first hit and any hit along a ray in
+//! `ray.rs`, statistics and invariants in `validate.rs`.
 
 mod batch;
 mod build;
@@ -10,6 +11,7 @@ mod closest;
 mod config;
 mod knn;
 mod node;
+mod ray;
 mod traverse;
 mod validate;
 pub mod wide;
@@ -20,6 +22,7 @@ pub use config::{BuildConfig, MAX_DEPTH, SplitMethod};
 pub use knn::KnnScratch;
 pub use node::Node;
 use node::NodePair;
+pub use ray::RayHit;
 pub use traverse::QueryStats;
 pub use validate::TreeStats;
 

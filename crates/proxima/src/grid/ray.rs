@@ -4,7 +4,8 @@
 //! widened, so rounding never loses the first cell), then the cells are
 //! visited by a [`GridTraversal`]. Every triangle of a visited cell is tested
 //! with the watertight test ([`WatertightRay`]); the walk stops as soon as the
-//! best hit so far lies at or before the exit of the current cell: every
+//! best hit so far lies before the exit of the current cell (by a rounding
+//! slack, so that an equal-`t` hit in the next cell is still seen): every
 //! triangle meeting the ray earlier meets it inside a cell already visited,
 //! and is stored there. A triangle spanning several cells may be tested more
 //! than once (no mailbox: the query stays read-only and allocation-free).
@@ -88,6 +89,12 @@ impl<S: BuildHasher> HashGrid<Triangle, S> {
         if !t1.is_finite() {
             return Ok(None);
         }
+        // A hit's computed t can come out a little before the cell exit at
+        // which its triangle starts (rounding of order ε · |vertex − origin|),
+        // and a triangle in the next cell can tie with it: stop only once the
+        // best hit lies before the exit by more than that.
+        let reach = (world.min - origin).abs().max((world.max - origin).abs()).max_element();
+        let slack = 32.0 * f32::EPSILON * reach / direction.abs().max_element();
         let walk = GridTraversal::in_layout(layout, origin, direction, t0, t1)?;
         let mut best: Option<GridRayHit> = None;
         let mut visited = 0u32;
@@ -110,7 +117,7 @@ impl<S: BuildHasher> HashGrid<Triangle, S> {
                     });
                 }
             }
-            if best.is_some_and(|b| b.t <= step.t_exit) {
+            if best.is_some_and(|b| b.t < step.t_exit - slack) {
                 break;
             }
         }

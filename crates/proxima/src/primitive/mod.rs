@@ -9,6 +9,7 @@
 mod closest_triangle;
 mod point;
 mod point_aabb;
+mod ray_intersect;
 pub mod ray_triangle;
 pub mod sat;
 mod segment;
@@ -17,6 +18,7 @@ mod triangle;
 mod triangle_aabb;
 
 pub use point::Point;
+pub use ray_intersect::RayIntersect;
 pub use ray_triangle::{TriangleHit, WatertightRay};
 pub use segment::LineSegment;
 pub use triangle::Triangle;

@@ -91,6 +91,13 @@ impl WatertightRay {
         self.origin
     }
 
+    /// The axis permutation `[kx, ky, kz]` (the direction's largest component
+    /// last) and the shear `[sx, sy, sz]`, for tests written lane by lane.
+    #[inline(always)]
+    pub(crate) fn shear(&self) -> ([usize; 3], [f32; 3]) {
+        ([self.kx, self.ky, self.kz], [self.sx, self.sy, self.sz])
+    }
+
     /// The hit of the ray with `tri` at a parameter in `[t_min, t_max]`, if any.
     #[inline]
     pub fn intersect(&self, tri: &Triangle, t_min: f32, t_max: f32) -> Option<TriangleHit> {

@@ -31,9 +31,11 @@ mod closest;
 mod convert;
 mod knn;
 mod packet;
+mod ray;
 mod traverse;
 
 pub use knn::WideKnnScratch;
+pub(crate) use traverse::prefetch;
 
 use super::AabbTree;
 use crate::aabb::Aabb;

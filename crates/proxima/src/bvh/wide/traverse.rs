@@ -30,7 +30,7 @@ const STACK: usize = 3 * (MAX_DEPTH as usize + 1);
 
 /// Asks for the cache line holding `x` without waiting for it.
 #[inline(always)]
-fn prefetch<T>(x: &T) {
+pub(crate) fn prefetch<T>(x: &T) {
     #[cfg(all(target_arch = "x86_64", target_feature = "sse"))]
     safe_arch::prefetch_t0(x);
     #[cfg(not(all(target_arch = "x86_64", target_feature = "sse")))]

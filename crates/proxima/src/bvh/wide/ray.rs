@@ -1,0 +1,277 @@
+//! Ray queries on the wide tree: the four child boxes of a node are slab
+//! tested at once, and the triangles of a leaf four at a time.
+//!
+//! Both repeat the binary tree's arithmetic lane by lane. The slab test uses
+//! the same per-ray widening and the same operations as
+//! [`RaySlabs::interval`], on the binary tree's own boxes. The packet test
+//! repeats [`WatertightRay::intersect`] operation for operation (the same
+//! shear, edge functions, sums and divisions, none fused), so each lane's hit
+//! is bit for bit the scalar one; a lane whose edge function is exactly zero
+//! (the scalar test's `f64` path) is answered by the scalar test itself. The
+//! answers are therefore the binary tree's, and brute force's.
+
+use super::packet::TrianglePacket;
+use super::traverse::prefetch;
+use super::{LEAF, WideNode, WideTree};
+use crate::bvh::config::MAX_DEPTH;
+use crate::bvh::ray::{AnyHit, FirstHit, RayHit, RaySlabs, RayVisitor, prepare_ray};
+use crate::bvh::traverse::{Counter, QueryStats};
+use crate::error::RayError;
+use crate::math::Vec3;
+use crate::primitive::{RayIntersect, TriangleHit, WatertightRay};
+use wide::f32x4;
+
+/// A ray's slab data splatted over four lanes, near and far planes chosen
+/// per axis by the direction's sign bit.
+struct WideSlabs {
+    origin: [f32x4; 3],
+    inv_direction: [f32x4; 3],
+    negative: [bool; 3],
+    near_shift: [f32x4; 3],
+    far_shift: [f32x4; 3],
+}
+
+impl WideSlabs {
+    fn new(slabs: &RaySlabs) -> Self {
+        let s = |v: crate::math::Vec3A| [f32x4::splat(v.x), f32x4::splat(v.y), f32x4::splat(v.z)];
+        let negative = slabs.negative.bitmask();
+        Self {
+            origin: s(slabs.origin),
+            inv_direction: s(slabs.inv_direction),
+            negative: [negative & 1 != 0, negative & 2 != 0, negative & 4 != 0],
+            near_shift: s(slabs.near_shift),
+            far_shift: s(slabs.far_shift),
+        }
+    }
+
+    /// Entry parameters into the four child boxes, and the lanes crossed
+    /// within `[t_lo, t_hi]`.
+    #[inline(always)]
+    fn entries(&self, node: &WideNode, t_lo: f32, t_hi: f32) -> (f32x4, u32) {
+        let mins = [&node.min_x, &node.min_y, &node.min_z];
+        let maxs = [&node.max_x, &node.max_y, &node.max_z];
+        let mut enter = f32x4::splat(t_lo);
+        let mut exit = f32x4::splat(t_hi);
+        for axis in 0..3 {
+            let (near, far) = if self.negative[axis] {
+                (maxs[axis], mins[axis])
+            } else {
+                (mins[axis], maxs[axis])
+            };
+            let o = self.origin[axis];
+            let inv = self.inv_direction[axis];
+            let t_near = ((f32x4::new(*near) - o) + self.near_shift[axis]) * inv;
+            let t_far = ((f32x4::new(*far) - o) + self.far_shift[axis]) * inv;
+            // 0 · ∞ is NaN: the origin lies on a plane the ray runs along.
+            let t_near = t_near.simd_eq(t_near).select(t_near, f32x4::splat(f32::NEG_INFINITY));
+            let t_far = t_far.simd_eq(t_far).select(t_far, f32x4::splat(f32::INFINITY));
+            enter = enter.fast_max(t_near);
+            exit = exit.fast_min(t_far);
+        }
+        (enter, enter.simd_le(exit).to_bitmask())
+    }
+}
+
+/// Which lanes of a packet a ray hits within `[t_min, t_max]`, with their hit,
+/// and which lanes need the scalar test (an edge function exactly zero).
+#[inline(always)]
+fn packet_hits(packet: &TrianglePacket, ray: &WatertightRay, t_min: f32, t_max: f32) -> (u32, [TriangleHit; 4], u32) {
+    let ([kx, ky, kz], [sx, sy, sz]) = ray.shear();
+    let origin = ray.origin().to_array();
+    let o = [
+        f32x4::splat(origin[0]),
+        f32x4::splat(origin[1]),
+        f32x4::splat(origin[2]),
+    ];
+    let (sx, sy, sz) = (f32x4::splat(sx), f32x4::splat(sy), f32x4::splat(sz));
+    // (x, y, z) of one vertex in the ray's sheared frame, before z is scaled.
+    let sheared = |v: &[[f32; 4]; 3]| {
+        let px = f32x4::new(v[kx]) - o[kx];
+        let py = f32x4::new(v[ky]) - o[ky];
+        let pz = f32x4::new(v[kz]) - o[kz];
+        (px - sx * pz, py - sy * pz, pz)
+    };
+    let (ax, ay, a_z) = sheared(&packet.a);
+    let (bx, by, b_z) = sheared(&packet.b);
+    let (cx, cy, c_z) = sheared(&packet.c);
+    let u = cx * by - cy * bx;
+    let v = ax * cy - ay * cx;
+    let w = bx * ay - by * ax;
+    let zero = f32x4::ZERO;
+    let lanes = packet.fast | packet.slow;
+    let exact_zero = (u.simd_eq(zero) | v.simd_eq(zero) | w.simd_eq(zero)).to_bitmask() & lanes;
+    let negative = u.simd_lt(zero) | v.simd_lt(zero) | w.simd_lt(zero);
+    let positive = u.simd_gt(zero) | v.simd_gt(zero) | w.simd_gt(zero);
+    let det = u + v + w;
+    let t = (u * (sz * a_z) + v * (sz * b_z) + w * (sz * c_z)) / det;
+    let inside =
+        !(negative & positive) & det.simd_ne(zero) & t.simd_ge(f32x4::splat(t_min)) & t.simd_le(f32x4::splat(t_max));
+    let hit_lanes = inside.to_bitmask() & lanes & !exact_zero;
+    let (t, bu, bv) = (t.to_array(), (v / det).to_array(), (w / det).to_array());
+    let hits = std::array::from_fn(|lane| TriangleHit {
+        t: t[lane],
+        u: bu[lane],
+        v: bv[lane],
+    });
+    (hit_lanes, hits, exact_zero)
+}
+
+impl<T: RayIntersect> WideTree<T> {
+    /// The first primitive hit by `origin + t · direction` with `t` in
+    /// `[t_min, t_max]`, ties to the lowest input index: the same answer as
+    /// [`AabbTree::first_hit`](crate::AabbTree::first_hit), with the same errors.
+    #[inline]
+    pub fn first_hit(&self, origin: Vec3, direction: Vec3, t_min: f32, t_max: f32) -> Result<Option<RayHit>, RayError> {
+        self.first_hit_counted(origin, direction, t_min, t_max, &mut ())
+    }
+
+    /// [`first_hit`](Self::first_hit), also counting the work: `nodes_visited`
+    /// counts wide nodes, each of which tests four child boxes.
+    pub fn first_hit_with_stats(
+        &self,
+        origin: Vec3,
+        direction: Vec3,
+        t_min: f32,
+        t_max: f32,
+    ) -> Result<(Option<RayHit>, QueryStats), RayError> {
+        let mut stats = QueryStats::default();
+        let hit = self.first_hit_counted(origin, direction, t_min, t_max, &mut stats)?;
+        Ok((hit, stats))
+    }
+
+    /// `true` when the ray hits some primitive with `t` in `[t_min, t_max]`:
+    /// the same answer as [`AabbTree::any_hit`](crate::AabbTree::any_hit).
+    #[inline]
+    pub fn any_hit(&self, origin: Vec3, direction: Vec3, t_min: f32, t_max: f32) -> Result<bool, RayError> {
+        let ray = prepare_ray(origin, direction, t_min, t_max)?;
+        let mut any = AnyHit { t_max, found: false };
+        self.ray_walk(&ray, direction, t_min, &mut any, &mut ());
+        Ok(any.found)
+    }
+
+    #[inline]
+    fn first_hit_counted<C: Counter>(
+        &self,
+        origin: Vec3,
+        direction: Vec3,
+        t_min: f32,
+        t_max: f32,
+        counter: &mut C,
+    ) -> Result<Option<RayHit>, RayError> {
+        let ray = prepare_ray(origin, direction, t_min, t_max)?;
+        let mut first = FirstHit {
+            indices: &self.tree.indices,
+            t_hi: t_max,
+            best: None,
+        };
+        self.ray_walk(&ray, direction, t_min, &mut first, counter);
+        Ok(first.best.map(|(slot, hit)| self.tree.ray_hit(slot, &hit)))
+    }
+
+    /// Depth-first, nearest entry first, on a fixed stack, as the binary
+    /// tree's walk; entries passed by a hit are dropped when popped.
+    #[inline]
+    fn ray_walk<V: RayVisitor<T>, C: Counter>(
+        &self,
+        ray: &WatertightRay,
+        direction: Vec3,
+        t_min: f32,
+        visitor: &mut V,
+        counter: &mut C,
+    ) {
+        let Some(root) = self.tree.root() else { return };
+        let slabs = WideSlabs::new(&RaySlabs::new(ray.origin(), direction, root.min, root.max));
+        let primitives = self.tree.primitives();
+        let packets = &self.packets[..];
+        // (child, count, entry): a wide node (count 0) or a leaf (LEAF | n).
+        let mut stack = [(0u32, 0u32, 0f32); 3 * (MAX_DEPTH as usize + 1)];
+        let mut top = 0usize;
+        let (mut child, mut count) = (0u32, 0u32);
+        loop {
+            if count == 0 {
+                let node = &self.nodes[child as usize];
+                counter.nodes(1);
+                let (enter, mask) = slabs.entries(node, t_min, visitor.t_hi());
+                if mask != 0 {
+                    let e = enter.to_array();
+                    // The lanes crossed, nearest entry first (insertion sort of at most 4).
+                    let mut order = [0usize; 4];
+                    let mut n = 0;
+                    let mut bits = mask;
+                    while bits != 0 {
+                        let lane = bits.trailing_zeros() as usize;
+                        bits &= bits - 1;
+                        let mut j = n;
+                        while j > 0 && e[order[j - 1]] > e[lane] {
+                            order[j] = order[j - 1];
+                            j -= 1;
+                        }
+                        order[j] = lane;
+                        n += 1;
+                        // Start loading every child crossed now, so that the
+                        // cache misses overlap instead of following one another.
+                        let (c, k) = (node.children[lane] as usize, node.counts[lane]);
+                        if k == 0 {
+                            let next = &self.nodes[c];
+                            prefetch(&next.min_x);
+                            prefetch(&next.max_y);
+                        } else if let Some(packet) = packets.get(c) {
+                            prefetch(packet);
+                            prefetch(&packet.b);
+                            prefetch(&packet.c);
+                        } else if packets.is_empty() && k != LEAF {
+                            prefetch(&primitives[c]);
+                        }
+                    }
+                    for &lane in order[1..n].iter().rev() {
+                        stack[top] = (node.children[lane], node.counts[lane], e[lane]);
+                        top += 1;
+                    }
+                    (child, count) = (node.children[order[0]], node.counts[order[0]]);
+                    continue;
+                }
+            } else {
+                let n = (count & !LEAF) as usize;
+                counter.primitives(n as u64);
+                if packets.is_empty() {
+                    let first = child as usize;
+                    for (slot, primitive) in (first..).zip(&primitives[first..first + n]) {
+                        if visitor.visit(slot, primitive, ray, t_min) {
+                            return;
+                        }
+                    }
+                } else {
+                    for packet in &packets[child as usize..child as usize + n.div_ceil(4)] {
+                        let (mut bits, hits, mut scalar) = packet_hits(packet, ray, t_min, visitor.t_hi());
+                        while bits != 0 {
+                            let lane = bits.trailing_zeros() as usize;
+                            bits &= bits - 1;
+                            if visitor.offer(packet.first as usize + lane, hits[lane]) {
+                                return;
+                            }
+                        }
+                        while scalar != 0 {
+                            let slot = packet.first as usize + scalar.trailing_zeros() as usize;
+                            scalar &= scalar - 1;
+                            if visitor.visit(slot, &primitives[slot], ray, t_min) {
+                                return;
+                            }
+                        }
+                    }
+                }
+            }
+            // Pop the next subtree not yet passed by a hit.
+            loop {
+                if top == 0 {
+                    return;
+                }
+                top -= 1;
+                let (next, next_count, entry) = stack[top];
+                if entry <= visitor.t_hi() {
+                    (child, count) = (next, next_count);
+                    break;
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,543 @@
+//! Ray queries of the AABB tree against brute force (the same watertight test
+//! on every triangle, smallest t, ties to the lowest index) and against the
+//! hash grid: random and degenerate soups (proptest), rays with zero direction
+//! components and origins on box faces, t ranges, and every shared mesh with
+//! random rays and rays aimed exactly at vertices and edge midpoints (which
+//! must never slip through).
+
+mod common;
+
+use proptest::prelude::*;
+use proxima::bvh::{RayHit, SplitMethod, WideTree};
+use proxima::grid::{FastHash, GridConfig, HashGrid};
+use proxima::primitive::{RayIntersect, WatertightRay};
+use proxima::sample::Rng;
+use proxima::{AabbTree, BuildConfig, Mesh, PrimitiveSet, RayError, Triangle, Vec3};
+use rayon::prelude::*;
+use std::collections::HashMap;
+
+/// The oracle: every triangle, smallest t, ties to the lowest index.
+fn brute_first(set: &PrimitiveSet<Triangle>, o: Vec3, d: Vec3, t_min: f32, t_max: f32) -> Option<RayHit> {
+    let ray = WatertightRay::new(o, d).unwrap();
+    let mut best: Option<RayHit> = None;
+    for (i, tri) in set.primitives.iter().enumerate() {
+        if let Some(h) = tri.intersect_ray(&ray, t_min, t_max)
+            && best.is_none_or(|b| h.t < b.t)
+        {
+            best = Some(RayHit {
+                primitive: i as u32,
+                source: set.sources[i],
+                t: h.t,
+                point: tri.hit_point(&h),
+                u: h.u,
+                v: h.v,
+            });
+        }
+    }
+    best
+}
+
+fn brute_any(set: &PrimitiveSet<Triangle>, o: Vec3, d: Vec3, t_min: f32, t_max: f32) -> bool {
+    let ray = WatertightRay::new(o, d).unwrap();
+    set.primitives
+        .iter()
+        .any(|t| t.intersect_ray(&ray, t_min, t_max).is_some())
+}
+
+fn configs() -> [BuildConfig; 3] {
+    [
+        BuildConfig::default(),
+        BuildConfig::fast_queries(),
+        BuildConfig {
+            min_size: 1,
+            split: SplitMethod::Median,
+            ..BuildConfig::default()
+        },
+    ]
+}
+
+/// Checks first hit and any hit of every tree against brute force; returns
+/// the number of rays that hit.
+fn check_rays(
+    name: &str,
+    set: &PrimitiveSet<Triangle>,
+    trees: &[WideTree<Triangle>],
+    rays: &[(Vec3, Vec3, f32, f32)],
+) -> usize {
+    rays.par_iter()
+        .enumerate()
+        .map(|(k, &(o, d, t_min, t_max))| {
+            let want = brute_first(set, o, d, t_min, t_max);
+            let any = brute_any(set, o, d, t_min, t_max);
+            assert_eq!(any, want.is_some());
+            for (c, wide) in trees.iter().enumerate() {
+                let tree = wide.tree();
+                let got = tree.first_hit(o, d, t_min, t_max).unwrap();
+                assert_eq!(got, want, "{name}: ray {k} ({o}, {d}, [{t_min}, {t_max}]), tree {c}");
+                assert_eq!(
+                    tree.any_hit(o, d, t_min, t_max).unwrap(),
+                    any,
+                    "{name}: any hit, ray {k}, tree {c}"
+                );
+                let got = wide.first_hit(o, d, t_min, t_max).unwrap();
+                assert_eq!(
+                    got, want,
+                    "{name}: ray {k} ({o}, {d}, [{t_min}, {t_max}]), wide tree {c}"
+                );
+                assert_eq!(
+                    wide.any_hit(o, d, t_min, t_max).unwrap(),
+                    any,
+                    "{name}: any hit, ray {k}, wide {c}"
+                );
+            }
+            usize::from(any)
+        })
+        .sum()
+}
+
+/// A wide tree (holding its binary tree) per build configuration.
+fn trees(set: &PrimitiveSet<Triangle>) -> Vec<WideTree<Triangle>> {
+    configs()
+        .iter()
+        .map(|c| WideTree::from_tree(AabbTree::build_set(set.clone(), c).unwrap()))
+        .collect()
+}
+
+/// Random rays about a box: origins around it (some inside), aimed at points
+/// of it, or in random directions; some axis-aligned or with zero components.
+fn random_rays(bounds: &proxima::Aabb, n: usize, seed: u64) -> Vec<(Vec3, Vec3, f32, f32)> {
+    let mut rng = Rng::new(seed);
+    let big = bounds.inflate(bounds.diagonal() * 0.5);
+    (0..n)
+        .map(|k| {
+            let o = if k % 5 == 0 {
+                rng.in_box(bounds)
+            } else {
+                rng.in_box(&big)
+            };
+            let mut d = match k % 4 {
+                0 => Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)),
+                _ => rng.in_box(bounds) - o,
+            };
+            if k % 7 == 0 {
+                // Zero out one or two components (signed zeros included).
+                let axis = rng.below(3);
+                d[axis] = if k % 2 == 0 { 0.0 } else { -0.0 };
+                if k % 3 == 0 {
+                    d[(axis + 1) % 3] = -0.0;
+                }
+            }
+            if d.abs().max_element() == 0.0 {
+                d = Vec3::Y;
+            }
+            let (t_min, t_max) = match k % 6 {
+                0 => (rng.range(-1.0, 0.5), rng.range(0.5, 2.0)),
+                1 => (-f32::MAX, f32::INFINITY),
+                _ => (0.0, f32::INFINITY),
+            };
+            (o, d, t_min, t_max)
+        })
+        .collect()
+}
+
+#[test]
+fn random_soups_match_brute_force() {
+    for seed in 0..4 {
+        let mesh = common::random_soup(400 + 300 * seed as usize, seed);
+        let set = mesh.triangles();
+        let hits = check_rays(
+            "soup",
+            &set,
+            &trees(&set),
+            &random_rays(&mesh.bounds(), 3000, seed + 10),
+        );
+        assert!(hits > 500, "soup {seed}: only {hits} hits");
+    }
+}
+
+/// Triangles and rays on a small integer grid: many rays lie in a triangle's
+/// plane, run along its edges, start on box faces or on vertices.
+/// A ray on the integer grid: origin, direction, `t_min`, span of the range (6: unbounded).
+type GridRay = ([i8; 3], [i8; 3], i8, i8);
+
+fn grid_case() -> impl Strategy<Value = (Vec<[i8; 9]>, Vec<GridRay>)> {
+    (
+        prop::collection::vec(prop::array::uniform9(-3i8..=3), 1..40),
+        prop::collection::vec(
+            (
+                prop::array::uniform3(-4i8..=4),
+                prop::array::uniform3(-2i8..=2),
+                -3i8..=1,
+                0i8..=6,
+            ),
+            1..40,
+        ),
+    )
+}
+
+fn v(a: &[i8]) -> Vec3 {
+    Vec3::new(a[0] as f32, a[1] as f32, a[2] as f32)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+
+    #[test]
+    fn integer_grids_match_brute_force((tris, rays) in grid_case()) {
+        let set = PrimitiveSet::from_primitives(
+            tris.iter().map(|c| Triangle::new(v(&c[0..3]), v(&c[3..6]), v(&c[6..9]))).collect(),
+        );
+        let trees = trees(&set);
+        for &(o, d, t_min, span) in &rays {
+            let (o, d) = (v(&o), v(&d));
+            if d == Vec3::ZERO {
+                for wide in &trees {
+                    prop_assert_eq!(wide.tree().first_hit(o, d, 0.0, 1.0).unwrap_err(), RayError::Direction);
+                    prop_assert_eq!(wide.first_hit(o, d, 0.0, 1.0).unwrap_err(), RayError::Direction);
+                }
+                continue;
+            }
+            // Half-integer scales too, so hits land on edges and vertices.
+            for (o, d) in [(o, d), (o * 0.5, d), (o, d * 0.5)] {
+                let t_max = if span == 6 { f32::INFINITY } else { t_min as f32 + span as f32 };
+                let want = brute_first(&set, o, d, t_min as f32, t_max);
+                for wide in &trees {
+                    let tree = wide.tree();
+                    prop_assert_eq!(tree.first_hit(o, d, t_min as f32, t_max).unwrap(), want);
+                    prop_assert_eq!(tree.any_hit(o, d, t_min as f32, t_max).unwrap(), want.is_some());
+                    prop_assert_eq!(wide.first_hit(o, d, t_min as f32, t_max).unwrap(), want);
+                    prop_assert_eq!(wide.any_hit(o, d, t_min as f32, t_max).unwrap(), want.is_some());
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn random_triangles_and_rays_match_brute_force(
+        coords in prop::collection::vec(prop::array::uniform9(-10.0f32..10.0), 1..60),
+        rays in prop::collection::vec((prop::array::uniform3(-15.0f32..15.0), prop::array::uniform3(-1.0f32..1.0)), 1..30),
+        scale in prop::sample::select(vec![1e-3f32, 1.0, 1e3]),
+        offset in prop::sample::select(vec![0.0f32, 100.0, -7e3]),
+    ) {
+        let p = |c: &[f32]| Vec3::new(c[0], c[1], c[2]) * scale + Vec3::splat(offset);
+        let set = PrimitiveSet::from_primitives(
+            coords.iter().map(|c| Triangle::new(p(&c[0..3]), p(&c[3..6]), p(&c[6..9]))).collect(),
+        );
+        let trees = trees(&set);
+        for &(o, d) in &rays {
+            let (o, d) = (p(&o), Vec3::from_array(d));
+            if WatertightRay::new(o, d).is_none() || d.abs().max_element() < 1e-20 {
+                continue;
+            }
+            // Aim some rays at vertices of the soup.
+            let aimed = set.primitives[(o.x.to_bits() as usize) % set.len()].b - o;
+            for d in [d, aimed] {
+                if d == Vec3::ZERO {
+                    continue;
+                }
+                let want = brute_first(&set, o, d, 0.0, f32::INFINITY);
+                for wide in &trees {
+                    let tree = wide.tree();
+                    prop_assert_eq!(tree.first_hit(o, d, 0.0, f32::INFINITY).unwrap(), want);
+                    prop_assert_eq!(tree.any_hit(o, d, 0.0, f32::INFINITY).unwrap(), want.is_some());
+                    prop_assert_eq!(wide.first_hit(o, d, 0.0, f32::INFINITY).unwrap(), want);
+                    prop_assert_eq!(wide.any_hit(o, d, 0.0, f32::INFINITY).unwrap(), want.is_some());
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn degenerate_triangles_and_boxes() {
+    // Repeated and collinear vertices, a flat (zero-thickness) soup, triangles
+    // sharing edges, and rays along the flat plane and through its edges.
+    let mut tris = Vec::new();
+    for i in 0..6 {
+        for j in 0..6 {
+            let (x, y) = (i as f32, j as f32);
+            tris.push(Triangle::new(
+                Vec3::new(x, y, 0.0),
+                Vec3::new(x + 1.0, y, 0.0),
+                Vec3::new(x, y + 1.0, 0.0),
+            ));
+            tris.push(Triangle::new(
+                Vec3::new(x + 1.0, y, 0.0),
+                Vec3::new(x + 1.0, y + 1.0, 0.0),
+                Vec3::new(x, y + 1.0, 0.0),
+            ));
+        }
+    }
+    tris.push(Triangle::new(Vec3::ONE, Vec3::ONE, Vec3::new(2.0, 1.0, 1.0)));
+    tris.push(Triangle::new(Vec3::ZERO, Vec3::ONE, Vec3::splat(2.0)));
+    tris.push(Triangle::new(Vec3::splat(0.5), Vec3::splat(0.5), Vec3::splat(0.5)));
+    let set = PrimitiveSet::from_primitives(tris);
+    let trees = trees(&set);
+    let mut rays = Vec::new();
+    for i in 0..=12 {
+        for j in 0..=12 {
+            let (x, y) = (i as f32 * 0.5, j as f32 * 0.5);
+            // Straight down through vertices, edge midpoints and centers.
+            rays.push((Vec3::new(x, y, 2.0), -Vec3::Z, 0.0, f32::INFINITY));
+            rays.push((Vec3::new(x, y, -2.0), Vec3::new(0.0, -0.0, 1.0), 0.0, f32::INFINITY));
+            // Along the plane (and along edges): never a hit of a flat triangle.
+            rays.push((Vec3::new(x, -1.0, 0.0), Vec3::Y, 0.0, f32::INFINITY));
+            rays.push((Vec3::new(x, y, 0.0), Vec3::new(1.0, 1.0, 0.0), -10.0, 10.0));
+            // Starting on the plane, in the box, at a vertex.
+            rays.push((Vec3::new(x, y, 0.0), Vec3::new(0.3, 0.2, 1.0), 0.0, f32::INFINITY));
+            rays.push((Vec3::new(x, y, 0.0), Vec3::new(0.3, 0.2, -1.0), -1.0, 0.0));
+        }
+    }
+    let hits = check_rays("flat", &set, &trees, &rays);
+    assert!(hits > 300, "{hits}");
+    // No ray through the flat grid's interior slips through its shared edges.
+    for i in 1..12 {
+        for j in 1..12 {
+            let o = Vec3::new(i as f32 * 0.5, j as f32 * 0.5, 1.0);
+            for d in [-Vec3::Z, Vec3::new(0.1, 0.0, -1.0), Vec3::new(-0.1, 0.2, -1.0)] {
+                assert!(trees[0].tree().any_hit(o - d * 3.0, d, 0.0, f32::INFINITY).unwrap());
+                assert!(trees[0].any_hit(o - d * 3.0, d, 0.0, f32::INFINITY).unwrap());
+            }
+        }
+    }
+}
+
+#[test]
+fn empty_tree_and_errors() {
+    let empty = AabbTree::build_set(PrimitiveSet::<Triangle>::default(), &Default::default()).unwrap();
+    assert_eq!(empty.first_hit(Vec3::ZERO, Vec3::X, 0.0, f32::INFINITY).unwrap(), None);
+    assert!(!empty.any_hit(Vec3::ZERO, Vec3::X, 0.0, f32::INFINITY).unwrap());
+    let empty = WideTree::from_tree(empty);
+    assert_eq!(empty.first_hit(Vec3::ZERO, Vec3::X, 0.0, f32::INFINITY).unwrap(), None);
+    assert!(!empty.any_hit(Vec3::ZERO, Vec3::X, 0.0, f32::INFINITY).unwrap());
+    let tree = AabbTree::build_set(common::bumpy_sphere(8, 1).triangles(), &Default::default()).unwrap();
+    assert!(
+        tree.first_hit(Vec3::ZERO, Vec3::X, 0.0, 0.5).unwrap().is_none(),
+        "the sphere is beyond 0.5"
+    );
+    assert!(tree.first_hit(Vec3::ZERO, Vec3::X, 0.0, 2.0).unwrap().is_some());
+    assert!(
+        tree.first_hit(Vec3::ZERO, Vec3::X, -2.0, -0.5).unwrap().is_some(),
+        "behind the origin"
+    );
+    let cases = [
+        (Vec3::ZERO, Vec3::ZERO, 0.0, 1.0, RayError::Direction),
+        (Vec3::ZERO, Vec3::new(f32::NAN, 1.0, 0.0), 0.0, 1.0, RayError::Direction),
+        (
+            Vec3::ZERO,
+            Vec3::new(f32::INFINITY, 1.0, 0.0),
+            0.0,
+            1.0,
+            RayError::Direction,
+        ),
+        (Vec3::ZERO, Vec3::splat(1e-45), 0.0, 1.0, RayError::Direction),
+        (Vec3::splat(f32::NAN), Vec3::X, 0.0, 1.0, RayError::Origin),
+        (
+            Vec3::new(0.0, f32::NEG_INFINITY, 0.0),
+            Vec3::X,
+            0.0,
+            1.0,
+            RayError::Origin,
+        ),
+        (
+            Vec3::ZERO,
+            Vec3::X,
+            1.0,
+            0.0,
+            RayError::Range { t_min: 1.0, t_max: 0.0 },
+        ),
+        (
+            Vec3::ZERO,
+            Vec3::X,
+            f32::NEG_INFINITY,
+            0.0,
+            RayError::Range {
+                t_min: f32::NEG_INFINITY,
+                t_max: 0.0,
+            },
+        ),
+    ];
+    let wide = WideTree::from_tree(tree.clone());
+    #[cfg(target_arch = "x86_64")]
+    assert!(wide.has_triangle_packets(), "the wide tests must cover the packet path");
+    for (o, d, t_min, t_max, want) in cases {
+        assert_eq!(wide.first_hit(o, d, t_min, t_max).unwrap_err(), want);
+        assert_eq!(wide.any_hit(o, d, t_min, t_max).unwrap_err(), want);
+        assert_eq!(tree.first_hit(o, d, t_min, t_max).unwrap_err(), want);
+        assert_eq!(tree.any_hit(o, d, t_min, t_max).unwrap_err(), want);
+    }
+    assert!(matches!(
+        tree.first_hit(Vec3::ZERO, Vec3::X, 0.0, f32::NAN),
+        Err(RayError::Range { .. })
+    ));
+    // Batches answer in input order, errors in place.
+    let rays = [
+        (Vec3::ZERO, Vec3::X),
+        (Vec3::ZERO, Vec3::ZERO),
+        (Vec3::splat(9.0), Vec3::ONE),
+    ];
+    let batch = tree.first_hit_batch(&rays, 0.0, f32::INFINITY);
+    let any = tree.any_hit_batch(&rays, 0.0, f32::INFINITY);
+    for (k, &(o, d)) in rays.iter().enumerate() {
+        assert_eq!(batch[k], tree.first_hit(o, d, 0.0, f32::INFINITY));
+        assert_eq!(any[k], tree.any_hit(o, d, 0.0, f32::INFINITY));
+    }
+}
+
+/// Fan-triangulated vertex indices, in the order of `Mesh::triangles`.
+fn triangle_indices(mesh: &Mesh) -> Vec<[u32; 3]> {
+    let mut out = Vec::with_capacity(mesh.triangle_count());
+    for face in mesh.faces() {
+        for w in face[1..].windows(2) {
+            out.push([face[0], w[0], w[1]]);
+        }
+    }
+    out
+}
+
+/// Rays aimed exactly at edge midpoints and vertices, each from the side its
+/// incident triangles face: the ray must cross them, so a watertight test
+/// hits something. Edges not shared by exactly two triangles, vertices on
+/// such edges, and those with a degenerate or back-facing incident triangle
+/// are skipped.
+fn aimed_rays(mesh: &Mesh, n: usize, seed: u64) -> Vec<(Vec3, Vec3, f32, f32)> {
+    let p = mesh.positions();
+    let tris = triangle_indices(mesh);
+    let normal = |t: &[u32; 3]| {
+        let (a, b, c) = (p[t[0] as usize], p[t[1] as usize], p[t[2] as usize]);
+        (b - a).cross(c - a)
+    };
+    let mut edge_faces: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
+    let mut vertex_faces: Vec<Vec<usize>> = vec![Vec::new(); p.len()];
+    for (f, t) in tris.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            edge_faces.entry((a.min(b), a.max(b))).or_default().push(f);
+            vertex_faces[a as usize].push(f);
+        }
+    }
+    // A vertex on a boundary or a non-manifold edge has no disk of faces
+    // around it: a ray may pass it by without crossing anything.
+    let mut open_vertex = vec![false; p.len()];
+    for (&(a, b), f) in &edge_faces {
+        if f.len() != 2 {
+            open_vertex[a as usize] = true;
+            open_vertex[b as usize] = true;
+        }
+    }
+    let mut edges: Vec<_> = edge_faces.into_iter().filter(|(_, f)| f.len() == 2).collect();
+    edges.sort_unstable();
+    let reach = mesh.bounds().diagonal();
+    let mut rng = Rng::new(seed);
+    let mut out = Vec::new();
+    // Direction toward the target from the side all `faces` face, if any.
+    let ray_to = |target: Vec3, faces: &[usize], rng: &mut Rng| {
+        let normals: Vec<Vec3> = faces.iter().map(|&f| normal(&tris[f]).normalize_or_zero()).collect();
+        let sum: Vec3 = normals.iter().sum();
+        let axis = sum.normalize_or_zero();
+        if axis == Vec3::ZERO || normals.iter().any(|n| n.dot(axis) < 0.05) {
+            return None;
+        }
+        let jitter = Vec3::new(rng.range(-0.3, 0.3), rng.range(-0.3, 0.3), rng.range(-0.3, 0.3));
+        let side = (axis + jitter).normalize_or_zero();
+        if normals.iter().any(|n| n.dot(side) < 0.02) {
+            return None;
+        }
+        let o = target + side * reach * rng.range(0.01, 2.0);
+        Some((o, target - o, 0.0, f32::INFINITY))
+    };
+    for _ in 0..n {
+        let (&(a, b), faces) = {
+            let (k, f) = &edges[rng.below(edges.len())];
+            (k, f.clone())
+        };
+        let mid = (p[a as usize] + p[b as usize]) * 0.5;
+        out.extend(ray_to(mid, &faces, &mut rng));
+        let vtx = rng.below(p.len());
+        if !vertex_faces[vtx].is_empty() && !open_vertex[vtx] {
+            out.extend(ray_to(p[vtx], &vertex_faces[vtx].clone(), &mut rng));
+        }
+    }
+    out
+}
+
+/// Rays from outside the bounding sphere aimed at points of the box, and
+/// rays from near the surface in random directions.
+fn mesh_rays(mesh: &Mesh, n: usize, seed: u64) -> Vec<(Vec3, Vec3, f32, f32)> {
+    let b = mesh.bounds();
+    let mut rng = Rng::new(seed);
+    let near = proxima::sample::near_surface(mesh, n / 2, 0.01, seed);
+    let mut out: Vec<_> = near
+        .into_iter()
+        .map(|o| {
+            let d = Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
+            (o, if d == Vec3::ZERO { Vec3::X } else { d }, 0.0, f32::INFINITY)
+        })
+        .collect();
+    for _ in 0..n - n / 2 {
+        let dir = Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)).normalize_or(Vec3::X);
+        let o = b.center() + dir * b.diagonal() * rng.range(0.6, 3.0);
+        out.push((o, rng.in_box(&b) - o, 0.0, f32::INFINITY));
+    }
+    out
+}
+
+#[test]
+fn shared_meshes_match_brute_force_and_grid_and_never_leak() {
+    for path in common::shared_meshes() {
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        let mesh = proxima::io::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        let set = mesh.triangles();
+        let n = set.len();
+        let trees = trees(&set);
+        // Brute force costs n per ray: about 6e7 triangle tests per mesh.
+        let brute_rays = (60_000_000 / n).clamp(60, 4000);
+        let mut rays = mesh_rays(&mesh, brute_rays / 2, 7);
+        let aimed = aimed_rays(&mesh, brute_rays / 4, 8);
+        rays.extend(aimed.iter().copied());
+        let hits = check_rays(&name, &set, &trees, &rays);
+        // Aimed rays never slip through.
+        let (wide, tree) = (&trees[0], trees[0].tree());
+        let many_aimed = aimed_rays(&mesh, 20_000, 9);
+        let misses = many_aimed
+            .par_iter()
+            .filter(|&&(o, d, t0, t1)| {
+                let first = tree.first_hit(o, d, t0, t1).unwrap();
+                assert_eq!(
+                    wide.first_hit(o, d, t0, t1).unwrap(),
+                    first,
+                    "{name}: wide tree differs"
+                );
+                !tree.any_hit(o, d, t0, t1).unwrap() || !wide.any_hit(o, d, t0, t1).unwrap() || first.is_none()
+            })
+            .count();
+        assert_eq!(
+            misses,
+            0,
+            "{name}: {misses} of {} aimed rays slipped through",
+            many_aimed.len()
+        );
+        // The tree equals the grid on many more rays.
+        let side = mesh.bounds().size().max_element();
+        let grid: HashGrid<Triangle, FastHash> =
+            HashGrid::build(set.clone(), &GridConfig::cubic(side / (n as f32).cbrt().max(1.0))).unwrap();
+        let mut grid_rays = mesh_rays(&mesh, 20_000, 10);
+        grid_rays.extend(many_aimed.iter().take(5_000));
+        grid_rays.par_iter().for_each(|&(o, d, t0, t1)| {
+            let got = tree.first_hit(o, d, t0, t1).unwrap();
+            assert_eq!(wide.first_hit(o, d, t0, t1).unwrap(), got, "{name}: wide tree differs");
+            let g = grid.first_hit(o, d, t0, t1).unwrap();
+            assert_eq!(
+                got.map(|h| (h.primitive, h.source, h.t, h.point, h.u, h.v)),
+                g.map(|h| (h.primitive, h.source, h.t, h.point, h.u, h.v)),
+                "{name}: tree and grid differ for ({o}, {d})"
+            );
+        });
+        println!(
+            "{name}: {} rays against brute force ({hits} hit), {} aimed rays never missed, {} rays tree == grid",
+            rays.len(),
+            many_aimed.len(),
+            grid_rays.len()
+        );
+    }
+}
