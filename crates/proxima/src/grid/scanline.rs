@@ -30,11 +30,15 @@ pub(crate) const SMALL_RANGE: u128 = 27;
 /// Relative clipping margin.
 const MARGIN: f64 = 1e-7;
 
-/// A convex polygon of at most 8 vertices (a triangle clipped by four planes
-/// has at most 7; a segment, as a 2-gon, at most 6).
+/// Vertices a clipped piece can have (see [`Poly`]).
+const POLY_CAPACITY: usize = crate::primitive::polygon::MAX_POLYGON_VERTICES + 4;
+
+/// A convex polygon of at most 12 vertices: clipping by four planes adds at
+/// most four, to a segment (2), a triangle (3) or a convex polygon of up to
+/// [`MAX_POLYGON_VERTICES`](crate::primitive::polygon::MAX_POLYGON_VERTICES) (8).
 #[derive(Clone, Copy)]
 struct Poly {
-    v: [[f64; 3]; 8],
+    v: [[f64; 3]; POLY_CAPACITY],
     n: usize,
 }
 
@@ -42,7 +46,7 @@ impl Poly {
     #[inline]
     fn from(vertices: &[[f64; 3]]) -> Self {
         let mut p = Poly {
-            v: [[0.0; 3]; 8],
+            v: [[0.0; 3]; POLY_CAPACITY],
             n: vertices.len(),
         };
         p.v[..vertices.len()].copy_from_slice(vertices);
@@ -73,7 +77,10 @@ impl Poly {
     /// Sutherland–Hodgman against the closed half-space `sign · (x_axis − plane) ≤ 0`.
     #[inline]
     fn clip_half(&self, axis: usize, plane: f64, sign: f64) -> Poly {
-        let mut out = Poly { v: [[0.0; 3]; 8], n: 0 };
+        let mut out = Poly {
+            v: [[0.0; 3]; POLY_CAPACITY],
+            n: 0,
+        };
         if self.n == 0 {
             return out;
         }
@@ -129,7 +136,10 @@ impl Poly {
     fn clip(&self, axis: usize, lo: f64, hi: f64) -> Poly {
         let (min, max) = self.extent(axis);
         if min > hi || max < lo {
-            return Poly { v: [[0.0; 3]; 8], n: 0 };
+            return Poly {
+                v: [[0.0; 3]; POLY_CAPACITY],
+                n: 0,
+            };
         }
         let mut p = *self;
         if min < lo {
@@ -143,7 +153,7 @@ impl Poly {
 }
 
 /// Visits the cells of `window` that `test` accepts, generating candidates by
-/// clipping the polygon `vertices` (2 or 3 vertices) slab by slab and row by
+/// clipping the convex polygon `vertices` (2 to 8 vertices) slab by slab and row by
 /// row. `full` is the polygon's whole bounding-box range, `window` the part of
 /// it to report.
 pub(crate) fn scan(
