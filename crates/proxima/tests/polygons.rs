@@ -558,6 +558,43 @@ fn config_layout(size: f32, origin: Vec3) -> GridLayout {
 }
 
 #[test]
+fn huge_tiny_and_offset_coordinates() {
+    // Powers of two keep every plane exact. At 2^-100 the f32 edge signs
+    // underflow to zero and the f64 path answers; at 2^50 the products are
+    // near 1e30. Offset far from the origin, small faces lose their shape in
+    // f32 and fall back; either way tree == brute force.
+    for (factor, offset) in [(2f32.powi(50), 0.0), (2f32.powi(-100), 0.0), (1e-3, 1e6)] {
+        for (name, mesh) in planar_meshes() {
+            let positions: Vec<Vec3> = mesh
+                .positions()
+                .iter()
+                .map(|&p| p * factor + Vec3::splat(offset))
+                .collect();
+            let faces: Vec<Vec<u32>> = mesh.faces().map(|f| f.to_vec()).collect();
+            let mesh = Mesh::from_faces(positions, &faces).unwrap();
+            let r = mesh.extract_polygons(DEFAULT_PLANARITY_TOLERANCE);
+            if offset == 0.0 {
+                assert_eq!(r.fan_triangulated, 0, "{name} x {factor}");
+            }
+            let points = queries(&mesh, 40, 2);
+            check_tree(r.set.clone(), &points);
+            let tri_tree = AabbTree::build_set(mesh.triangles(), &BuildConfig::default()).unwrap();
+            let polygons = LinearSearch::new(r.set);
+            for &p in &points {
+                let (a, b) = (polygons.closest(p), tri_tree.closest(p));
+                let tol = (scale_of(&mesh, p) * 1e-6) as f32;
+                match (a, b) {
+                    (Some(a), Some(b)) => {
+                        assert!((a.distance - b.distance).abs() <= tol, "{name} x {factor}: {a:?} {b:?}")
+                    }
+                    (a, b) => assert_eq!(a.is_none(), b.is_none(), "{name} x {factor} at {p}"),
+                }
+            }
+        }
+    }
+}
+
+#[test]
 fn planar_meshes_ray_hits_equal_fan_triangulation() {
     for (name, mesh) in planar_meshes() {
         let polygons = mesh.polygons();
