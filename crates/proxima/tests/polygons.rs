@@ -649,6 +649,39 @@ fn rays_from_inside_a_closed_polygon_mesh_always_hit() {
     }
 }
 
+#[test]
+fn triangle_meshes_answer_as_triangles_bit_for_bit() {
+    // Every face of a triangle mesh is a 3-vertex polygon delegating to the
+    // triangle's routines: the same hits, points, distances and cells.
+    for mesh in [common::random_soup(400, 3), common::bumpy_sphere(10, 2)] {
+        let polygons = mesh.polygons();
+        let triangles = mesh.triangles();
+        assert_eq!(polygons.sources, triangles.sources);
+        let a = AabbTree::build_set(polygons.clone(), &BuildConfig::default()).unwrap();
+        let b = AabbTree::build_set(triangles.clone(), &BuildConfig::default()).unwrap();
+        for p in queries(&mesh, 200, 8) {
+            assert_eq!(a.closest(p), b.closest(p), "at {p}");
+            assert_eq!(a.k_nearest(p, 5), b.k_nearest(p, 5), "at {p}");
+        }
+        let config = GridConfig::cubic(mesh.bounds().diagonal() / 37.0);
+        let a: HashGrid<_> = HashGrid::build(polygons.clone(), &config).unwrap();
+        let b: HashGrid<_> = HashGrid::build(triangles.clone(), &config).unwrap();
+        assert_eq!(cell_sources(&a), cell_sources(&b));
+        let mut rng = Rng::new(4);
+        let bounds = mesh.bounds();
+        for _ in 0..300 {
+            let (o, t) = (rng.in_box(&bounds.inflate(0.5)), rng.in_box(&bounds));
+            let Some(ray) = WatertightRay::new(o, t - o) else {
+                continue;
+            };
+            assert_eq!(
+                first_hit_polygons(&polygons, &ray),
+                first_hit_triangles(&triangles, &ray)
+            );
+        }
+    }
+}
+
 // ---------------------------------------------------------- construction ---
 
 #[test]
