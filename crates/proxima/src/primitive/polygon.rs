@@ -28,9 +28,11 @@
 //!
 //! `f32` vertices of a face are rarely exactly coplanar, so for `t > 0` the
 //! answers are defined as follows, and differ from those of the fan
-//! triangulation `(v0, vᵢ, vᵢ₊₁)` by at most about `2t` (`≤ 2·10⁻⁵ D` by
-//! default). When `t = 0` (exactly planar vertices) they are the fan
-//! triangulation's, up to `f32` rounding for distances and exactly for boxes.
+//! triangulation `(v0, vᵢ, vᵢ₊₁)` by at most `2t` (`≤ 2·10⁻⁵ D` by default)
+//! plus `f32` rounding. When `t = 0` (exactly planar vertices) they are the
+//! fan triangulation's, up to `f32` rounding for distances and exactly for
+//! boxes (as exactly as the triangle's test: for coordinates of moderate
+//! dynamic range, see `polygon_aabb.rs`).
 //!
 //! - [`ClosestPoint`]: when the query projects along `n` inside every edge
 //!   (the sign of `((vᵢ₊₁ − vᵢ) × (p − vᵢ)) · n`), the projection onto the

@@ -13,8 +13,12 @@
 //! in `f64` from the `f32` inputs: the normal is Newell's sum of fan cross
 //! products, exact for coordinates of moderate dynamic range (in particular
 //! small dyadic values), so a polygon lying exactly in a cell face counts as
-//! touching the cells on both sides. Zero axes (an edge parallel to a box
-//! axis) project everything to `[0, 0]` and never separate.
+//! touching the cells on both sides. Otherwise the error is a few `f64` ulps
+//! of the coordinates' magnitude, which can decide an exact touch either way:
+//! spot_quadrangulated.obj has a vertex at x = −4.3e-19 beside one at x = 0 on
+//! a cell boundary, and both this test and the triangle's miss the cell that
+//! vertex touches. Zero axes (an edge parallel to a box axis) project
+//! everything to `[0, 0]` and never separate.
 
 use super::polygon::{ConvexPolygon, MAX_POLYGON_VERTICES};
 use super::sat::{Interval, Project, project_points, to64};
