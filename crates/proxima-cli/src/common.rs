@@ -1,7 +1,8 @@
 //! What several commands share: argument parsers, mesh loading, primitive choice.
 
 use anyhow::{Context, Result, bail};
-use proxima::{AabbTree, BuildConfig, Mesh, Vec3};
+use proxima::primitive::polygon::DEFAULT_PLANARITY_TOLERANCE;
+use proxima::{AabbTree, BuildConfig, ConvexPolygon, Mesh, PrimitiveSet, Vec3};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -63,6 +64,9 @@ pub enum Primitives {
     Edges,
     /// Faces as triangles (polygons fan-triangulated).
     Faces,
+    /// Faces as convex polygons, as they are when convex and planar within
+    /// tolerance (the others fan-triangulated; a note on stderr says how many).
+    Polygons,
 }
 
 impl Primitives {
@@ -75,6 +79,7 @@ impl Primitives {
             Primitives::Vertices => "vertices",
             Primitives::Edges => "edges",
             Primitives::Faces => "faces",
+            Primitives::Polygons => "polygons",
         }
     }
 }
@@ -122,13 +127,15 @@ pub enum AnyTree {
     Edges(AabbTree<proxima::LineSegment>),
     /// Tree over faces.
     Faces(AabbTree<proxima::Triangle>),
+    /// Tree over faces as convex polygons.
+    Polygons(AabbTree<ConvexPolygon>),
 }
 
 /// Fails when the mesh has no primitive of `kind` (no vertices, no edges, or no faces).
 pub fn require_primitives(mesh: &Mesh, kind: Primitives, path: &Path) -> Result<()> {
     let count = match kind {
         Primitives::Vertices => mesh.vertex_count(),
-        Primitives::Edges | Primitives::Faces => mesh.face_count(),
+        Primitives::Edges | Primitives::Faces | Primitives::Polygons => mesh.face_count(),
     };
     if count == 0 {
         bail!(
@@ -142,15 +149,57 @@ pub fn require_primitives(mesh: &Mesh, kind: Primitives, path: &Path) -> Result<
     Ok(())
 }
 
-/// Builds the tree of `kind` over `mesh`, returning it with the build time in seconds.
+/// Builds the tree of `kind` over `mesh`, returning it with the build time in
+/// seconds (polygons with the default planarity tolerance).
 pub fn build_tree(mesh: &Mesh, kind: Primitives, config: &BuildConfig) -> Result<(AnyTree, f64)> {
+    build_tree_planar(mesh, kind, config, DEFAULT_PLANARITY_TOLERANCE)
+}
+
+/// [`build_tree`] with the planarity tolerance of polygons.
+pub fn build_tree_planar(
+    mesh: &Mesh,
+    kind: Primitives,
+    config: &BuildConfig,
+    planarity: f32,
+) -> Result<(AnyTree, f64)> {
     let start = Instant::now();
     let tree = match kind {
         Primitives::Vertices => AnyTree::Vertices(AabbTree::build_set(mesh.vertices(), config)?),
         Primitives::Edges => AnyTree::Edges(AabbTree::build_set(mesh.edges(), config)?),
         Primitives::Faces => AnyTree::Faces(AabbTree::build_set(mesh.triangles(), config)?),
+        Primitives::Polygons => AnyTree::Polygons(AabbTree::build_set(mesh.extract_polygons(planarity).set, config)?),
     };
     Ok((tree, start.elapsed().as_secs_f64()))
+}
+
+/// Parses a relative planarity tolerance (finite, not negative).
+pub fn parse_planarity(text: &str) -> Result<f32, String> {
+    match text.parse::<f32>() {
+        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
+        _ => Err(format!("'{text}' is not a finite tolerance >= 0")),
+    }
+}
+
+/// The faces as convex polygons; prints on stderr how many faces of more than
+/// three vertices were fan-triangulated, when any were.
+pub fn polygons(mesh: &Mesh, path: &Path, planarity: f32) -> PrimitiveSet<ConvexPolygon> {
+    let extraction = mesh.extract_polygons(planarity);
+    if extraction.fan_triangulated > 0 {
+        eprintln!(
+            "proxima: {}: {} of {} faces with more than 3 vertices are not planar/convex within tolerance {planarity:e}; fan-triangulated",
+            path.display(),
+            extraction.fan_triangulated,
+            extraction.polygon_faces(),
+        );
+    }
+    extraction.set
+}
+
+/// Prints the fan-triangulation note of [`polygons`] when `kind` is polygons.
+pub fn note_polygons(mesh: &Mesh, kind: Primitives, path: &Path, planarity: f32) {
+    if kind == Primitives::Polygons {
+        polygons(mesh, path, planarity);
+    }
 }
 
 /// Calls `$body` with `$tree` bound to the concrete tree inside an [`AnyTree`].
@@ -161,6 +210,7 @@ macro_rules! with_tree {
             $crate::common::AnyTree::Vertices($tree) => $body,
             $crate::common::AnyTree::Edges($tree) => $body,
             $crate::common::AnyTree::Faces($tree) => $body,
+            $crate::common::AnyTree::Polygons($tree) => $body,
         }
     };
 }

@@ -228,3 +228,44 @@ pub enum RayError {
         t_max: f32,
     },
 }
+
+/// Why a list of vertices is not accepted as a
+/// [`ConvexPolygon`](crate::primitive::ConvexPolygon) (see the module
+/// documentation of `primitive::polygon` for the criteria).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PolygonError {
+    /// Fewer than 3 vertices, or more than the capacity.
+    #[error("a convex polygon has 3 to {max} vertices, got {count}")]
+    VertexCount {
+        /// Number of vertices given.
+        count: usize,
+        /// The largest number accepted.
+        max: usize,
+    },
+    /// A vertex coordinate is NaN or infinite.
+    #[error("polygon vertex {index} has a non-finite coordinate")]
+    NonFinite {
+        /// 0-based vertex index in the polygon.
+        index: usize,
+    },
+    /// The vertices span no area: the normal vanishes or is not finite.
+    #[error("the polygon has no area (its normal vanishes)")]
+    Degenerate,
+    /// The vertices lie farther from one plane than the tolerance allows.
+    #[error(
+        "the polygon is not planar: its vertices span {thickness} along the normal, more than the allowed {allowed}"
+    )]
+    NotPlanar {
+        /// Extent of the vertices along the unit normal.
+        thickness: f64,
+        /// The largest accepted extent (relative tolerance times the bounding box diagonal).
+        allowed: f64,
+    },
+    /// The boundary does not turn strictly left at some vertex (seen along the
+    /// normal), or winds around more than once.
+    #[error("the polygon is not strictly convex at vertex {index}")]
+    NotConvex {
+        /// 0-based vertex index in the polygon.
+        index: usize,
+    },
+}

@@ -5,7 +5,8 @@
 //! - [`AabbTree`]: a bounding volume hierarchy of axis-aligned boxes with
 //!   closest-primitive and k-nearest queries;
 //! - primitives taken from a [`Mesh`]: [`Point`] (vertices), [`LineSegment`]
-//!   (edges) and [`Triangle`] (faces), described by small traits
+//!   (edges), [`Triangle`] (faces) and [`ConvexPolygon`] (faces as they
+//!   are, when convex and planar), described by small traits
 //!   ([`Bounded`], [`ClosestPoint`]);
 //! - mesh loading from OBJ, PLY, STL and OFF files, optionally gzip-compressed
 //!   ([`io::load`]).
@@ -41,10 +42,12 @@ pub use aabb::Aabb;
 pub use bvh::{AabbTree, BuildConfig, ClosestHit, TreeStats};
 pub use error::GridError;
 pub use error::RayError;
-pub use error::{BuildError, LoadError, LoadErrorKind, MeshError};
+pub use error::{BuildError, LoadError, LoadErrorKind, MeshError, PolygonError};
 pub use grid::{GridConfig, HashGrid, InsertMethod};
 pub use linear::LinearSearch;
 pub use math::{Vec3, Vec3A};
 pub use mesh::Mesh;
-pub use primitive::{Bounded, BoxOverlap, ClosestPoint, LineSegment, Point, PrimitiveSet, RayIntersect, Triangle};
+pub use primitive::{
+    Bounded, BoxOverlap, ClosestPoint, ConvexPolygon, LineSegment, Point, PrimitiveSet, RayIntersect, Triangle,
+};
 pub use traversal::{GridTraversal, TraversalConfig, TraversalStep};

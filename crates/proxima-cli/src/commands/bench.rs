@@ -1,7 +1,7 @@
 //! `proxima bench MESH [--primitives P] [--queries N | --points FILE] [--threads T] [--json]`:
 //! linear search against the AABB tree on the same queries.
 
-use crate::common::{Primitives, Split, load_mesh, read_points};
+use crate::common::{Primitives, Split, load_mesh, parse_planarity, read_points};
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
 use proxima::bvh::WideTree;
@@ -25,7 +25,7 @@ pub enum QuerySet {
 pub struct Args {
     /// Mesh file.
     mesh: PathBuf,
-    /// Benchmark only this primitive type (default: all three).
+    /// Benchmark only this primitive type (default: vertices, edges and faces).
     #[arg(long, value_enum)]
     primitives: Option<Primitives>,
     /// Number of generated query points.
@@ -49,6 +49,10 @@ pub struct Args {
     /// Print one JSON object instead of a table.
     #[arg(long)]
     json: bool,
+    /// With `--primitives polygons`: the relative planarity tolerance of
+    /// faces kept as polygons (see `proxima closest --help`).
+    #[arg(long, value_parser = parse_planarity, default_value = "1e-5")]
+    planarity: f32,
 }
 
 /// One measured row.
@@ -173,6 +177,7 @@ pub fn measure(
     threads: usize,
     config: &BuildConfig,
     progress: bool,
+    planarity: f32,
 ) -> anyhow::Result<Vec<Record>> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads.max(1))
@@ -185,6 +190,9 @@ pub fn measure(
                 Primitives::Vertices => bench_set(mesh.vertices(), kind, points, config, progress)?,
                 Primitives::Edges => bench_set(mesh.edges(), kind, points, config, progress)?,
                 Primitives::Faces => bench_set(mesh.triangles(), kind, points, config, progress)?,
+                Primitives::Polygons => {
+                    bench_set(mesh.extract_polygons(planarity).set, kind, points, config, progress)?
+                }
             });
         }
         Ok(records)
@@ -245,8 +253,17 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     };
     for &kind in &kinds {
         crate::common::require_primitives(&mesh, kind, &args.mesh)?;
+        crate::common::note_polygons(&mesh, kind, &args.mesh, args.planarity);
     }
-    let records = measure(&mesh, &kinds, &points, args.threads, &args.split.config(), !args.json)?;
+    let records = measure(
+        &mesh,
+        &kinds,
+        &points,
+        args.threads,
+        &args.split.config(),
+        !args.json,
+        args.planarity,
+    )?;
     if args.json {
         let results: Vec<_> = records
             .iter()

@@ -1,6 +1,9 @@
 //! `proxima closest MESH --primitives P (--point X,Y,Z | --points FILE) [-k K] [--method tree|linear]`.
 
-use crate::common::{Primitives, Split, build_tree, load_mesh, parse_vec3, read_points, require_primitives};
+use crate::common::{
+    Primitives, Split, build_tree_planar, load_mesh, note_polygons, parse_planarity, parse_vec3, read_points,
+    require_primitives,
+};
 use crate::with_tree;
 use anyhow::bail;
 use proxima::bvh::WideTree;
@@ -41,6 +44,11 @@ pub struct Args {
     /// How the tree is split (same answers either way).
     #[arg(long, value_enum, default_value = "median")]
     split: Split,
+    /// With `--primitives polygons`: how far from planar a face may be and
+    /// stay one polygon (its vertices' extent along the normal, relative to its
+    /// bounding box diagonal); other faces are fan-triangulated.
+    #[arg(long, value_parser = parse_planarity, default_value = "1e-5")]
+    planarity: f32,
 }
 
 /// Prints CSV `query,rank,primitive,cx,cy,cz,distance`, k rows per query.
@@ -52,9 +60,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         (None, None) => bail!("give --point X,Y,Z or --points FILE"),
     };
     require_primitives(&mesh, args.primitives, &args.mesh)?;
+    note_polygons(&mesh, args.primitives, &args.mesh, args.planarity);
     let answers: Vec<Vec<ClosestHit>> = match args.method {
         Method::Tree => {
-            let (tree, _) = build_tree(&mesh, args.primitives, &args.split.config())?;
+            let (tree, _) = build_tree_planar(&mesh, args.primitives, &args.split.config(), args.planarity)?;
             // The 4-wide tree gives the same answers as the binary one, faster.
             with_tree!(tree, t => WideTree::from_tree(t).k_nearest_batch(&points, args.k))
         }
@@ -62,6 +71,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             Primitives::Vertices => linear(mesh.vertices(), &points, args.k),
             Primitives::Edges => linear(mesh.edges(), &points, args.k),
             Primitives::Faces => linear(mesh.triangles(), &points, args.k),
+            Primitives::Polygons => linear(mesh.extract_polygons(args.planarity).set, &points, args.k),
         },
     };
     let stdout = std::io::stdout();

@@ -55,7 +55,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         "\nlinear search vs AABB tree, {} near-surface queries, 1 thread:",
         points.len()
     );
-    let records = super::bench::measure(&mesh, &Primitives::ALL, &points, 1, &BuildConfig::default(), false)?;
+    let records = super::bench::measure(
+        &mesh,
+        &Primitives::ALL,
+        &points,
+        1,
+        &BuildConfig::default(),
+        false,
+        proxima::primitive::polygon::DEFAULT_PLANARITY_TOLERANCE,
+    )?;
     super::bench::print_table(&records);
     Ok(())
 }

@@ -5,7 +5,7 @@
 use crate::common::load_mesh;
 use anyhow::{Context, Result, bail};
 use proxima::grid::{ClassicHash, FastHash, GridConfig, GridInsert, GridLayout, GridStats, HashGrid, InsertMethod};
-use proxima::{Mesh, PrimitiveSet, Vec3};
+use proxima::{ConvexPolygon, Mesh, PrimitiveSet, Vec3};
 use serde_json::json;
 use std::hash::BuildHasher;
 use std::io::{BufWriter, Write};
@@ -21,7 +21,10 @@ pub enum GridPrimitives {
     Edges,
     /// Faces as triangles (polygons fan-triangulated).
     Faces,
-    /// One grid for each of the three.
+    /// Faces as convex polygons where convex and planar within tolerance
+    /// (the others fan-triangulated; a note on stderr says how many).
+    Polygons,
+    /// One grid for each of vertices, edges and faces.
     All,
 }
 
@@ -78,6 +81,10 @@ pub struct Args {
     /// Print one JSON object instead of text.
     #[arg(long)]
     json: bool,
+    /// With `--primitives polygons`: the relative planarity tolerance of
+    /// faces kept as polygons (see `proxima closest --help`).
+    #[arg(long, value_parser = crate::common::parse_planarity, default_value = "1e-5")]
+    planarity: f32,
     /// Write the occupied cells: CSV `i,j,k,count`, or a PLY of boxes when the
     /// name ends in .ply. With `--primitives all`, the cells of the face grid.
     #[arg(long, value_name = "FILE")]
@@ -119,10 +126,12 @@ fn build_kind<S: BuildHasher + Default>(
     kind: GridPrimitives,
     config: &GridConfig,
     keep: bool,
+    polygons: &dyn Fn() -> PrimitiveSet<ConvexPolygon>,
 ) -> Result<Built> {
     match kind {
         GridPrimitives::Vertices => build::<_, S>("vertices", mesh.vertices(), config, keep),
         GridPrimitives::Edges => build::<_, S>("edges", mesh.edges(), config, keep),
+        GridPrimitives::Polygons => build::<_, S>("polygons", polygons(), config, keep),
         _ => build::<_, S>("faces", mesh.triangles(), config, keep),
     }
 }
@@ -141,15 +150,17 @@ pub fn run(args: Args) -> Result<()> {
         one => std::slice::from_ref(match one {
             GridPrimitives::Vertices => &GridPrimitives::Vertices,
             GridPrimitives::Edges => &GridPrimitives::Edges,
+            GridPrimitives::Polygons => &GridPrimitives::Polygons,
             _ => &GridPrimitives::Faces,
         }),
     };
+    let polygons = || crate::common::polygons(&mesh, &args.mesh, args.planarity);
     let mut built = Vec::new();
     for (n, &kind) in kinds.iter().enumerate() {
         let keep = args.cells_out.is_some() && n + 1 == kinds.len();
         built.push(match args.hasher {
-            Hasher::Classic => build_kind::<ClassicHash>(&mesh, kind, &config, keep)?,
-            Hasher::Fast => build_kind::<FastHash>(&mesh, kind, &config, keep)?,
+            Hasher::Classic => build_kind::<ClassicHash>(&mesh, kind, &config, keep, &polygons)?,
+            Hasher::Fast => build_kind::<FastHash>(&mesh, kind, &config, keep, &polygons)?,
         });
     }
     if let (Some(path), Some(last)) = (&args.cells_out, built.last()) {

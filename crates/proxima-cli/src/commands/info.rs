@@ -2,6 +2,7 @@
 
 use crate::common::{Primitives, build_tree, load_mesh};
 use crate::with_tree;
+use proxima::primitive::polygon::DEFAULT_PLANARITY_TOLERANCE;
 use proxima::{BuildConfig, TreeStats};
 use serde_json::json;
 use std::path::PathBuf;
@@ -24,7 +25,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let edges = mesh.edge_indices().len();
     let config = BuildConfig::default();
     let mut trees = Vec::new();
-    for kind in Primitives::ALL {
+    // Polygons too when there are faces of more than three vertices.
+    let polygons = (mesh.polygon_count() > 0).then_some(Primitives::Polygons);
+    for kind in Primitives::ALL.into_iter().chain(polygons) {
+        crate::common::note_polygons(&mesh, kind, &args.mesh, DEFAULT_PLANARITY_TOLERANCE);
         if crate::common::require_primitives(&mesh, kind, &args.mesh).is_err() {
             continue; // info reports what there is; nothing to build for this kind
         }

@@ -93,11 +93,15 @@ pub fn run(args: Args) -> Result<()> {
             ModelSource::Mesh { mesh, name }
         }
     };
-    let kind = args.primitives.map(|p| match p {
-        Primitives::Vertices => PrimitiveKind::Vertices,
-        Primitives::Edges => PrimitiveKind::Edges,
-        Primitives::Faces => PrimitiveKind::Faces,
-    });
+    let kind = match args.primitives {
+        None => None,
+        Some(Primitives::Vertices) => Some(PrimitiveKind::Vertices),
+        Some(Primitives::Edges) => Some(PrimitiveKind::Edges),
+        Some(Primitives::Faces) => Some(PrimitiveKind::Faces),
+        Some(Primitives::Polygons) => {
+            anyhow::bail!("the viewer shows vertices, edges and faces; polygons are not drawn yet")
+        }
+    };
     let options = ViewerOptions {
         source,
         initial: InitialView {

@@ -52,7 +52,8 @@ impl<'a> InsertParams<'a> {
 
 /// A primitive that can list the cells of a grid it overlaps.
 ///
-/// Implemented for [`Point`], [`LineSegment`] and [`Triangle`]; any other
+/// Implemented for [`Point`], [`LineSegment`], [`Triangle`] and
+/// [`ConvexPolygon`](crate::ConvexPolygon) (in `polygon_insert.rs`); any other
 /// [`BoxOverlap`] primitive can opt in with an empty `impl` block, which uses
 /// the classic insertion with [`BoxOverlap::overlaps_box`] per cell.
 pub trait GridInsert: BoxOverlap {

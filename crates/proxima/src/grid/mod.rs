@@ -3,7 +3,7 @@
 //!
 //! One file per operation: cell placement in `layout.rs`, the hash functions
 //! in `hasher.rs`, the classic insertion (box range, then exact test per cell)
-//! in `insert.rs`, the scan-line insertion in `scanline.rs`, the build in
+//! in `insert.rs` (for convex polygons in `polygon_insert.rs`), the scan-line insertion in `scanline.rs`, the build in
 //! `build.rs`, the first-hit ray query in `ray.rs`, dense/sparse surface
 //! voxelization in `voxelize.rs` and statistics in `stats.rs`.
 //!
@@ -42,6 +42,7 @@ mod build;
 mod hasher;
 mod insert;
 mod layout;
+mod polygon_insert;
 mod ray;
 mod scanline;
 mod stats;

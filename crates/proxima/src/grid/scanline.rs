@@ -30,19 +30,28 @@ pub(crate) const SMALL_RANGE: u128 = 27;
 /// Relative clipping margin.
 const MARGIN: f64 = 1e-7;
 
-/// A convex polygon of at most 8 vertices (a triangle clipped by four planes
-/// has at most 7; a segment, as a 2-gon, at most 6).
+/// Vertices a clipped segment or triangle can have (see [`Poly`]).
+const SMALL_CAPACITY: usize = 8;
+
+/// Vertices a clipped convex polygon can have (see [`Poly`]).
+const POLYGON_CAPACITY: usize = crate::primitive::polygon::MAX_POLYGON_VERTICES + 4;
+
+/// A convex polygon of at most `N` vertices: clipping by four planes adds at
+/// most four, to a segment (2) or a triangle (3), which fit in 8 as before;
+/// convex polygons of up to
+/// [`MAX_POLYGON_VERTICES`](crate::primitive::polygon::MAX_POLYGON_VERTICES) (8)
+/// use 12, so that segments and triangles keep the smaller copies.
 #[derive(Clone, Copy)]
-struct Poly {
-    v: [[f64; 3]; 8],
+struct Poly<const N: usize> {
+    v: [[f64; 3]; N],
     n: usize,
 }
 
-impl Poly {
+impl<const N: usize> Poly<N> {
     #[inline]
     fn from(vertices: &[[f64; 3]]) -> Self {
         let mut p = Poly {
-            v: [[0.0; 3]; 8],
+            v: [[0.0; 3]; N],
             n: vertices.len(),
         };
         p.v[..vertices.len()].copy_from_slice(vertices);
@@ -72,8 +81,8 @@ impl Poly {
 
     /// Sutherland–Hodgman against the closed half-space `sign · (x_axis − plane) ≤ 0`.
     #[inline]
-    fn clip_half(&self, axis: usize, plane: f64, sign: f64) -> Poly {
-        let mut out = Poly { v: [[0.0; 3]; 8], n: 0 };
+    fn clip_half(&self, axis: usize, plane: f64, sign: f64) -> Poly<N> {
+        let mut out = Poly { v: [[0.0; 3]; N], n: 0 };
         if self.n == 0 {
             return out;
         }
@@ -126,10 +135,10 @@ impl Poly {
 
     /// The part with `lo ≤ x_axis ≤ hi`.
     #[inline]
-    fn clip(&self, axis: usize, lo: f64, hi: f64) -> Poly {
+    fn clip(&self, axis: usize, lo: f64, hi: f64) -> Poly<N> {
         let (min, max) = self.extent(axis);
         if min > hi || max < lo {
-            return Poly { v: [[0.0; 3]; 8], n: 0 };
+            return Poly { v: [[0.0; 3]; N], n: 0 };
         }
         let mut p = *self;
         if min < lo {
@@ -143,10 +152,26 @@ impl Poly {
 }
 
 /// Visits the cells of `window` that `test` accepts, generating candidates by
-/// clipping the polygon `vertices` (2 or 3 vertices) slab by slab and row by
+/// clipping the convex polygon `vertices` (2 to 8 vertices) slab by slab and row by
 /// row. `full` is the polygon's whole bounding-box range, `window` the part of
 /// it to report.
 pub(crate) fn scan(
+    layout: &GridLayout,
+    full: &CellRange,
+    window: &CellRange,
+    vertices: &[[f64; 3]],
+    test: &impl CellTest,
+    visit: impl FnMut(Cell),
+) {
+    if vertices.len() <= 3 {
+        scan_with::<SMALL_CAPACITY>(layout, full, window, vertices, test, visit);
+    } else {
+        scan_with::<POLYGON_CAPACITY>(layout, full, window, vertices, test, visit);
+    }
+}
+
+/// [`scan`] with pieces of capacity `N`.
+fn scan_with<const N: usize>(
     layout: &GridLayout,
     full: &CellRange,
     window: &CellRange,
@@ -173,7 +198,7 @@ pub(crate) fn scan(
     }
     let eps = scale * MARGIN;
 
-    let poly = Poly::from(vertices);
+    let poly = Poly::<N>::from(vertices);
     let mut lo = [0.0; 3];
     let mut hi = [0.0; 3];
     let mut cell = [0i64; 3];

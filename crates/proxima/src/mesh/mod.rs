@@ -2,6 +2,9 @@
 
 mod extract;
 pub mod generate;
+mod polygons;
+
+pub use polygons::PolygonExtraction;
 
 use crate::aabb::Aabb;
 use crate::error::MeshError;

@@ -91,7 +91,7 @@ pub(crate) fn closest_on_sliver(a: Vec3A, b: Vec3A, c: Vec3A, p: Vec3A) -> Vec3A
     best.as_vec3a()
 }
 
-fn closest_on_segment_f64(a: DVec3, b: DVec3, p: DVec3) -> DVec3 {
+pub(crate) fn closest_on_segment_f64(a: DVec3, b: DVec3, p: DVec3) -> DVec3 {
     let ab = b - a;
     let len2 = ab.length_squared();
     if len2 <= 0.0 {

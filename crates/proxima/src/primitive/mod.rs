@@ -6,9 +6,12 @@
 //! [`Bounded::bounds`] can go into a tree; one that can also say its
 //! [`ClosestPoint::closest_point`] answers closest-point queries.
 
+mod closest_polygon;
 mod closest_triangle;
 mod point;
 mod point_aabb;
+pub mod polygon;
+mod polygon_aabb;
 mod ray_intersect;
 pub mod ray_triangle;
 pub mod sat;
@@ -18,6 +21,8 @@ mod triangle;
 mod triangle_aabb;
 
 pub use point::Point;
+pub use polygon::{ConvexPolygon, PolygonHit};
+pub use polygon_aabb::PolygonBoxTest;
 pub use ray_intersect::RayIntersect;
 pub use ray_triangle::{TriangleHit, WatertightRay};
 pub use segment::LineSegment;
