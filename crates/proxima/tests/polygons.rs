@@ -973,3 +973,72 @@ fn real_meshes_grid_cells_equal_brute_force() {
         }
     }
 }
+
+/// Ray queries of the trees over polygons (through `RayIntersect`) equal the
+/// brute-force first hit over the same polygons, on the planar meshes (whose
+/// answers also equal the fan triangulation's, above) and on the real quad
+/// meshes at the default and a loose tolerance; the hit point lies on the ray.
+#[test]
+fn tree_ray_queries_over_polygons_equal_brute_force() {
+    let mut cases: Vec<(String, PrimitiveSet<ConvexPolygon>)> = planar_meshes()
+        .into_iter()
+        .map(|(name, mesh)| (name.to_string(), mesh.polygons()))
+        .collect();
+    if let Some(dir) = data_dir() {
+        for file in ["spot_quadrangulated.obj", "beast.obj"] {
+            let path = dir.join(file);
+            if !path.exists() {
+                continue;
+            }
+            let mesh = proxima::io::load(&path).unwrap();
+            for tolerance in [DEFAULT_PLANARITY_TOLERANCE, 0.1] {
+                cases.push((format!("{file} at {tolerance}"), mesh.extract_polygons(tolerance).set));
+            }
+        }
+    }
+    for (name, set) in cases {
+        let bounds = set
+            .primitives
+            .iter()
+            .fold(Aabb::EMPTY, |b, p| b.merge(&p.bounds()));
+        let tree = AabbTree::build_set(set.clone(), &BuildConfig::default()).unwrap();
+        let wide = WideTree::from_tree(&tree);
+        let mut rng = Rng::new(29);
+        let mut hits = 0;
+        for i in 0..600 {
+            let origin = bounds.center() + (rng.in_box(&bounds) - bounds.center()) * 2.5;
+            let target = match i % 2 {
+                0 => set.primitives[rng.below(set.len())].vertices()[0],
+                _ => rng.in_box(&bounds),
+            };
+            let direction = target - origin;
+            let Some(ray) = WatertightRay::new(origin, direction) else {
+                continue;
+            };
+            let expected = first_hit_polygons(&set, &ray);
+            let got = tree.first_hit(origin, direction, 0.0, f32::INFINITY).unwrap();
+            assert_eq!(got.map(|h| (h.t, h.source)), expected, "{name}: ray {i}");
+            assert_eq!(
+                wide.first_hit(origin, direction, 0.0, f32::INFINITY).unwrap(),
+                got,
+                "{name}: ray {i} (wide)"
+            );
+            assert_eq!(
+                tree.any_hit(origin, direction, 0.0, f32::INFINITY).unwrap(),
+                expected.is_some(),
+                "{name}: ray {i} (any)"
+            );
+            if let Some(hit) = got {
+                hits += 1;
+                let on_ray = origin + direction * hit.t;
+                let scale = bounds.diagonal().max(origin.abs().max_element());
+                assert!(
+                    hit.point.distance(on_ray) <= 1e-4 * scale,
+                    "{name}: ray {i}: point {} is not on the ray at {on_ray}",
+                    hit.point
+                );
+            }
+        }
+        assert!(hits > 150, "{name}: only {hits} hits");
+    }
+}

@@ -229,7 +229,7 @@ impl ConvexPolygon {
         let mut best: Option<PolygonHit> = None;
         for (i, tri) in self.fan_triangles().enumerate() {
             let limit = best.map_or(t_max, |b| b.t);
-            if let Some(TriangleHit { t, u, v }) = ray.intersect(&tri, t_min, limit)
+            if let Some(TriangleHit { t, u, v, .. }) = ray.intersect(&tri, t_min, limit)
                 && best.is_none_or(|b| t < b.t)
             {
                 best = Some(PolygonHit {

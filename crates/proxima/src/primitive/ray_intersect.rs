@@ -1,6 +1,6 @@
 //! The ray test a primitive offers to the ray queries of the trees.
 
-use super::{Bounded, Triangle, TriangleHit, WatertightRay};
+use super::{Bounded, ConvexPolygon, Triangle, TriangleHit, WatertightRay};
 use crate::math::Vec3;
 
 /// A primitive that a ray can hit.
@@ -40,5 +40,29 @@ impl RayIntersect for Triangle {
     #[inline]
     fn hit_point(&self, hit: &TriangleHit) -> Vec3 {
         self.a + (self.b - self.a) * hit.u + (self.c - self.a) * hit.v
+    }
+}
+
+/// A polygon is hit where its first hit fan triangle is (the fan shares its
+/// edges with the neighbouring faces' fans, so the test stays watertight); the
+/// hit's `piece` says which fan triangle.
+impl RayIntersect for ConvexPolygon {
+    #[inline]
+    fn intersect_ray(&self, ray: &WatertightRay, t_min: f32, t_max: f32) -> Option<TriangleHit> {
+        ConvexPolygon::intersect_ray(self, ray, t_min, t_max).map(|hit| TriangleHit {
+            t: hit.t,
+            u: hit.u,
+            v: hit.v,
+            piece: hit.triangle,
+        })
+    }
+
+    /// `v0 + u (v[piece + 1] − v0) + v (v[piece + 2] − v0)`: the fan
+    /// triangle's formula, so a 3-vertex polygon gives the triangle's point.
+    #[inline]
+    fn hit_point(&self, hit: &TriangleHit) -> Vec3 {
+        let v = self.vertices();
+        let i = hit.piece as usize;
+        Triangle::new(v[0], v[i + 1], v[i + 2]).hit_point(hit)
     }
 }

@@ -52,6 +52,10 @@ pub struct TriangleHit {
     pub u: f32,
     /// Barycentric weight of vertex `c`.
     pub v: f32,
+    /// Which triangle of the primitive was hit: 0 for a triangle, the fan
+    /// triangle `(v0, v[piece + 1], v[piece + 2])` for a
+    /// [`ConvexPolygon`](crate::primitive::ConvexPolygon).
+    pub piece: u32,
 }
 
 impl WatertightRay {
@@ -136,6 +140,7 @@ impl WatertightRay {
             t,
             u: v / det,
             v: w / det,
+            piece: 0,
         })
     }
 }

@@ -112,6 +112,7 @@ fn packet_hits(packet: &TrianglePacket, ray: &WatertightRay, t_min: f32, t_max: 
         t: t[lane],
         u: bu[lane],
         v: bv[lane],
+        piece: 0,
     });
     (hit_lanes, hits, exact_zero)
 }
