@@ -7,6 +7,8 @@
 //! - primitives taken from a [`Mesh`]: [`Point`] (vertices), [`LineSegment`]
 //!   (edges) and [`Triangle`] (faces), described by small traits
 //!   ([`Bounded`], [`ClosestPoint`]);
+//! - view [`Frustum`] queries ([`AabbTree::frustum`]), exact for every
+//!   primitive ([`FrustumOverlap`]);
 //! - mesh loading from OBJ, PLY, STL and OFF files, optionally gzip-compressed
 //!   ([`io::load`]).
 //!
@@ -28,6 +30,7 @@
 pub mod aabb;
 pub mod bvh;
 pub mod error;
+pub mod frustum;
 pub mod grid;
 pub mod io;
 pub mod linear;
@@ -39,11 +42,13 @@ pub mod traversal;
 
 pub use aabb::Aabb;
 pub use bvh::{AabbTree, BuildConfig, ClosestHit, TreeStats};
+pub use error::FrustumError;
 pub use error::GridError;
 pub use error::{BuildError, LoadError, LoadErrorKind, MeshError};
+pub use frustum::{Frustum, FrustumOverlap};
 pub use grid::{GridConfig, HashGrid, InsertMethod};
 pub use linear::LinearSearch;
-pub use math::{Vec3, Vec3A};
+pub use math::{Mat4, Vec3, Vec3A};
 pub use mesh::Mesh;
 pub use primitive::{Bounded, BoxOverlap, ClosestPoint, LineSegment, Point, PrimitiveSet, Triangle};
 pub use traversal::{GridTraversal, TraversalConfig, TraversalStep};

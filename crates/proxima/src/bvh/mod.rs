@@ -1,13 +1,15 @@
 //! The AABB tree (bounding volume hierarchy of axis-aligned boxes).
 //!
 //! One file per operation: [`build`](AabbTree::build) in `build.rs`, the
-//! closest-primitive search in `closest.rs`, k-nearest in `knn.rs`, batches
+//! closest-primitive search in `closest.rs`, k-nearest in `knn.rs`, view
+//! frustum queries in `frustum.rs`, batches
 //! over many points in `batch.rs`, statistics and invariants in `validate.rs`.
 
 mod batch;
 mod build;
 mod closest;
 mod config;
+mod frustum;
 mod knn;
 mod node;
 mod traverse;
