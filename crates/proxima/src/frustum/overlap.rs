@@ -38,8 +38,8 @@ impl Frustum {
     ///
     /// The six plane tests come first and decide most primitives with the
     /// same evaluation as [`Frustum::classify_box`]: all vertices outside one
-    /// plane is a miss, all vertices inside every plane a hit. Only primitives
-    /// straddling a plane take the full separating axis test between the two
+    /// plane is a miss, a vertex inside every plane a hit. Only primitives
+    /// with every vertex outside some plane take the full separating axis test between the two
     /// convex polytopes: the plane normals (whose inner side the plane tests
     /// already settled exactly), the primitive's normal, and the cross
     /// products of the frustum's twelve edges with the primitive's edges. A
@@ -48,18 +48,25 @@ impl Frustum {
     /// their edges span the segment they collapse to.
     #[inline]
     pub(crate) fn overlaps_hull<const N: usize>(&self, vertices: &[[f64; 3]; N]) -> bool {
-        let mut all_inside = true;
+        // Per vertex: is it outside some plane?
+        let mut outside_somewhere = [false; N];
         for plane in self.raw_planes() {
             let mut inside = 0;
-            for &v in vertices {
-                inside += (side(plane, v) >= 0.0) as usize;
+            for (k, &v) in vertices.iter().enumerate() {
+                if side(plane, v) >= 0.0 {
+                    inside += 1;
+                } else {
+                    outside_somewhere[k] = true;
+                }
             }
             if inside == 0 {
                 return false;
             }
-            all_inside &= inside == N;
         }
-        if all_inside {
+        // A vertex inside every plane is a common point (this includes every
+        // primitive inside the frustum); it spares most straddling primitives
+        // the separating axis test.
+        if outside_somewhere.iter().any(|&outside| !outside) {
             return true;
         }
         if N == 1 {
