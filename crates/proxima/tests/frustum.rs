@@ -245,6 +245,64 @@ proptest! {
     }
 }
 
+/// Any matrix: an error or a frustum whose corners lie on its planes, and
+/// whose exact tests agree with clipping. Cameras with every entry perturbed
+/// are general projective maps: near and far planes are no longer parallel,
+/// so all twelve edge directions matter.
+#[test]
+fn arbitrary_matrices_are_errors_or_consistent_frustums() {
+    let mut rng = Rng::new(99);
+    let mut valid = 0;
+    for case in 0..600 {
+        let m = if case % 3 == 0 {
+            // Entirely random: mostly errors (some corner behind the eye); must not panic.
+            Mat4::from_cols_array(&std::array::from_fn(|_| rng.range(-2.0, 2.0)))
+        } else {
+            let (m, _) = random_camera(&mut rng);
+            let scale = m.to_cols_array().iter().fold(0f32, |a, x| a.max(x.abs()));
+            let noise = Mat4::from_cols_array(&std::array::from_fn(|_| rng.range(-0.15, 0.15) * scale));
+            m + noise
+        };
+        let Ok(f) = Frustum::from_view_projection(m) else {
+            continue;
+        };
+        valid += 1;
+        for c in f.corners() {
+            let scale = c.iter().map(|x| x.abs()).fold(1.0, f64::max);
+            for p in f.planes() {
+                let distance = p[0] * c[0] + p[1] * c[1] + p[2] * c[2] + p[3];
+                assert!(
+                    distance >= -1e-9 * scale * (1.0 + p[3].abs()),
+                    "corner {c:?} outside plane {p:?}"
+                );
+            }
+        }
+        let lo = f
+            .corners()
+            .iter()
+            .fold([f64::INFINITY; 3], |a, c| std::array::from_fn(|k| a[k].min(c[k])));
+        let hi = f
+            .corners()
+            .iter()
+            .fold([f64::NEG_INFINITY; 3], |a, c| std::array::from_fn(|k| a[k].max(c[k])));
+        let mut around = || {
+            Vec3::from(std::array::from_fn::<f32, 3, _>(|k| {
+                let (a, b) = (lo[k] as f32, hi[k] as f32);
+                let margin = 0.3 * (b - a);
+                rng.range(a - margin, b + margin)
+            }))
+        };
+        for _ in 0..100 {
+            let t = Triangle::new(around(), around(), around());
+            assert_eq!(t.overlaps_frustum(&f), triangle_oracle(&m, &t), "{t:?} in {m:?}");
+            let s = LineSegment::new(t.a, t.b);
+            assert_eq!(s.overlaps_frustum(&f), segment_oracle(&m, s.a, s.b), "{s:?}");
+            assert_eq!(f.contains_point(t.c), point_oracle(&m, t.c));
+        }
+    }
+    assert!(valid > 200, "only {valid} valid frustums");
+}
+
 // ---------------------------------------------------------------- touching, deliberately
 
 #[test]
