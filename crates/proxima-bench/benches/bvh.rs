@@ -1,4 +1,5 @@
 //! Criterion benches of the AABB tree: build, closest and k-nearest queries,
+//! view frustum queries (a camera seeing about 10% of the faces),
 //! against brute force and parry3d on the same meshes and queries.
 //!
 //! Meshes: the seeded bumpy icospheres (always available) and the dragon from
@@ -6,6 +7,7 @@
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use proxima::bvh::BatchOptions;
+use proxima::frustum::Frustum;
 use proxima::{AabbTree, BuildConfig, LinearSearch, Mesh, Vec3};
 use proxima_bench::{load_named, parry_distance, parry_trimesh};
 use std::hint::black_box;
@@ -105,5 +107,63 @@ fn versus_linear(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, build, closest, versus_linear);
+/// A camera in front of the mesh whose field of view is narrowed (bisection)
+/// until it sees about `fraction` of the faces.
+fn camera_seeing(mesh: &Mesh, tree: &AabbTree<proxima::Triangle>, fraction: f64) -> Frustum {
+    let b = mesh.bounds();
+    let (center, diagonal) = (b.center(), b.diagonal());
+    let eye = center + Vec3::new(0.1, 0.05, 2.0) * diagonal;
+    let frustum = |fov: f32| Frustum::look_at(eye, center, Vec3::Y, fov, 1.0, 0.01 * diagonal, 4.0 * diagonal).unwrap();
+    let (mut lo, mut hi) = (0.1f32, 90.0f32);
+    for _ in 0..30 {
+        let mid = 0.5 * (lo + hi);
+        if (tree.frustum(&frustum(mid)).len() as f64) < fraction * tree.len() as f64 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    frustum(hi)
+}
+
+fn frustum_queries(c: &mut Criterion) {
+    let mut group = c.benchmark_group("frustum");
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(2));
+    let mut meshes = meshes();
+    if let Ok(nefertiti) = load_named("nefertiti.obj") {
+        meshes.push(("nefertiti", nefertiti));
+    }
+    for (name, mesh) in meshes {
+        let tree = AabbTree::build_set(mesh.triangles(), &BuildConfig::default()).unwrap();
+        let linear = LinearSearch::new(mesh.triangles());
+        let camera = camera_seeing(&mesh, &tree, 0.1);
+        let (found, stats) = tree.frustum_with_stats(&camera);
+        println!(
+            "frustum/{name}: {} of {} faces seen, {} nodes visited, {} faces tested",
+            found.len(),
+            tree.len(),
+            stats.nodes_visited,
+            stats.primitives_tested
+        );
+        let mut out = Vec::new();
+        group.bench_function(BenchmarkId::new("tree", name), |b| {
+            b.iter(|| {
+                tree.frustum_into(black_box(&camera), &mut out);
+                out.len()
+            })
+        });
+        group.bench_function(BenchmarkId::new("linear", name), |b| {
+            b.iter(|| {
+                linear.frustum_into(black_box(&camera), &mut out);
+                out.len()
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, build, closest, versus_linear, frustum_queries);
 criterion_main!(benches);

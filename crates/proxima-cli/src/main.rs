@@ -26,6 +26,8 @@ enum Command {
     Info(commands::info::Args),
     /// Closest vertices, edges or faces to query points, as CSV.
     Closest(commands::closest::Args),
+    /// The vertices, edges or faces a camera sees (overlapping its view frustum).
+    Frustum(commands::frustum::Args),
     /// Linear search against the AABB tree on the same queries.
     Bench(commands::bench::Args),
     /// Hash grid statistics per primitive type (occupied cells, primitives per cell, build time).
@@ -48,6 +50,7 @@ fn main() -> ExitCode {
         Command::Closest(args) => commands::closest::run(args),
         Command::Bench(args) => commands::bench::run(args),
         Command::View(args) => commands::view::run(args),
+        Command::Frustum(args) => commands::frustum::run(args),
         Command::Grid(args) => commands::grid::run(args),
         Command::Voxelize(args) => commands::voxelize::run(args),
         Command::Traverse(args) => commands::traverse::run(args),

@@ -269,3 +269,54 @@ pub enum PolygonError {
         index: usize,
     },
 }
+
+/// A view-projection matrix or camera that bounds no usable view volume.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum FrustumError {
+    /// A matrix entry or camera parameter is NaN or infinite.
+    #[error("the view-projection matrix has a non-finite entry")]
+    NonFinite,
+    /// The matrix cannot be inverted (its rows are linearly dependent).
+    #[error("the view-projection matrix is singular")]
+    Singular,
+    /// A Gribb–Hartmann plane has a zero normal: it bounds nothing.
+    #[error("the {plane} plane of the view-projection matrix has a zero normal")]
+    ZeroNormal {
+        /// Which plane (`left`, `right`, `bottom`, `top`, `near` or `far`).
+        plane: &'static str,
+    },
+    /// Some corner of the clip cube maps to infinity or behind the eye, so the
+    /// set the matrix keeps is unbounded or empty.
+    #[error("the view-projection matrix bounds no finite volume (a clip-cube corner maps to w <= 0)")]
+    NoVolume,
+    /// A vertical field of view outside (0, 180) degrees.
+    #[error("field of view must be between 0 and 180 degrees (exclusive), got {degrees}")]
+    FieldOfView {
+        /// The requested angle.
+        degrees: f32,
+    },
+    /// An aspect ratio that is not finite and positive.
+    #[error("aspect ratio must be finite and positive, got {aspect}")]
+    Aspect {
+        /// The requested ratio.
+        aspect: f32,
+    },
+    /// A near distance that is not finite and positive.
+    #[error("near distance must be finite and positive, got {near}")]
+    Near {
+        /// The requested distance.
+        near: f32,
+    },
+    /// A far distance that is not finite or not beyond the near distance.
+    #[error("far distance must be finite and greater than near ({near}), got {far}")]
+    Far {
+        /// The near distance.
+        near: f32,
+        /// The requested far distance.
+        far: f32,
+    },
+    /// A camera with a non-finite vector, the eye on its target, or `up`
+    /// parallel to the view direction.
+    #[error("look-at camera needs finite vectors, eye != target, and up not parallel to the view direction")]
+    View,
+}

@@ -8,6 +8,8 @@
 //!   (edges), [`Triangle`] (faces) and [`ConvexPolygon`] (faces as they
 //!   are, when convex and planar), described by small traits
 //!   ([`Bounded`], [`ClosestPoint`]);
+//! - view [`Frustum`] queries ([`AabbTree::frustum`]), exact for every
+//!   primitive ([`FrustumOverlap`]);
 //! - mesh loading from OBJ, PLY, STL and OFF files, optionally gzip-compressed
 //!   ([`io::load`]).
 //!
@@ -29,6 +31,7 @@
 pub mod aabb;
 pub mod bvh;
 pub mod error;
+pub mod frustum;
 pub mod grid;
 pub mod io;
 pub mod linear;
@@ -40,12 +43,14 @@ pub mod traversal;
 
 pub use aabb::Aabb;
 pub use bvh::{AabbTree, BuildConfig, ClosestHit, TreeStats};
+pub use error::FrustumError;
 pub use error::GridError;
 pub use error::RayError;
 pub use error::{BuildError, LoadError, LoadErrorKind, MeshError, PolygonError};
+pub use frustum::{Frustum, FrustumOverlap};
 pub use grid::{GridConfig, HashGrid, InsertMethod};
 pub use linear::LinearSearch;
-pub use math::{Vec3, Vec3A};
+pub use math::{Mat4, Vec3, Vec3A};
 pub use mesh::Mesh;
 pub use primitive::{
     Bounded, BoxOverlap, ClosestPoint, ConvexPolygon, LineSegment, Point, PrimitiveSet, RayIntersect, Triangle,

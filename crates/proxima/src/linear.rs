@@ -2,6 +2,7 @@
 //! the trees, and the baseline they are measured against.
 
 use crate::bvh::ClosestHit;
+use crate::frustum::{Frustum, FrustumOverlap};
 use crate::math::{Vec3, Vec3A};
 use crate::primitive::{ClosestPoint, PrimitiveSet};
 
@@ -73,5 +74,28 @@ impl<T: ClosestPoint> LinearSearch<T> {
                 distance: d2.sqrt(),
             })
             .collect()
+    }
+}
+
+impl<T: FrustumOverlap> LinearSearch<T> {
+    /// The indices of the primitives overlapping `frustum` (touching counts),
+    /// ascending: every primitive tested exactly.
+    pub fn frustum(&self, frustum: &Frustum) -> Vec<u32> {
+        let mut out = Vec::new();
+        self.frustum_into(frustum, &mut out);
+        out
+    }
+
+    /// [`frustum`](Self::frustum) into a caller-owned vector (cleared first).
+    pub fn frustum_into(&self, frustum: &Frustum, out: &mut Vec<u32>) {
+        out.clear();
+        out.extend(
+            self.set
+                .primitives
+                .iter()
+                .enumerate()
+                .filter(|(_, p)| p.overlaps_frustum(frustum))
+                .map(|(i, _)| i as u32),
+        );
     }
 }

@@ -5,7 +5,7 @@
 //! (12 bytes, tightly packed); per-query temporaries use [`Vec3A`] (16 bytes,
 //! SIMD-friendly).
 
-pub use glam::{Mat4, Vec3, Vec3A, Vec4};
+pub use glam::{DMat4, DVec4, Mat4, Vec3, Vec3A, Vec4};
 
 /// The scalar type of every coordinate.
 pub type Real = f32;
@@ -14,4 +14,11 @@ pub type Real = f32;
 #[inline]
 pub fn is_finite3(v: Vec3) -> bool {
     v.is_finite()
+}
+
+/// OpenGL camera matrices (right-handed, clip space `-w..w`), as the frustum
+/// queries read them.
+pub mod camera {
+    pub use glam::camera::rh::proj::opengl::{frustum, orthographic, perspective};
+    pub use glam::camera::rh::view::look_at_mat4;
 }

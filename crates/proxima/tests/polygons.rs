@@ -997,12 +997,9 @@ fn tree_ray_queries_over_polygons_equal_brute_force() {
         }
     }
     for (name, set) in cases {
-        let bounds = set
-            .primitives
-            .iter()
-            .fold(Aabb::EMPTY, |b, p| b.merge(&p.bounds()));
+        let bounds = set.primitives.iter().fold(Aabb::EMPTY, |b, p| b.merge(&p.bounds()));
         let tree = AabbTree::build_set(set.clone(), &BuildConfig::default()).unwrap();
-        let wide = WideTree::from_tree(&tree);
+        let wide = WideTree::from_tree(tree.clone());
         let mut rng = Rng::new(29);
         let mut hits = 0;
         for i in 0..600 {
@@ -1040,5 +1037,45 @@ fn tree_ray_queries_over_polygons_equal_brute_force() {
             }
         }
         assert!(hits > 150, "{name}: only {hits} hits");
+    }
+}
+
+/// Frustum queries over polygons: the tree equals brute force over the same
+/// polygons, and on the exactly planar meshes the faces seen equal those the
+/// fan triangulation sees (a planar convex polygon is the union of its fan).
+#[test]
+fn frustum_queries_over_polygons_equal_brute_force_and_the_fan() {
+    use proxima::{Frustum, FrustumOverlap};
+    let faces_seen = |sources: &[u32], indices: &[u32]| -> BTreeSet<u32> {
+        indices.iter().map(|&i| sources[i as usize]).collect()
+    };
+    for (name, mesh) in planar_meshes() {
+        let polygons = mesh.polygons();
+        let triangles = mesh.triangles();
+        let polygon_tree = AabbTree::build_set(polygons.clone(), &BuildConfig::default()).unwrap();
+        let triangle_tree = AabbTree::build_set(triangles.clone(), &BuildConfig::default()).unwrap();
+        let b = mesh.bounds();
+        let mut rng = Rng::new(41);
+        let mut nonempty = 0;
+        for i in 0..60 {
+            let eye = b.center() + (rng.in_box(&b) - b.center()) * 3.0;
+            let target = rng.in_box(&b);
+            let fov = rng.range(5.0, 90.0);
+            let Ok(frustum) = Frustum::look_at(eye, target, Vec3::Y, fov, rng.range(0.5, 2.0), 0.01, 100.0) else {
+                continue;
+            };
+            let seen = polygon_tree.frustum(&frustum);
+            let brute: Vec<u32> = (0..polygons.len() as u32)
+                .filter(|&i| polygons.primitives[i as usize].overlaps_frustum(&frustum))
+                .collect();
+            assert_eq!(seen, brute, "{name}: camera {i}");
+            assert_eq!(
+                faces_seen(&polygons.sources, &seen),
+                faces_seen(&triangles.sources, &triangle_tree.frustum(&frustum)),
+                "{name}: camera {i}: faces seen differ from the fan triangulation's"
+            );
+            nonempty += usize::from(!seen.is_empty());
+        }
+        assert!(nonempty > 10, "{name}: only {nonempty} cameras saw something");
     }
 }

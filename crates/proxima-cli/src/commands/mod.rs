@@ -3,6 +3,7 @@
 pub mod bench;
 pub mod closest;
 pub mod demo;
+pub mod frustum;
 pub mod grid;
 pub mod info;
 pub mod raycast;

@@ -1,14 +1,16 @@
 //! The AABB tree (bounding volume hierarchy of axis-aligned boxes).
 //!
 //! One file per operation: [`build`](AabbTree::build) in `build.rs`, the
-//! closest-primitive search in `closest.rs`, k-nearest in `knn.rs`, batches
-//! over many points in `batch.rs`, first hit and any hit along a ray in
-//! `ray.rs`, statistics and invariants in `validate.rs`.
+//! closest-primitive search in `closest.rs`, k-nearest in `knn.rs`, view
+//! frustum queries in `frustum.rs`, batches over many points in `batch.rs`,
+//! first hit and any hit along a ray in `ray.rs`, statistics and invariants in
+//! `validate.rs`.
 
 mod batch;
 mod build;
 mod closest;
 mod config;
+mod frustum;
 mod knn;
 mod node;
 mod ray;
