@@ -4,6 +4,7 @@
 //!
 //! - [`AabbTree`]: a bounding volume hierarchy of axis-aligned boxes with
 //!   closest-primitive and k-nearest queries;
+//! - [`SphereTree`]: the same hierarchy and queries with bounding spheres;
 //! - primitives taken from a [`Mesh`]: [`Point`] (vertices), [`LineSegment`]
 //!   (edges) and [`Triangle`] (faces), described by small traits
 //!   ([`Bounded`], [`ClosestPoint`]);
@@ -35,6 +36,8 @@ pub mod math;
 pub mod mesh;
 pub mod primitive;
 pub mod sample;
+pub mod sphere;
+pub mod sphere_tree;
 pub mod traversal;
 
 pub use aabb::Aabb;
@@ -45,5 +48,7 @@ pub use grid::{GridConfig, HashGrid, InsertMethod};
 pub use linear::LinearSearch;
 pub use math::{Vec3, Vec3A};
 pub use mesh::Mesh;
-pub use primitive::{Bounded, BoxOverlap, ClosestPoint, LineSegment, Point, PrimitiveSet, Triangle};
+pub use sphere::Sphere;
+pub use sphere_tree::SphereTree;
+pub use primitive::{BoundingPoints, Bounded, BoxOverlap, ClosestPoint, LineSegment, Point, PrimitiveSet, Triangle};
 pub use traversal::{GridTraversal, TraversalConfig, TraversalStep};

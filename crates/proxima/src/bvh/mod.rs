@@ -22,6 +22,10 @@ pub use node::Node;
 use node::NodePair;
 pub use traverse::QueryStats;
 pub use validate::TreeStats;
+// Shared with the sphere tree, which answers the same queries the same way.
+pub(crate) use closest::Best;
+pub(crate) use knn::k_nearest_with;
+pub(crate) use traverse::{Counter, PairedNode, nearest_first};
 
 use crate::math::Vec3;
 
@@ -84,12 +88,6 @@ impl<T> AabbTree<T> {
             .filter(|&(i, _)| i != 1)
     }
 
-    /// The two children of an inner node, which share a cache line.
-    #[inline(always)]
-    fn children_of(&self, node: &Node) -> &[Node; 2] {
-        &self.nodes[(node.children()[0] >> 1) as usize].0
-    }
-
     /// The primitives in leaf order.
     pub fn primitives(&self) -> &[T] {
         &self.primitives
@@ -120,6 +118,12 @@ impl<T> AabbTree<T> {
     #[inline]
     pub fn source(&self, slot: usize) -> u32 {
         self.sources[slot]
+    }
+
+    /// The primitives in leaf order, their input indices and their sources,
+    /// for structures converted from this tree.
+    pub(crate) fn into_leaf_order(self) -> (Vec<T>, Vec<u32>, Vec<u32>) {
+        (self.primitives, self.indices, self.sources)
     }
 
     #[inline]
