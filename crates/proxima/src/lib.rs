@@ -48,7 +48,7 @@ pub use grid::{GridConfig, HashGrid, InsertMethod};
 pub use linear::LinearSearch;
 pub use math::{Vec3, Vec3A};
 pub use mesh::Mesh;
+pub use primitive::{Bounded, BoundingPoints, BoxOverlap, ClosestPoint, LineSegment, Point, PrimitiveSet, Triangle};
 pub use sphere::Sphere;
 pub use sphere_tree::SphereTree;
-pub use primitive::{BoundingPoints, Bounded, BoxOverlap, ClosestPoint, LineSegment, Point, PrimitiveSet, Triangle};
 pub use traversal::{GridTraversal, TraversalConfig, TraversalStep};

@@ -76,7 +76,11 @@ impl Sphere {
         let (r1, r2) = (self.radius as f64, other.radius as f64);
         let d = c1.distance(c2);
         let radius = 0.5 * (d + r1 + r2);
-        let center = if d > 0.0 { c1 + (c2 - c1) * ((radius - r1) / d) } else { c1 };
+        let center = if d > 0.0 {
+            c1 + (c2 - c1) * ((radius - r1) / d)
+        } else {
+            c1
+        };
         let center = center.as_vec3();
         // The rounded center moved a little: measure again from it.
         let c = wide(center);
@@ -111,7 +115,10 @@ impl Sphere {
         for pass in 0..REFINE_PASSES {
             radius *= SHRINK;
             if pass % 2 == 0 {
-                points.iter().rev().for_each(|&p| grow(&mut center, &mut radius, wide(p)));
+                points
+                    .iter()
+                    .rev()
+                    .for_each(|&p| grow(&mut center, &mut radius, wide(p)));
             } else {
                 points.iter().for_each(|&p| grow(&mut center, &mut radius, wide(p)));
             }
@@ -165,8 +172,10 @@ fn ritter(points: &[Vec3]) -> Option<(V, f64)> {
 /// Ritter's growth step: the smallest sphere holding the current one and `p`.
 #[inline]
 fn grow(center: &mut V, radius: &mut f64, p: V) {
-    let d = p.distance(*center);
-    if d > *radius {
+    // Most points are inside: compare squares, take the root only to grow.
+    let d2 = p.distance_squared(*center);
+    if d2 > *radius * *radius {
+        let d = d2.sqrt();
         let new_radius = 0.5 * (*radius + d);
         *center += (p - *center) * ((new_radius - *radius) / d);
         *radius = new_radius;

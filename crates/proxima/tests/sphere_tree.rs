@@ -52,7 +52,11 @@ fn check<T: ClosestPoint + BoundingPoints + Copy + Send + Sync + std::fmt::Debug
         assert!(stats.primitives_tested >= expected.is_some() as u64 && stats.nodes_visited >= 1);
         if let Some(e) = expected {
             for max in [e.distance * 2.0, e.distance * 1.000001, e.distance * 0.5, 0.0] {
-                assert_eq!(tree.closest_within(p, max), boxes.closest_within(p, max), "within {max} at {p}");
+                assert_eq!(
+                    tree.closest_within(p, max),
+                    boxes.closest_within(p, max),
+                    "within {max} at {p}"
+                );
             }
         }
         for &k in ks {
@@ -163,7 +167,9 @@ fn bounding_spheres_hold_their_points() {
             let other = Sphere::new(points[0] * 2.0 + Vec3::ONE * scale, 0.3 * scale);
             let merged = tight.merge(&other);
             assert!(merged.contains(&tight) && merged.contains(&other));
-            assert!(merged.radius <= tight.radius.max(other.radius) + tight.center.distance(other.center) + 1e-6 * scale);
+            assert!(
+                merged.radius <= tight.radius.max(other.radius) + tight.center.distance(other.center) + 1e-6 * scale
+            );
         }
     }
 }
@@ -173,7 +179,11 @@ fn real_meshes_match_brute_force() {
     for path in shared_meshes() {
         let mesh = proxima::io::load(&path).unwrap();
         let n = (2_000_000 / mesh.triangle_count().max(1)).clamp(4, 100);
-        println!("{}: {} triangles, {n} queries per kind", path.display(), mesh.triangle_count());
+        println!(
+            "{}: {} triangles, {n} queries per kind",
+            path.display(),
+            mesh.triangle_count()
+        );
         check_mesh(&mesh, n, &BuildConfig::default(), &[4]);
     }
 }
@@ -199,7 +209,9 @@ fn soup(mode: u8, n: usize, scale: f32, offset: f32, seed: u64) -> Vec<Triangle>
         _ => vec![first],
     };
     let f = |p: Vec3| p * scale + Vec3::splat(offset);
-    tris.into_iter().map(|t| Triangle::new(f(t.a), f(t.b), f(t.c))).collect()
+    tris.into_iter()
+        .map(|t| Triangle::new(f(t.a), f(t.b), f(t.c)))
+        .collect()
 }
 
 proptest! {

@@ -24,30 +24,53 @@ pub struct TreeStats {
     pub memory_bytes: usize,
 }
 
+impl TreeStats {
+    /// The statistics of a tree with these leaf sizes (shared by the trees
+    /// with the same layout).
+    pub(crate) fn of(
+        leaf_sizes: impl Iterator<Item = usize>,
+        primitives: usize,
+        nodes: usize,
+        depth: u32,
+        memory_bytes: usize,
+    ) -> Self {
+        let (mut leaves, mut min_leaf_size, mut max_leaf_size) = (0, usize::MAX, 0);
+        for size in leaf_sizes {
+            leaves += 1;
+            min_leaf_size = min_leaf_size.min(size);
+            max_leaf_size = max_leaf_size.max(size);
+        }
+        TreeStats {
+            primitives,
+            nodes,
+            leaves,
+            depth,
+            min_leaf_size: if leaves == 0 { 0 } else { min_leaf_size },
+            max_leaf_size,
+            mean_leaf_size: if leaves == 0 {
+                0.0
+            } else {
+                primitives as f64 / leaves as f64
+            },
+            memory_bytes,
+        }
+    }
+}
+
 impl<T: Bounded> AabbTree<T> {
     /// Counts nodes, leaves and leaf sizes.
     pub fn stats(&self) -> TreeStats {
-        let leaves: Vec<usize> = self
-            .nodes()
-            .filter(|(_, n)| n.is_leaf())
-            .map(|(_, n)| n.primitive_range().len())
-            .collect();
-        TreeStats {
-            primitives: self.len(),
-            nodes: self.node_count(),
-            leaves: leaves.len(),
-            depth: self.depth,
-            min_leaf_size: leaves.iter().copied().min().unwrap_or(0),
-            max_leaf_size: leaves.iter().copied().max().unwrap_or(0),
-            mean_leaf_size: if leaves.is_empty() {
-                0.0
-            } else {
-                self.len() as f64 / leaves.len() as f64
-            },
-            memory_bytes: std::mem::size_of_val(&self.nodes[..])
+        TreeStats::of(
+            self.nodes()
+                .filter(|(_, n)| n.is_leaf())
+                .map(|(_, n)| n.primitive_range().len()),
+            self.len(),
+            self.node_count(),
+            self.depth,
+            std::mem::size_of_val(&self.nodes[..])
                 + std::mem::size_of_val(&self.primitives[..])
                 + 4 * (self.indices.len() + self.sources.len()),
-        }
+        )
     }
 
     /// Checks the tree's invariants: every node reachable once; every node's

@@ -1,6 +1,6 @@
 //! A single point (a mesh vertex).
 
-use super::{BoundingPoints, Bounded, ClosestPoint};
+use super::{Bounded, BoundingPoints, ClosestPoint};
 use crate::aabb::Aabb;
 use crate::math::{Vec3, Vec3A};
 

@@ -1,7 +1,7 @@
 //! Triangles (mesh faces, or pieces of fan-triangulated polygons).
 
 use super::closest_triangle::closest_on_triangle;
-use super::{BoundingPoints, Bounded, ClosestPoint};
+use super::{Bounded, BoundingPoints, ClosestPoint};
 use crate::aabb::Aabb;
 use crate::math::{Vec3, Vec3A};
 

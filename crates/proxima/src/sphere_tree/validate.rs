@@ -13,27 +13,17 @@ const CHECK_ULPS: f32 = 2.0;
 impl<T: BoundingPoints> SphereTree<T> {
     /// Counts nodes, leaves and leaf sizes.
     pub fn stats(&self) -> TreeStats {
-        let leaves: Vec<usize> = self
-            .nodes()
-            .filter(|(_, n)| n.is_leaf())
-            .map(|(_, n)| n.primitive_range().len())
-            .collect();
-        TreeStats {
-            primitives: self.len(),
-            nodes: self.node_count(),
-            leaves: leaves.len(),
-            depth: self.depth,
-            min_leaf_size: leaves.iter().copied().min().unwrap_or(0),
-            max_leaf_size: leaves.iter().copied().max().unwrap_or(0),
-            mean_leaf_size: if leaves.is_empty() {
-                0.0
-            } else {
-                self.len() as f64 / leaves.len() as f64
-            },
-            memory_bytes: std::mem::size_of_val(&self.nodes[..])
+        TreeStats::of(
+            self.nodes()
+                .filter(|(_, n)| n.is_leaf())
+                .map(|(_, n)| n.primitive_range().len()),
+            self.len(),
+            self.node_count(),
+            self.depth,
+            std::mem::size_of_val(&self.nodes[..])
                 + std::mem::size_of_val(&self.primitives[..])
                 + 4 * (self.indices.len() + self.sources.len()),
-        }
+        )
     }
 
     /// Checks the tree's invariants: every node reachable once; every vertex
