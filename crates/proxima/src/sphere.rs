@@ -110,7 +110,8 @@ impl Sphere {
     /// order), keeping the smallest (Ericson, *Real-Time Collision Detection*,
     /// 4.3.4, made deterministic). Never larger than Ritter's. `None` for no points.
     pub fn from_points_tight(points: &[Vec3]) -> Option<Sphere> {
-        let (mut best_center, mut best_radius) = ritter(points)?;
+        let (ritter_center, ritter_radius) = ritter(points)?;
+        let (mut best_center, mut best_radius) = (ritter_center, ritter_radius);
         let (mut center, mut radius) = (best_center, best_radius);
         for pass in 0..REFINE_PASSES {
             radius *= SHRINK;
@@ -126,7 +127,10 @@ impl Sphere {
                 (best_center, best_radius) = (center, radius);
             }
         }
-        Some(Self::finish(best_center, best_radius, points))
+        let refined = Self::finish(best_center, best_radius, points);
+        // Rounding the center can cost the refined sphere its small lead.
+        let plain = Self::finish(ritter_center, ritter_radius, points);
+        Some(if refined.radius <= plain.radius { refined } else { plain })
     }
 
     /// Rounds the center to `f32` and measures the radius from it exactly.

@@ -217,6 +217,37 @@ fn soup(mode: u8, n: usize, scale: f32, offset: f32, seed: u64) -> Vec<Triangle>
 proptest! {
     #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
 
+    /// Bounding spheres hold every point (checked in f64), at any scale and
+    /// offset; the tight one is never larger than Ritter's; merges hold both.
+    #[test]
+    fn spheres_hold_their_points(
+        raw in prop::collection::vec((-1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0), 1..60),
+        scale in prop::sample::select(vec![1e-30f32, 1e-6, 1.0, 1e4, 1e20]),
+        offset in prop::sample::select(vec![0.0f32, 1.0, -1e4, 1e7]),
+        flat in any::<bool>(),
+    ) {
+        let points: Vec<Vec3> = raw
+            .iter()
+            .map(|&(x, y, z)| Vec3::new(x, y, if flat { 0.0 } else { z }) * scale + Vec3::splat(offset))
+            .collect();
+        let ritter = Sphere::from_points(&points).unwrap();
+        let tight = Sphere::from_points_tight(&points).unwrap();
+        prop_assert!(tight.radius <= ritter.radius);
+        for s in [ritter, tight] {
+            for &p in &points {
+                prop_assert!(s.contains_point(p), "{:?} outside {:?}", p, s);
+            }
+        }
+        let (half, rest) = points.split_at(points.len() / 2);
+        if let (Some(a), Some(b)) = (Sphere::from_points_tight(half), Sphere::from_points_tight(rest)) {
+            let m = a.merge(&b);
+            prop_assert!(m.contains(&a) && m.contains(&b), "{:?} {:?} {:?}", a, b, m);
+            for &p in &points {
+                prop_assert!(m.contains_point(p));
+            }
+        }
+    }
+
     #[test]
     fn random_and_degenerate_sets_match_brute_force(
         mode in 0u8..4,

@@ -26,6 +26,7 @@ pub use validate::TreeStats;
 pub(crate) use closest::Best;
 pub(crate) use knn::k_nearest_with;
 pub(crate) use traverse::{Counter, PairedNode, nearest_first};
+pub(crate) use validate::check_structure;
 
 use crate::math::Vec3;
 
