@@ -8,7 +8,7 @@
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use proxima::bvh::BatchOptions;
 use proxima::frustum::Frustum;
-use proxima::{AabbTree, BuildConfig, LinearSearch, Mesh, Vec3};
+use proxima::{AabbTree, BuildConfig, LinearSearch, Mesh, SphereTree, Vec3};
 use proxima_bench::{load_named, parry_distance, parry_trimesh};
 use std::hint::black_box;
 use std::time::Duration;
@@ -165,5 +165,52 @@ fn frustum_queries(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, build, closest, versus_linear, frustum_queries);
+/// The sphere tree beside the AABB tree it is converted from: build on one
+/// thread, and closest-face queries on the same points.
+fn spheres_versus_boxes(c: &mut Criterion) {
+    let mut group = c.benchmark_group("sphere-tree");
+    group.sample_size(10).measurement_time(Duration::from_secs(4));
+    let one_thread = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+    for (name, mesh) in meshes() {
+        let config = BuildConfig::default();
+        let triangles = mesh.triangles();
+        group.throughput(Throughput::Elements(triangles.len() as u64));
+        group.bench_function(BenchmarkId::new("build-aabb-1thread", name), |b| {
+            b.iter(|| one_thread.install(|| AabbTree::build_set(black_box(triangles.clone()), &config).unwrap()))
+        });
+        group.bench_function(BenchmarkId::new("build-spheres-1thread", name), |b| {
+            b.iter(|| one_thread.install(|| SphereTree::build_set(black_box(triangles.clone()), &config).unwrap()))
+        });
+        let boxes = AabbTree::build_set(triangles.clone(), &config).unwrap();
+        let spheres = SphereTree::build_set(triangles, &config).unwrap();
+        for (set, points) in [
+            ("near", proxima::sample::near_surface(&mesh, 5_000, 0.01, 1)),
+            ("uniform", proxima::sample::uniform_in_box(&mesh, 2_000, 2)),
+        ] {
+            group.throughput(Throughput::Elements(points.len() as u64));
+            let id = |who: &str| BenchmarkId::new(who.to_string(), format!("{name}/{set}"));
+            group.bench_function(id("closest-aabb"), |b| {
+                b.iter(|| points.iter().map(|&p| boxes.closest(p).unwrap().distance).sum::<f32>())
+            });
+            group.bench_function(id("closest-spheres"), |b| {
+                b.iter(|| {
+                    points
+                        .iter()
+                        .map(|&p| spheres.closest(p).unwrap().distance)
+                        .sum::<f32>()
+                })
+            });
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(
+    benches,
+    build,
+    closest,
+    versus_linear,
+    frustum_queries,
+    spheres_versus_boxes
+);
 criterion_main!(benches);

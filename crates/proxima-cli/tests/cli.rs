@@ -111,7 +111,9 @@ fn info_and_bench_json_have_the_documented_keys() {
     let bench: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
     assert_eq!(bench["triangles"], 4);
     let results = bench["results"].as_array().unwrap();
-    assert_eq!(results.len(), 12);
+    // Per primitive type: linear, tree, tree-wide, tree-batch, sphere-tree.
+    assert_eq!(results.len(), 15);
+    assert_eq!(results.iter().filter(|r| r["method"] == "sphere-tree").count(), 3);
     for r in results {
         for key in [
             "primitives",

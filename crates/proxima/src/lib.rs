@@ -4,6 +4,7 @@
 //!
 //! - [`AabbTree`]: a bounding volume hierarchy of axis-aligned boxes with
 //!   closest-primitive and k-nearest queries;
+//! - [`SphereTree`]: the same hierarchy and queries with bounding spheres;
 //! - primitives taken from a [`Mesh`]: [`Point`] (vertices), [`LineSegment`]
 //!   (edges), [`Triangle`] (faces) and [`ConvexPolygon`] (faces as they
 //!   are, when convex and planar), described by small traits
@@ -39,6 +40,8 @@ pub mod math;
 pub mod mesh;
 pub mod primitive;
 pub mod sample;
+pub mod sphere;
+pub mod sphere_tree;
 pub mod traversal;
 
 pub use aabb::Aabb;
@@ -53,6 +56,9 @@ pub use linear::LinearSearch;
 pub use math::{Mat4, Vec3, Vec3A};
 pub use mesh::Mesh;
 pub use primitive::{
-    Bounded, BoxOverlap, ClosestPoint, ConvexPolygon, LineSegment, Point, PrimitiveSet, RayIntersect, Triangle,
+    Bounded, BoundingPoints, BoxOverlap, ClosestPoint, ConvexPolygon, LineSegment, Point, PrimitiveSet, RayIntersect,
+    Triangle,
 };
+pub use sphere::Sphere;
+pub use sphere_tree::SphereTree;
 pub use traversal::{GridTraversal, TraversalConfig, TraversalStep};

@@ -535,13 +535,15 @@ fn configs() -> Vec<BuildConfig> {
     ]
 }
 
-/// Tree answers equal brute force; returns how many were found.
-fn check_tree<T: FrustumOverlap + proxima::ClosestPoint + Copy + Send + Sync>(
+/// Tree answers (AABB tree and sphere tree) equal brute force; returns how
+/// many were found.
+fn check_tree<T: FrustumOverlap + proxima::ClosestPoint + proxima::BoundingPoints + Copy + Send + Sync>(
     set: PrimitiveSet<T>,
     frustums: &[Frustum],
     config: &BuildConfig,
 ) -> usize {
     let tree = AabbTree::build_set(set.clone(), config).unwrap();
+    let spheres = proxima::SphereTree::build_set(set.clone(), config).unwrap();
     let linear = LinearSearch::new(set);
     let mut reused = Vec::new();
     let mut found = 0;
@@ -550,6 +552,9 @@ fn check_tree<T: FrustumOverlap + proxima::ClosestPoint + Copy + Send + Sync>(
         assert!(expected.windows(2).all(|w| w[0] < w[1]));
         let got = tree.frustum(f);
         assert_eq!(got, expected, "camera {:?}", f.matrix());
+        let (from_spheres, sphere_stats) = spheres.frustum_with_stats(f);
+        assert_eq!(from_spheres, expected, "sphere tree, camera {:?}", f.matrix());
+        assert!(sphere_stats.primitives_tested <= spheres.len() as u64);
         tree.frustum_into(f, &mut reused);
         assert_eq!(reused, expected);
         let (with_stats, stats) = tree.frustum_with_stats(f);
@@ -565,6 +570,7 @@ fn check_all_kinds(mesh: &Mesh, frustums: &[Frustum], config: &BuildConfig) {
     check_tree(mesh.vertices(), frustums, config);
     check_tree(mesh.edges(), frustums, config);
     check_tree(mesh.triangles(), frustums, config);
+    check_tree(mesh.polygons(), frustums, config);
 }
 
 fn random_cameras(n: usize, seed: u64) -> Vec<Frustum> {

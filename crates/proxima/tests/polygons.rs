@@ -350,15 +350,26 @@ fn clip_oracle<N: Num>(points: &[Vec3], b: &Aabb) -> bool {
 
 // ----------------------------------------------------------- comparisons ---
 
-/// Tree (binary and wide) against brute force over the same set, every field.
-fn check_tree<T: ClosestPoint + Copy + Send + Sync + std::fmt::Debug + 'static>(set: PrimitiveSet<T>, points: &[Vec3]) {
+/// Trees (binary, wide and sphere) against brute force over the same set, every field.
+fn check_tree<T: ClosestPoint + proxima::BoundingPoints + Copy + Send + Sync + std::fmt::Debug + 'static>(
+    set: PrimitiveSet<T>,
+    points: &[Vec3],
+) {
     let tree = AabbTree::build_set(set.clone(), &BuildConfig::default()).unwrap();
     tree.validate().unwrap();
+    let spheres = proxima::SphereTree::build_set(set.clone(), &BuildConfig::default()).unwrap();
+    spheres.validate().unwrap();
     let linear = LinearSearch::new(set);
     for &p in points {
         let expected = linear.closest(p);
         assert_eq!(tree.closest(p), expected, "closest at {p}");
+        assert_eq!(spheres.closest(p), expected, "sphere tree, closest at {p}");
         assert_eq!(tree.k_nearest(p, 3), linear.k_nearest(p, 3), "k-nearest at {p}");
+        assert_eq!(
+            spheres.k_nearest(p, 3),
+            linear.k_nearest(p, 3),
+            "sphere tree, k-nearest at {p}"
+        );
     }
     let batch = tree.closest_batch(points);
     for (i, &p) in points.iter().enumerate() {
@@ -1046,9 +1057,8 @@ fn tree_ray_queries_over_polygons_equal_brute_force() {
 #[test]
 fn frustum_queries_over_polygons_equal_brute_force_and_the_fan() {
     use proxima::{Frustum, FrustumOverlap};
-    let faces_seen = |sources: &[u32], indices: &[u32]| -> BTreeSet<u32> {
-        indices.iter().map(|&i| sources[i as usize]).collect()
-    };
+    let faces_seen =
+        |sources: &[u32], indices: &[u32]| -> BTreeSet<u32> { indices.iter().map(|&i| sources[i as usize]).collect() };
     for (name, mesh) in planar_meshes() {
         let polygons = mesh.polygons();
         let triangles = mesh.triangles();

@@ -1,11 +1,14 @@
 //! `proxima bench MESH [--primitives P] [--queries N | --points FILE] [--threads T] [--json]`:
-//! linear search against the AABB tree on the same queries.
+//! linear search against the AABB tree (binary, 4-wide, batch) and the
+//! sphere tree on the same queries.
 
 use crate::common::{Primitives, Split, load_mesh, parse_planarity, read_points};
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
 use proxima::bvh::WideTree;
-use proxima::{AabbTree, BuildConfig, ClosestPoint, LinearSearch, Mesh, PrimitiveSet, Vec3};
+use proxima::{
+    AabbTree, BoundingPoints, BuildConfig, ClosestPoint, LinearSearch, Mesh, PrimitiveSet, SphereTree, Vec3,
+};
 use rayon::prelude::*;
 use serde_json::json;
 use std::path::PathBuf;
@@ -60,7 +63,8 @@ pub struct Record {
     /// Primitive type.
     pub primitives: &'static str,
     /// `linear`, `tree` (binary tree, per query in input order), `tree-wide`
-    /// (4-wide SIMD tree, per query) or `tree-batch` (4-wide tree, Morton-ordered batch).
+    /// (4-wide SIMD tree, per query), `tree-batch` (4-wide tree, Morton-ordered
+    /// batch) or `sphere-tree` (bounding spheres, per query in input order).
     pub method: &'static str,
     /// Build time of the structure (0 for linear).
     pub build_seconds: f64,
@@ -82,7 +86,7 @@ impl Record {
 const LINEAR_BUDGET: usize = 100_000_000;
 
 /// Benchmarks one primitive type: tree build, linear and tree queries.
-fn bench_set<T: ClosestPoint + Copy + Send + Sync + 'static>(
+fn bench_set<T: ClosestPoint + BoundingPoints + Copy + Send + Sync + 'static>(
     set: PrimitiveSet<T>,
     kind: Primitives,
     points: &[Vec3],
@@ -96,6 +100,7 @@ fn bench_set<T: ClosestPoint + Copy + Send + Sync + 'static>(
     let n_linear = (LINEAR_BUDGET / set.len().max(1))
         .clamp(20, points.len().max(1))
         .min(points.len());
+    let set_for_spheres = set.clone();
     let linear = LinearSearch::new(set);
     let bar = bar(progress, n_linear, &format!("{} linear", kind.name()));
     let start = Instant::now();
@@ -125,9 +130,21 @@ fn bench_set<T: ClosestPoint + Copy + Send + Sync + 'static>(
             .collect()
     });
     let (batch, batch_seconds) = timed(|| wide.closest_batch(points));
+    drop(wide);
+    // The sphere tree: the same hierarchy with spheres (its build includes
+    // the AABB tree's, whose topology it takes).
+    let (spheres, sphere_build_seconds) = timed(|| SphereTree::build_set(set_for_spheres, config));
+    let spheres = spheres?;
+    let (per_query_spheres, sphere_seconds): (Vec<Option<f32>>, f64) = timed(|| {
+        points
+            .par_iter()
+            .map(|&p| spheres.closest(p).map(|h| h.distance))
+            .collect()
+    });
 
     let agree = expected.iter().zip(&per_query).all(|(a, b)| a == b)
         && per_query_wide == per_query
+        && per_query_spheres == per_query
         && batch.iter().zip(&per_query).all(|(a, b)| a.map(|h| h.distance) == *b);
     let row = |method, build_seconds, queries, seconds| Record {
         primitives: kind.name(),
@@ -147,6 +164,7 @@ fn bench_set<T: ClosestPoint + Copy + Send + Sync + 'static>(
             points.len(),
             batch_seconds,
         ),
+        row("sphere-tree", sphere_build_seconds, points.len(), sphere_seconds),
     ])
 }
 

@@ -2,7 +2,7 @@
 
 use super::AabbTree;
 use super::config::MAX_DEPTH;
-use super::traverse::{Counter, QueryStats};
+use super::traverse::{Counter, PairedNode, QueryStats};
 use crate::frustum::{Cull, Frustum, FrustumOverlap, PlaneMask};
 
 impl<T: FrustumOverlap> AabbTree<T> {
@@ -42,84 +42,102 @@ impl<T: FrustumOverlap> AabbTree<T> {
         (out, stats)
     }
 
-    /// Depth first with a fixed stack of `(node, planes still to test)`. A
-    /// node inside every plane hands over its whole subtree at once: the
-    /// build lays a subtree's primitives out contiguously, so that is the
-    /// range from its leftmost to its rightmost leaf.
     fn frustum_counted<C: Counter>(&self, frustum: &Frustum, out: &mut Vec<u32>, counter: &mut C) {
-        out.clear();
-        let Some(root) = self.root() else { return };
-        counter.nodes(1);
-        let mut mask = match frustum.classify_box(&root.bounds(), PlaneMask::ALL) {
-            Cull::Outside => return,
-            Cull::Inside => {
-                out.extend_from_slice(&self.indices);
-                sort_indices(out, self.len());
-                return;
-            }
-            Cull::Partial(mask) => mask,
-        };
-        // One entry per level at most: each inner node on the path pushes one child.
-        let mut stack = [(0u32, PlaneMask::NONE); MAX_DEPTH as usize + 1];
-        let mut top = 0usize;
-        let mut node = 0usize;
-        loop {
-            let n = self.node(node);
-            if n.is_leaf() {
-                let range = n.primitive_range();
-                counter.primitives(range.len() as u64);
-                for slot in range {
-                    if self.primitives[slot].overlaps_frustum(frustum) {
-                        out.push(self.indices[slot]);
-                    }
+        frustum_walk::<super::Node, T, C>(&self.nodes, &self.primitives, &self.indices, frustum, out, counter);
+    }
+}
+
+/// The frustum query of a tree stored as sibling pairs (the AABB tree and the
+/// sphere tree share it; only the node classification differs).
+///
+/// Depth first with a fixed stack of `(node, planes still to test)`. A node
+/// inside every plane hands over its whole subtree at once: the build lays a
+/// subtree's primitives out contiguously, so that is the range from its
+/// leftmost to its rightmost leaf.
+pub(crate) fn frustum_walk<N: PairedNode, T: FrustumOverlap, C: Counter>(
+    pairs: &[N::Pair],
+    primitives: &[T],
+    indices: &[u32],
+    frustum: &Frustum,
+    out: &mut Vec<u32>,
+    counter: &mut C,
+) {
+    out.clear();
+    let node_at = |i: usize| &pairs[i >> 1].as_ref()[i & 1];
+    if pairs.is_empty() {
+        return;
+    }
+    counter.nodes(1);
+    let mut mask = match node_at(0).classify(frustum, PlaneMask::ALL) {
+        Cull::Outside => return,
+        Cull::Inside => {
+            out.extend_from_slice(indices);
+            sort_indices(out, indices.len());
+            return;
+        }
+        Cull::Partial(mask) => mask,
+    };
+    // One entry per level at most: each inner node on the path pushes one child.
+    let mut stack = [(0u32, PlaneMask::NONE); MAX_DEPTH as usize + 1];
+    let mut top = 0usize;
+    let mut node = 0usize;
+    loop {
+        let n = node_at(node);
+        if n.is_leaf() {
+            let range = n.primitive_range();
+            counter.primitives(range.len() as u64);
+            for slot in range {
+                if primitives[slot].overlaps_frustum(frustum) {
+                    out.push(indices[slot]);
                 }
-            } else {
-                let [left, right] = n.children();
-                let pair = self.children_of(n);
-                counter.nodes(2);
-                let mut next = None;
-                for (child, child_node) in [(left, &pair[0]), (right, &pair[1])] {
-                    match frustum.classify_box(&child_node.bounds(), mask) {
-                        Cull::Outside => {}
-                        Cull::Inside => out.extend_from_slice(&self.indices[self.subtree_slots(child as usize)]),
-                        Cull::Partial(child_mask) => {
-                            if next.is_none() {
-                                next = Some((child, child_mask));
-                            } else {
-                                stack[top] = (child, child_mask);
-                                top += 1;
-                            }
+            }
+        } else {
+            let left = n.first_child();
+            let pair = pairs[(left >> 1) as usize].as_ref();
+            counter.nodes(2);
+            let mut next = None;
+            for (child, child_node) in [(left, &pair[0]), (left + 1, &pair[1])] {
+                match child_node.classify(frustum, mask) {
+                    Cull::Outside => {}
+                    Cull::Inside => out.extend_from_slice(&indices[subtree_slots::<N>(pairs, child as usize)]),
+                    Cull::Partial(child_mask) => {
+                        if next.is_none() {
+                            next = Some((child, child_mask));
+                        } else {
+                            stack[top] = (child, child_mask);
+                            top += 1;
                         }
                     }
                 }
-                if let Some((child, child_mask)) = next {
-                    node = child as usize;
-                    mask = child_mask;
-                    continue;
-                }
             }
-            if top == 0 {
-                break;
+            if let Some((child, child_mask)) = next {
+                node = child as usize;
+                mask = child_mask;
+                continue;
             }
-            top -= 1;
-            (node, mask) = (stack[top].0 as usize, stack[top].1);
         }
-        sort_indices(out, self.len());
+        if top == 0 {
+            break;
+        }
+        top -= 1;
+        (node, mask) = (stack[top].0 as usize, stack[top].1);
     }
+    sort_indices(out, indices.len());
+}
 
-    /// The leaf-order slots of the subtree under `node`: from its leftmost
-    /// leaf's first slot to its rightmost leaf's last.
-    fn subtree_slots(&self, node: usize) -> std::ops::Range<usize> {
-        let mut first = self.node(node);
-        while !first.is_leaf() {
-            first = self.node(first.children()[0] as usize);
-        }
-        let mut last = self.node(node);
-        while !last.is_leaf() {
-            last = self.node(last.children()[1] as usize);
-        }
-        first.primitive_range().start..last.primitive_range().end
+/// The leaf-order slots of the subtree under `node`: from its leftmost leaf's
+/// first slot to its rightmost leaf's last.
+fn subtree_slots<N: PairedNode>(pairs: &[N::Pair], node: usize) -> std::ops::Range<usize> {
+    let node_at = |i: usize| &pairs[i >> 1].as_ref()[i & 1];
+    let mut first = node_at(node);
+    while !first.is_leaf() {
+        first = node_at(first.first_child() as usize);
     }
+    let mut last = node_at(node);
+    while !last.is_leaf() {
+        last = node_at(last.first_child() as usize + 1);
+    }
+    first.primitive_range().start..last.primitive_range().end
 }
 
 /// Digits of the radix sort: 2^11 counters fit in 8 KB of stack.

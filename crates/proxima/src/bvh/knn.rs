@@ -135,17 +135,34 @@ impl<T: ClosestPoint> AabbTree<T> {
     /// [`k_nearest`](Self::k_nearest) writing into `out` (cleared first) and
     /// reusing `scratch`, so repeated queries do not allocate.
     pub fn k_nearest_into(&self, p: Vec3, k: usize, scratch: &mut KnnScratch, out: &mut Vec<ClosestHit>) {
-        let k = k.min(self.len());
-        scratch.heap.clear();
-        if k > 0 && p.is_finite() {
-            let mut best = KBest {
-                heap: &mut scratch.heap,
-                k,
-                indices: &self.indices,
-                bound: f32::INFINITY,
-            };
-            self.nearest_first(Vec3A::from(p), &mut best, &mut ());
-        }
-        drain_sorted(&mut scratch.heap, out, |slot| self.sources[slot]);
+        k_nearest_with(p, k, &self.indices, &self.sources, scratch, out, |p, best| {
+            self.nearest_first(p, best, &mut ())
+        });
     }
+}
+
+/// A k-nearest query over a tree whose leaf-order slots map to `indices` and
+/// `sources`: `walk` runs the traversal with the visitor. Shared by the trees
+/// whose answers must be the same.
+pub(crate) fn k_nearest_with(
+    p: Vec3,
+    k: usize,
+    indices: &[u32],
+    sources: &[u32],
+    scratch: &mut KnnScratch,
+    out: &mut Vec<ClosestHit>,
+    walk: impl FnOnce(Vec3A, &mut KBest<'_>),
+) {
+    let k = k.min(indices.len());
+    scratch.heap.clear();
+    if k > 0 && p.is_finite() {
+        let mut best = KBest {
+            heap: &mut scratch.heap,
+            k,
+            indices,
+            bound: f32::INFINITY,
+        };
+        walk(Vec3A::from(p), &mut best);
+    }
+    drain_sorted(&mut scratch.heap, out, |slot| sources[slot]);
 }

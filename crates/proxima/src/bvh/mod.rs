@@ -27,6 +27,12 @@ use node::NodePair;
 pub use ray::RayHit;
 pub use traverse::QueryStats;
 pub use validate::TreeStats;
+// Shared with the sphere tree, which answers the same queries the same way.
+pub(crate) use closest::Best;
+pub(crate) use frustum::frustum_walk;
+pub(crate) use knn::k_nearest_with;
+pub(crate) use traverse::{Counter, PairedNode, nearest_first};
+pub(crate) use validate::check_structure;
 
 use crate::math::Vec3;
 
@@ -125,6 +131,12 @@ impl<T> AabbTree<T> {
     #[inline]
     pub fn source(&self, slot: usize) -> u32 {
         self.sources[slot]
+    }
+
+    /// The primitives in leaf order, their input indices and their sources,
+    /// for structures converted from this tree.
+    pub(crate) fn into_leaf_order(self) -> (Vec<T>, Vec<u32>, Vec<u32>) {
+        (self.primitives, self.indices, self.sources)
     }
 
     #[inline]

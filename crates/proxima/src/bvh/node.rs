@@ -35,6 +35,37 @@ pub(crate) struct NodePair(pub(crate) [Node; 2]);
 
 const _: () = assert!(std::mem::size_of::<NodePair>() == 64 && std::mem::align_of::<NodePair>() == 64);
 
+impl AsRef<[Node; 2]> for NodePair {
+    #[inline(always)]
+    fn as_ref(&self) -> &[Node; 2] {
+        &self.0
+    }
+}
+
+impl super::traverse::PairedNode for Node {
+    type Pair = NodePair;
+    #[inline(always)]
+    fn is_leaf(&self) -> bool {
+        self.count > 0
+    }
+    #[inline(always)]
+    fn primitive_range(&self) -> std::ops::Range<usize> {
+        Node::primitive_range(self)
+    }
+    #[inline(always)]
+    fn first_child(&self) -> u32 {
+        self.first
+    }
+    #[inline(always)]
+    fn distance_squared(&self, p: Vec3A) -> f32 {
+        Node::distance_squared(self, p)
+    }
+    #[inline(always)]
+    fn classify(&self, frustum: &crate::frustum::Frustum, mask: crate::frustum::PlaneMask) -> crate::frustum::Cull {
+        frustum.classify_box(&self.bounds(), mask)
+    }
+}
+
 impl Node {
     pub(crate) fn leaf(bounds: Aabb, first: u32, count: u32) -> Self {
         debug_assert!(count > 0);

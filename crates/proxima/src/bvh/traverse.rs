@@ -45,73 +45,107 @@ impl Counter for QueryStats {
     }
 }
 
+/// A node of a binary tree stored as sibling pairs (flat node `i` at
+/// `pairs[i / 2][i % 2]`, an inner node's children at `first_child` and
+/// `first_child + 1`): what [`nearest_first`] needs to walk it. The AABB tree
+/// and the sphere tree differ only in their bounding volume.
+pub(crate) trait PairedNode: Sized {
+    /// The pair type the tree stores.
+    type Pair: AsRef<[Self; 2]>;
+    /// `true` for a leaf.
+    fn is_leaf(&self) -> bool;
+    /// For a leaf, its range of leaf-order primitive slots.
+    fn primitive_range(&self) -> std::ops::Range<usize>;
+    /// For an inner node, the flat index of its first child (even).
+    fn first_child(&self) -> u32;
+    /// A lower bound of the squared distance from `p` to anything the node holds.
+    fn distance_squared(&self, p: Vec3A) -> f32;
+    /// Where the node's volume lies against the planes of `frustum` still in `mask`.
+    fn classify(&self, frustum: &crate::frustum::Frustum, mask: crate::frustum::PlaneMask) -> crate::frustum::Cull;
+}
+
 impl<T> AabbTree<T> {
-    /// Depth-first, nearer child first, with a fixed stack: the nearer child is
-    /// descended at once and the farther one is kept with its box distance, so
-    /// that when it is popped it can be dropped if the radius shrank meanwhile.
     #[inline]
     pub(crate) fn nearest_first<V: DistanceVisitor<T>, C: Counter>(&self, p: Vec3A, visitor: &mut V, counter: &mut C) {
-        let Some(root) = self.root() else { return };
-        counter.nodes(1);
-        let root_distance = root.distance_squared(p);
-        // A NaN query visits nothing.
-        if root_distance.is_nan() || root_distance > visitor.bound() {
-            return;
-        }
-        // Each inner node on the current path pushes at most one entry, and the
-        // build never goes deeper than MAX_DEPTH.
-        let mut stack = [(0u32, 0f32); MAX_DEPTH as usize + 1];
-        let mut top = 0usize;
-        let mut node = 0usize;
-        loop {
-            let n = self.node(node);
-            if n.is_leaf() {
-                let range = n.primitive_range();
-                counter.primitives(range.len() as u64);
-                for slot in range {
-                    visitor.visit(slot, &self.primitives[slot], p);
-                }
-            } else {
-                let [left, right] = n.children();
-                let pair = self.children_of(n);
-                // Touch the grandchild pairs now, so that their cache misses
-                // overlap with this step's work instead of following it (a
-                // safe stand-in for a prefetch; measured 5-7% faster on
-                // meshes that do not fit in cache).
-                for child in pair {
-                    if !child.is_leaf() {
-                        std::hint::black_box(self.children_of(child)[0].min.x);
-                    }
-                }
-                let dl = pair[0].distance_squared(p);
-                let dr = pair[1].distance_squared(p);
-                counter.nodes(2);
-                let (near, d_near, far, d_far) = if dl <= dr {
-                    (left, dl, right, dr)
-                } else {
-                    (right, dr, left, dl)
-                };
-                let bound = visitor.bound();
-                if d_near <= bound {
-                    if d_far <= bound {
-                        stack[top] = (far, d_far);
-                        top += 1;
-                    }
-                    node = near as usize;
-                    continue;
+        nearest_first::<super::Node, T, V, C>(&self.nodes, &self.primitives, p, visitor, counter);
+    }
+}
+
+/// Depth-first, nearer child first, with a fixed stack: the nearer child is
+/// descended at once and the farther one is kept with its distance, so that
+/// when it is popped it can be dropped if the radius shrank meanwhile.
+#[inline]
+pub(crate) fn nearest_first<N: PairedNode, T, V: DistanceVisitor<T>, C: Counter>(
+    pairs: &[N::Pair],
+    primitives: &[T],
+    p: Vec3A,
+    visitor: &mut V,
+    counter: &mut C,
+) {
+    let Some(root) = pairs.first().map(|pair| &pair.as_ref()[0]) else {
+        return;
+    };
+    let children_of = |n: &N| pairs[(n.first_child() >> 1) as usize].as_ref();
+    counter.nodes(1);
+    let root_distance = root.distance_squared(p);
+    // A NaN query visits nothing.
+    if root_distance.is_nan() || root_distance > visitor.bound() {
+        return;
+    }
+    // Each inner node on the current path pushes at most one entry, and the
+    // build never goes deeper than MAX_DEPTH.
+    let mut stack = [(0u32, 0f32); MAX_DEPTH as usize + 1];
+    let mut top = 0usize;
+    let mut node = 0usize;
+    loop {
+        let n = &pairs[node >> 1].as_ref()[node & 1];
+        if n.is_leaf() {
+            let range = n.primitive_range();
+            counter.primitives(range.len() as u64);
+            for slot in range {
+                visitor.visit(slot, &primitives[slot], p);
+            }
+        } else {
+            let left = n.first_child();
+            let right = left + 1;
+            let pair = children_of(n);
+            // Touch the grandchild pairs now, so that their cache misses
+            // overlap with this step's work instead of following it (a
+            // safe stand-in for a prefetch; measured 5-7% faster on
+            // meshes that do not fit in cache).
+            for child in pair {
+                if !child.is_leaf() {
+                    std::hint::black_box(children_of(child)[0].first_child());
                 }
             }
-            // Pop the next subtree still within reach.
-            loop {
-                if top == 0 {
-                    return;
+            let dl = pair[0].distance_squared(p);
+            let dr = pair[1].distance_squared(p);
+            counter.nodes(2);
+            let (near, d_near, far, d_far) = if dl <= dr {
+                (left, dl, right, dr)
+            } else {
+                (right, dr, left, dl)
+            };
+            let bound = visitor.bound();
+            if d_near <= bound {
+                if d_far <= bound {
+                    stack[top] = (far, d_far);
+                    top += 1;
                 }
-                top -= 1;
-                let (next, d) = stack[top];
-                if d <= visitor.bound() {
-                    node = next as usize;
-                    break;
-                }
+                node = near as usize;
+                continue;
+            }
+        }
+        // Pop the next subtree still within reach.
+        loop {
+            if top == 0 {
+                return;
+            }
+            top -= 1;
+            let (next, d) = stack[top];
+            if d <= visitor.bound() {
+                node = next as usize;
+                break;
             }
         }
     }

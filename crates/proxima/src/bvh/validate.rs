@@ -1,6 +1,8 @@
 //! Statistics and invariant checks.
 
 use super::AabbTree;
+use super::Node;
+use super::traverse::PairedNode;
 use crate::primitive::Bounded;
 
 /// Shape of a built tree.
@@ -24,30 +26,53 @@ pub struct TreeStats {
     pub memory_bytes: usize,
 }
 
+impl TreeStats {
+    /// The statistics of a tree with these leaf sizes (shared by the trees
+    /// with the same layout).
+    pub(crate) fn of(
+        leaf_sizes: impl Iterator<Item = usize>,
+        primitives: usize,
+        nodes: usize,
+        depth: u32,
+        memory_bytes: usize,
+    ) -> Self {
+        let (mut leaves, mut min_leaf_size, mut max_leaf_size) = (0, usize::MAX, 0);
+        for size in leaf_sizes {
+            leaves += 1;
+            min_leaf_size = min_leaf_size.min(size);
+            max_leaf_size = max_leaf_size.max(size);
+        }
+        TreeStats {
+            primitives,
+            nodes,
+            leaves,
+            depth,
+            min_leaf_size: if leaves == 0 { 0 } else { min_leaf_size },
+            max_leaf_size,
+            mean_leaf_size: if leaves == 0 {
+                0.0
+            } else {
+                primitives as f64 / leaves as f64
+            },
+            memory_bytes,
+        }
+    }
+}
+
 impl<T: Bounded> AabbTree<T> {
     /// Counts nodes, leaves and leaf sizes.
     pub fn stats(&self) -> TreeStats {
-        let leaves: Vec<usize> = self
-            .nodes()
-            .filter(|(_, n)| n.is_leaf())
-            .map(|(_, n)| n.primitive_range().len())
-            .collect();
-        TreeStats {
-            primitives: self.len(),
-            nodes: self.node_count(),
-            leaves: leaves.len(),
-            depth: self.depth,
-            min_leaf_size: leaves.iter().copied().min().unwrap_or(0),
-            max_leaf_size: leaves.iter().copied().max().unwrap_or(0),
-            mean_leaf_size: if leaves.is_empty() {
-                0.0
-            } else {
-                self.len() as f64 / leaves.len() as f64
-            },
-            memory_bytes: std::mem::size_of_val(&self.nodes[..])
+        TreeStats::of(
+            self.nodes()
+                .filter(|(_, n)| n.is_leaf())
+                .map(|(_, n)| n.primitive_range().len()),
+            self.len(),
+            self.node_count(),
+            self.depth,
+            std::mem::size_of_val(&self.nodes[..])
                 + std::mem::size_of_val(&self.primitives[..])
                 + 4 * (self.indices.len() + self.sources.len()),
-        }
+        )
     }
 
     /// Checks the tree's invariants: every node reachable once; every node's
@@ -56,61 +81,99 @@ impl<T: Bounded> AabbTree<T> {
     /// right; `indices` is a permutation. Returns a description of the first
     /// violation.
     pub fn validate(&self) -> Result<(), String> {
-        if self.nodes.is_empty() {
-            return if self.primitives.is_empty() {
-                Ok(())
-            } else {
-                Err("primitives without nodes".into())
-            };
-        }
-        let mut covered = vec![false; self.primitives.len()];
-        let flat = 2 * self.nodes.len();
-        let mut seen = vec![false; flat];
-        seen[1] = true; // padding
-        let mut stack = vec![(0usize, 0u32)];
-        let mut max_depth = 0;
-        while let Some((i, depth)) = stack.pop() {
-            if std::mem::replace(&mut seen[i], true) {
-                return Err(format!("node {i} reached twice"));
-            }
-            max_depth = max_depth.max(depth);
-            let n = self.node(i);
-            if n.is_leaf() {
-                for slot in n.primitive_range() {
-                    let Some(c) = covered.get_mut(slot) else {
-                        return Err(format!("leaf {i} past the end"));
-                    };
-                    if std::mem::replace(c, true) {
-                        return Err(format!("primitive slot {slot} in two leaves"));
-                    }
-                    if !n.bounds().contains(&self.primitives[slot].bounds()) {
-                        return Err(format!("leaf {i} does not hold primitive slot {slot}"));
-                    }
+        check_structure::<Node>(
+            &self.nodes,
+            self.primitives.len(),
+            self.depth,
+            &self.indices,
+            |i, ancestors| {
+                let n = self.node(i);
+                if let Some(&parent) = ancestors.last()
+                    && !self.node(parent).bounds().contains(&n.bounds())
+                {
+                    return Err(format!("node {parent} does not hold child {i}"));
                 }
-            } else {
-                for c in n.children() {
-                    let c = c as usize;
-                    if c >= flat || !n.children()[0].is_multiple_of(2) || !n.bounds().contains(&self.node(c).bounds()) {
-                        return Err(format!("node {i} does not hold child {c}"));
-                    }
-                    stack.push((c, depth + 1));
+                let outside = n.is_leaf().then(|| {
+                    n.primitive_range()
+                        .find(|&slot| !n.bounds().contains(&self.primitives[slot].bounds()))
+                });
+                match outside.flatten() {
+                    Some(slot) => Err(format!("leaf {i} does not hold primitive slot {slot}")),
+                    None => Ok(()),
                 }
-            }
-        }
-        if let Some(slot) = covered.iter().position(|c| !c) {
-            return Err(format!("primitive slot {slot} in no leaf"));
-        }
-        if let Some(i) = seen.iter().position(|s| !s) {
-            return Err(format!("node {i} unreachable"));
-        }
-        if max_depth != self.depth {
-            return Err(format!("depth is {max_depth}, recorded {}", self.depth));
-        }
-        let mut perm = self.indices.clone();
-        perm.sort_unstable();
-        if perm.iter().enumerate().any(|(i, &v)| v as usize != i) {
-            return Err("indices are not a permutation".into());
-        }
-        Ok(())
+            },
+        )
     }
+}
+
+/// Checks what every tree stored as sibling pairs must satisfy, and calls
+/// `check(node, ancestors)` on every node (`ancestors` root first): every
+/// node reachable once, children at an even index inside the array, the
+/// leaves covering `0..primitives` exactly once, the recorded depth right,
+/// `indices` a permutation. Shared by the AABB and sphere trees.
+pub(crate) fn check_structure<N: PairedNode>(
+    pairs: &[N::Pair],
+    primitives: usize,
+    depth: u32,
+    indices: &[u32],
+    mut check: impl FnMut(usize, &[usize]) -> Result<(), String>,
+) -> Result<(), String> {
+    if pairs.is_empty() {
+        return if primitives == 0 {
+            Ok(())
+        } else {
+            Err("primitives without nodes".into())
+        };
+    }
+    let mut covered = vec![false; primitives];
+    let flat = 2 * pairs.len();
+    let mut seen = vec![false; flat];
+    seen[1] = true; // padding
+    // Depth-first: when a node is popped, the path holds exactly its ancestors.
+    let mut stack = vec![(0usize, 0u32)];
+    let mut path: Vec<usize> = Vec::new();
+    let mut max_depth = 0;
+    while let Some((i, node_depth)) = stack.pop() {
+        path.truncate(node_depth as usize);
+        if std::mem::replace(&mut seen[i], true) {
+            return Err(format!("node {i} reached twice"));
+        }
+        max_depth = max_depth.max(node_depth);
+        let n = &pairs[i >> 1].as_ref()[i & 1];
+        if n.is_leaf() {
+            for slot in n.primitive_range() {
+                let Some(c) = covered.get_mut(slot) else {
+                    return Err(format!("leaf {i} past the end"));
+                };
+                if std::mem::replace(c, true) {
+                    return Err(format!("primitive slot {slot} in two leaves"));
+                }
+            }
+            check(i, &path)?;
+        } else {
+            let first = n.first_child() as usize;
+            if first + 1 >= flat || !first.is_multiple_of(2) {
+                return Err(format!("node {i} has bad children {first}, {}", first + 1));
+            }
+            check(i, &path)?;
+            path.push(i);
+            stack.push((first, node_depth + 1));
+            stack.push((first + 1, node_depth + 1));
+        }
+    }
+    if let Some(slot) = covered.iter().position(|c| !c) {
+        return Err(format!("primitive slot {slot} in no leaf"));
+    }
+    if let Some(i) = seen.iter().position(|s| !s) {
+        return Err(format!("node {i} unreachable"));
+    }
+    if max_depth != depth {
+        return Err(format!("depth is {max_depth}, recorded {depth}"));
+    }
+    let mut perm = indices.to_vec();
+    perm.sort_unstable();
+    if perm.iter().enumerate().any(|(i, &v)| v as usize != i) {
+        return Err("indices are not a permutation".into());
+    }
+    Ok(())
 }

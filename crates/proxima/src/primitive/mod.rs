@@ -57,6 +57,13 @@ pub trait ClosestPoint: Bounded {
     }
 }
 
+/// A primitive that can list points whose convex hull contains it (its
+/// vertices): what bounding spheres are computed from.
+pub trait BoundingPoints: Bounded {
+    /// Appends the primitive's hull points to `out`.
+    fn push_bounding_points(&self, out: &mut Vec<Vec3>);
+}
+
 /// A primitive that can say exactly whether it shares a point with a closed box.
 pub trait BoxOverlap: Bounded {
     /// `true` when the primitive and the closed box `b` share at least one

@@ -1,6 +1,6 @@
 //! A single point (a mesh vertex).
 
-use super::{Bounded, ClosestPoint};
+use super::{Bounded, BoundingPoints, ClosestPoint};
 use crate::aabb::Aabb;
 use crate::math::{Vec3, Vec3A};
 
@@ -23,5 +23,12 @@ impl ClosestPoint for Point {
     #[inline]
     fn closest_point(&self, _p: Vec3A) -> Vec3A {
         self.0.into()
+    }
+}
+
+impl BoundingPoints for Point {
+    #[inline]
+    fn push_bounding_points(&self, out: &mut Vec<Vec3>) {
+        out.push(self.0);
     }
 }

@@ -66,7 +66,7 @@
 use super::closest_polygon::closest_on_polygon;
 use super::closest_triangle::closest_on_triangle;
 use super::ray_triangle::{TriangleHit, WatertightRay};
-use super::{Bounded, ClosestPoint, Triangle};
+use super::{Bounded, BoundingPoints, ClosestPoint, Triangle};
 use crate::aabb::Aabb;
 use crate::error::PolygonError;
 use crate::math::{Vec3, Vec3A};
@@ -324,5 +324,27 @@ impl ClosestPoint for ConvexPolygon {
             return closest_on_triangle(v[0].into(), v[1].into(), v[2].into(), p);
         }
         closest_on_polygon(self.vertices(), self.normal.into(), self.bounds(), p)
+    }
+}
+
+/// The points a bounding sphere must hold. A triangle or an exactly planar
+/// polygon has its closest points in the hull of its vertices, so the
+/// vertices are enough. A polygon planar only within its tolerance projects
+/// queries onto its plane, clamped to its bounding box, which can leave the
+/// vertices' hull by up to its thickness: it gives the box's eight corners.
+impl BoundingPoints for ConvexPolygon {
+    fn push_bounding_points(&self, out: &mut Vec<Vec3>) {
+        if self.count == 3 || self.thickness() == 0.0 {
+            out.extend_from_slice(self.vertices());
+        } else {
+            let b = self.bounds();
+            out.extend((0..8).map(|corner| {
+                Vec3::new(
+                    if corner & 1 == 0 { b.min.x } else { b.max.x },
+                    if corner & 2 == 0 { b.min.y } else { b.max.y },
+                    if corner & 4 == 0 { b.min.z } else { b.max.z },
+                )
+            }));
+        }
     }
 }

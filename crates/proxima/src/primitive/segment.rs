@@ -1,6 +1,6 @@
 //! Line segments (mesh edges).
 
-use super::{Bounded, ClosestPoint};
+use super::{Bounded, BoundingPoints, ClosestPoint};
 use crate::aabb::Aabb;
 use crate::math::{Vec3, Vec3A};
 
@@ -54,5 +54,12 @@ impl ClosestPoint for LineSegment {
     #[inline]
     fn closest_point(&self, p: Vec3A) -> Vec3A {
         closest_on_segment(self.a.into(), self.b.into(), p)
+    }
+}
+
+impl BoundingPoints for LineSegment {
+    #[inline]
+    fn push_bounding_points(&self, out: &mut Vec<Vec3>) {
+        out.extend([self.a, self.b]);
     }
 }

@@ -1,7 +1,7 @@
 //! Triangles (mesh faces, or pieces of fan-triangulated polygons).
 
 use super::closest_triangle::closest_on_triangle;
-use super::{Bounded, ClosestPoint};
+use super::{Bounded, BoundingPoints, ClosestPoint};
 use crate::aabb::Aabb;
 use crate::math::{Vec3, Vec3A};
 
@@ -61,5 +61,12 @@ impl ClosestPoint for Triangle {
     #[inline(always)]
     fn closest_point(&self, p: Vec3A) -> Vec3A {
         closest_on_triangle(self.a.into(), self.b.into(), self.c.into(), p)
+    }
+}
+
+impl BoundingPoints for Triangle {
+    #[inline]
+    fn push_bounding_points(&self, out: &mut Vec<Vec3>) {
+        out.extend([self.a, self.b, self.c]);
     }
 }

@@ -1,0 +1,129 @@
+//! The bounding-sphere tree: the same hierarchy and queries as the
+//! [`AabbTree`](crate::AabbTree), with a sphere instead of a box per node.
+//!
+//! One file per operation: the build (a conversion of the AABB tree's
+//! topology) in `build.rs`, closest-primitive queries in `closest.rs`,
+//! k-nearest in `knn.rs`, frustum queries in `frustum.rs` (the AABB tree's
+//! walk, classifying spheres), invariant checks in `validate.rs`.
+//!
+//! # Exactness
+//!
+//! The answers equal brute force ([`LinearSearch`](crate::LinearSearch)) on
+//! every field, as the AABB tree's do, for the same three reasons:
+//!
+//! 1. every node's sphere holds every point of its primitives for certain
+//!    (radius measured in `f64` and rounded up), and is then widened by
+//!    8 ulps of its largest coordinate (`|center| + radius`), which holds
+//!    the computed closest points too, a few ulps off their primitive;
+//! 2. the node distance `|p - c| (1 - 4 eps) - r` is a lower bound even after
+//!    rounding, and pruning uses the same `PRUNE_SLACK` as the AABB tree;
+//! 3. the leaves are visited with the AABB tree's `Best` and `KBest`
+//!    visitors, so ties go to the lowest input index.
+
+mod build;
+mod closest;
+mod frustum;
+mod knn;
+mod node;
+mod validate;
+
+pub use node::SphereNode;
+use node::SpherePair;
+
+use crate::bvh::ClosestHit;
+use crate::math::Vec3A;
+
+/// A bounding volume hierarchy of spheres over primitives of type `T`.
+///
+/// Built from the same median (or SAH) split as the [`AabbTree`](crate::AabbTree)
+/// with the same [`BuildConfig`](crate::BuildConfig): same nodes, same leaves,
+/// same leaf order; only the bounding volumes differ. Nodes live in one flat
+/// array of 64-byte sibling pairs (node 0 is the root, node 1 padding).
+///
+/// ```
+/// use proxima::{Point, SphereTree, Vec3};
+/// let points = vec![Point(Vec3::ZERO), Point(Vec3::X), Point(Vec3::Y)];
+/// let tree = SphereTree::build(points, &Default::default()).unwrap();
+/// assert_eq!(tree.closest(Vec3::new(0.9, 0.2, 0.0)).unwrap().primitive, 1);
+/// ```
+#[derive(Clone, Debug)]
+pub struct SphereTree<T> {
+    nodes: Vec<SpherePair>,
+    /// Primitives in leaf order.
+    primitives: Vec<T>,
+    /// `indices[i]`: position in the build input of `primitives[i]`.
+    indices: Vec<u32>,
+    /// `sources[i]`: mesh element `primitives[i]` came from.
+    sources: Vec<u32>,
+    depth: u32,
+}
+
+impl<T> SphereTree<T> {
+    /// The root node, `None` for an empty tree.
+    pub fn root(&self) -> Option<&SphereNode> {
+        self.nodes.first().map(|pair| &pair.0[0])
+    }
+
+    /// Node `index` (0 is the root; children indices come from
+    /// [`SphereNode::children`]).
+    #[inline]
+    pub fn node(&self, index: usize) -> &SphereNode {
+        &self.nodes[index >> 1].0[index & 1]
+    }
+
+    /// Number of nodes (inner and leaves).
+    pub fn node_count(&self) -> usize {
+        (2 * self.nodes.len()).saturating_sub(1)
+    }
+
+    /// Every node with its index, root first (the padding node is skipped).
+    pub fn nodes(&self) -> impl Iterator<Item = (usize, &SphereNode)> + '_ {
+        self.nodes
+            .iter()
+            .flat_map(|pair| &pair.0)
+            .enumerate()
+            .filter(|&(i, _)| i != 1)
+    }
+
+    /// The primitives in leaf order.
+    pub fn primitives(&self) -> &[T] {
+        &self.primitives
+    }
+
+    /// Number of primitives.
+    pub fn len(&self) -> usize {
+        self.primitives.len()
+    }
+
+    /// `true` when the tree holds no primitive.
+    pub fn is_empty(&self) -> bool {
+        self.primitives.is_empty()
+    }
+
+    /// Depth of the deepest leaf (0 when the root is a leaf).
+    pub fn depth(&self) -> u32 {
+        self.depth
+    }
+
+    /// The build-input index of the primitive at leaf-order slot `slot`.
+    #[inline]
+    pub fn input_index(&self, slot: usize) -> u32 {
+        self.indices[slot]
+    }
+
+    /// The source of the primitive at leaf-order slot `slot`.
+    #[inline]
+    pub fn source(&self, slot: usize) -> u32 {
+        self.sources[slot]
+    }
+
+    #[inline]
+    fn hit(&self, slot: usize, point: Vec3A, distance_squared: f32) -> ClosestHit {
+        ClosestHit {
+            primitive: self.indices[slot],
+            source: self.sources[slot],
+            point: point.into(),
+            distance: distance_squared.sqrt(),
+        }
+    }
+}
