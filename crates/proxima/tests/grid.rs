@@ -6,6 +6,7 @@
 
 mod common;
 
+use common::oracle::{Q, clip_by_box};
 use proxima::grid::{
     Cell, ClassicHash, FastHash, GridConfig, GridInsert, GridLayout, HashGrid, InsertMethod, InsertParams, VoxelConfig,
     voxelize,
@@ -19,111 +20,6 @@ use std::path::Path;
 use std::sync::OnceLock;
 
 // ---------------------------------------------------------------- oracle ---
-
-/// The arithmetic of the clipping oracle: f64, or exact rationals.
-trait Num: Copy {
-    fn of(x: f32) -> Self;
-    fn sub(self, o: Self) -> Self;
-    fn mul(self, o: Self) -> Self;
-    fn div(self, o: Self) -> Self;
-    fn le_zero(self) -> bool;
-}
-
-impl Num for f64 {
-    fn of(x: f32) -> Self {
-        x as f64
-    }
-    fn sub(self, o: Self) -> Self {
-        self - o
-    }
-    fn mul(self, o: Self) -> Self {
-        self * o
-    }
-    fn div(self, o: Self) -> Self {
-        self / o
-    }
-    fn le_zero(self) -> bool {
-        self <= 0.0
-    }
-}
-
-/// An exact rational `n / d`, `d > 0`, kept reduced; built from dyadic floats.
-#[derive(Clone, Copy, Debug)]
-struct Q(i128, i128);
-
-impl Q {
-    fn new(n: i128, d: i128) -> Q {
-        let (n, d) = if d < 0 { (-n, -d) } else { (n, d) };
-        let (mut a, mut b) = (n.abs(), d);
-        while b != 0 {
-            (a, b) = (b, a % b);
-        }
-        let g = a.max(1);
-        Q(n / g, d / g)
-    }
-}
-
-impl Num for Q {
-    fn of(x: f32) -> Self {
-        let scaled = x as f64 * 1024.0;
-        assert!(
-            scaled == scaled.trunc() && scaled.abs() < 1e15,
-            "the exact oracle takes multiples of 2^-10, got {x}"
-        );
-        Q::new(scaled as i128, 1024)
-    }
-    fn sub(self, o: Self) -> Self {
-        Q::new(self.0 * o.1 - o.0 * self.1, self.1 * o.1)
-    }
-    fn mul(self, o: Self) -> Self {
-        Q::new(self.0 * o.0, self.1 * o.1)
-    }
-    fn div(self, o: Self) -> Self {
-        Q::new(self.0 * o.1, self.1 * o.0)
-    }
-    fn le_zero(self) -> bool {
-        self.0 <= 0
-    }
-}
-
-/// Sutherland–Hodgman clipping of the polygon (1 to 3 points) by the six
-/// closed half-spaces of the box: non-empty exactly when they meet.
-/// Independent of the library's tests; fixed arrays, no allocation.
-fn clip_with<N: Num>(points: &[Vec3], b: &Aabb) -> bool {
-    let mut poly = [[N::of(0.0); 3]; 12];
-    let mut n = points.len();
-    for (slot, p) in poly.iter_mut().zip(points) {
-        *slot = [N::of(p.x), N::of(p.y), N::of(p.z)];
-    }
-    for axis in 0..3 {
-        for (plane, upper) in [(N::of(b.min[axis]), false), (N::of(b.max[axis]), true)] {
-            let dist = |p: &[N; 3]| if upper { p[axis].sub(plane) } else { plane.sub(p[axis]) };
-            let mut out = [[N::of(0.0); 3]; 12];
-            let mut m = 0;
-            for i in 0..n {
-                let (prev, cur) = (&poly[(i + n - 1) % n], &poly[i]);
-                let (dp, dc) = (dist(prev), dist(cur));
-                if dp.le_zero() != dc.le_zero() {
-                    let mut x = [plane; 3];
-                    for k in (0..3).filter(|&k| k != axis) {
-                        x[k] = prev[k].mul(dc).sub(cur[k].mul(dp)).div(dc.sub(dp));
-                    }
-                    out[m] = x;
-                    m += 1;
-                }
-                if dc.le_zero() {
-                    out[m] = *cur;
-                    m += 1;
-                }
-            }
-            if m == 0 {
-                return false;
-            }
-            (poly, n) = (out, m);
-        }
-    }
-    true
-}
 
 /// The oracle. Decided in f64 when shrinking and growing the box by a hair
 /// does not change the answer; otherwise (touching, within rounding) exactly
@@ -139,10 +35,10 @@ fn clip_oracle(points: &[Vec3], b: &Aabb) -> bool {
         Aabb::new(b.min + hair, b.max - hair),
         Aabb::new(b.min - hair, b.max + hair),
     );
-    if !inner.is_empty() && clip_with::<f64>(points, &inner) {
+    if !inner.is_empty() && clip_by_box::<f64>(points, &inner) {
         return true;
     }
-    if !clip_with::<f64>(points, &outer) {
+    if !clip_by_box::<f64>(points, &outer) {
         return false;
     }
     let dyadic = |x: f32| {
@@ -154,9 +50,9 @@ fn clip_oracle(points: &[Vec3], b: &Aabb) -> bool {
         .chain(&[b.min, b.max])
         .all(|p| p.to_array().into_iter().all(dyadic));
     if all {
-        clip_with::<Q>(points, b)
+        clip_by_box::<Q>(points, b)
     } else {
-        clip_with::<f64>(points, b)
+        clip_by_box::<f64>(points, b)
     }
 }
 

@@ -9,6 +9,7 @@
 
 mod common;
 
+use common::oracle::{Num, Q, clip_by_box};
 use proptest::prelude::*;
 use proxima::primitive::sat::{Interval, Project, project_points, separated_along};
 use proxima::primitive::{TriangleBoxTest, WatertightRay};
@@ -16,123 +17,9 @@ use proxima::{Aabb, BoxOverlap, LineSegment, Point, Triangle, Vec3};
 
 // ---------------------------------------------------------------- oracle ---
 
-/// The arithmetic the clipping oracle needs.
-trait Num: Copy {
-    fn of(x: f32) -> Self;
-    fn sub(self, o: Self) -> Self;
-    fn mul(self, o: Self) -> Self;
-    fn div(self, o: Self) -> Self;
-    fn neg(self) -> Self;
-    fn le_zero(self) -> bool;
-}
-
-impl Num for f64 {
-    fn of(x: f32) -> Self {
-        x as f64
-    }
-    fn sub(self, o: Self) -> Self {
-        self - o
-    }
-    fn mul(self, o: Self) -> Self {
-        self * o
-    }
-    fn div(self, o: Self) -> Self {
-        self / o
-    }
-    fn neg(self) -> Self {
-        -self
-    }
-    fn le_zero(self) -> bool {
-        self <= 0.0
-    }
-}
-
-/// An exact rational `n / d`, `d > 0`, kept reduced.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct Q(i128, i128);
-
-fn gcd(mut a: i128, mut b: i128) -> i128 {
-    a = a.abs();
-    b = b.abs();
-    while b != 0 {
-        (a, b) = (b, a % b);
-    }
-    a.max(1)
-}
-
-impl Q {
-    fn new(n: i128, d: i128) -> Q {
-        assert!(d != 0, "division by zero in the exact oracle");
-        let (n, d) = if d < 0 { (-n, -d) } else { (n, d) };
-        let g = gcd(n, d);
-        Q(n / g, d / g)
-    }
-}
-
-impl Num for Q {
-    fn of(x: f32) -> Self {
-        assert!(
-            x == x.trunc() && x.abs() < 1e6,
-            "exact oracle takes small integers, got {x}"
-        );
-        Q(x as i128, 1)
-    }
-    fn sub(self, o: Self) -> Self {
-        Q::new(self.0 * o.1 - o.0 * self.1, self.1 * o.1)
-    }
-    fn mul(self, o: Self) -> Self {
-        Q::new(self.0 * o.0, self.1 * o.1)
-    }
-    fn div(self, o: Self) -> Self {
-        Q::new(self.0 * o.1, self.1 * o.0)
-    }
-    fn neg(self) -> Self {
-        Q(-self.0, self.1)
-    }
-    fn le_zero(self) -> bool {
-        self.0 <= 0
-    }
-}
-
-/// Clips the polygon by `sign · (x_axis − plane) ≤ 0` (closed).
-fn clip_half<N: Num>(poly: &[[N; 3]], axis: usize, plane: N, upper: bool) -> Vec<[N; 3]> {
-    let dist = |p: &[N; 3]| if upper { p[axis].sub(plane) } else { plane.sub(p[axis]) };
-    let mut out = Vec::new();
-    for (i, cur) in poly.iter().enumerate() {
-        let prev = &poly[(i + poly.len() - 1) % poly.len()];
-        let (dp, dc) = (dist(prev), dist(cur));
-        if dp.le_zero() != dc.le_zero() {
-            // x = (prev · dc − cur · dp) / (dc − dp), exact on the plane's axis.
-            let mut x = [plane; 3];
-            for k in 0..3 {
-                if k != axis {
-                    x[k] = prev[k].mul(dc).sub(cur[k].mul(dp)).div(dc.sub(dp));
-                }
-            }
-            out.push(x);
-        }
-        if dc.le_zero() {
-            out.push(*cur);
-        }
-    }
-    out
-}
-
 /// `true` when the convex polygon (1, 2 or 3 points) meets the closed box.
 fn clip_oracle<N: Num>(points: &[Vec3], b: &Aabb) -> bool {
-    let mut poly: Vec<[N; 3]> = points.iter().map(|p| [N::of(p.x), N::of(p.y), N::of(p.z)]).collect();
-    for axis in 0..3 {
-        poly = clip_half(&poly, axis, N::of(b.min[axis]), false);
-        if poly.is_empty() {
-            return false;
-        }
-        poly = clip_half(&poly, axis, N::of(b.max[axis]), true);
-        if poly.is_empty() {
-            return false;
-        }
-    }
-    let _ = N::neg;
-    true
+    clip_by_box::<N>(points, b)
 }
 
 fn tri_points(t: &Triangle) -> [Vec3; 3] {

@@ -17,6 +17,7 @@
 
 mod common;
 
+use common::oracle::{D3, Num, Q, clip_by_box, d3, dist, triangle_distance};
 use common::{data_dir, queries};
 use proptest::prelude::*;
 use proxima::bvh::WideTree;
@@ -189,59 +190,6 @@ fn planar_meshes() -> Vec<(&'static str, Mesh)> {
 
 // --------------------------------------------------------------- oracles ---
 
-type D3 = [f64; 3];
-
-fn d3(v: Vec3) -> D3 {
-    [v.x as f64, v.y as f64, v.z as f64]
-}
-fn sub(a: D3, b: D3) -> D3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn dot(a: D3, b: D3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn cross(a: D3, b: D3) -> D3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-fn dist(a: D3, b: D3) -> f64 {
-    dot(sub(a, b), sub(a, b)).sqrt()
-}
-
-fn segment_distance(a: D3, b: D3, p: D3) -> f64 {
-    let ab = sub(b, a);
-    let len2 = dot(ab, ab);
-    let t = if len2 > 0.0 {
-        (dot(sub(p, a), ab) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    dist([a[0] + ab[0] * t, a[1] + ab[1] * t, a[2] + ab[2] * t], p)
-}
-
-/// Distance from `p` to a triangle in `f64`: plane projection if inside
-/// (signed areas), else the nearest edge.
-fn triangle_distance(t: &Triangle, p: D3) -> f64 {
-    let (a, b, c) = (d3(t.a), d3(t.b), d3(t.c));
-    let edges = segment_distance(a, b, p)
-        .min(segment_distance(b, c, p))
-        .min(segment_distance(c, a, p));
-    let n = cross(sub(b, a), sub(c, a));
-    let nn = dot(n, n);
-    if nn <= 1e-30 * dot(sub(b, a), sub(b, a)).max(dot(sub(c, a), sub(c, a))).powi(2) {
-        return edges;
-    }
-    let h = dot(sub(p, a), n) / nn;
-    let q = [p[0] - n[0] * h, p[1] - n[1] * h, p[2] - n[2] * h];
-    let inside = [(a, b), (b, c), (c, a)]
-        .iter()
-        .all(|&(u, v)| dot(cross(sub(v, u), sub(q, u)), n) >= 0.0);
-    if inside { dist(q, p).min(edges) } else { edges }
-}
-
 /// Distance from `p` to the polygon's fan triangulation, in `f64`.
 fn fan_distance(polygon: &ConvexPolygon, p: D3) -> f64 {
     polygon
@@ -250,102 +198,9 @@ fn fan_distance(polygon: &ConvexPolygon, p: D3) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
-/// The arithmetic of the clipping oracle: `f64`, or exact rationals.
-trait Num: Copy {
-    fn of(x: f32) -> Self;
-    fn sub(self, o: Self) -> Self;
-    fn mul(self, o: Self) -> Self;
-    fn div(self, o: Self) -> Self;
-    fn le_zero(self) -> bool;
-}
-
-impl Num for f64 {
-    fn of(x: f32) -> Self {
-        x as f64
-    }
-    fn sub(self, o: Self) -> Self {
-        self - o
-    }
-    fn mul(self, o: Self) -> Self {
-        self * o
-    }
-    fn div(self, o: Self) -> Self {
-        self / o
-    }
-    fn le_zero(self) -> bool {
-        self <= 0.0
-    }
-}
-
-/// An exact rational `n / d`, `d > 0`, kept reduced.
-#[derive(Clone, Copy, Debug)]
-struct Q(i128, i128);
-
-impl Q {
-    fn new(n: i128, d: i128) -> Q {
-        assert!(d != 0, "division by zero in the exact oracle");
-        let (n, d) = if d < 0 { (-n, -d) } else { (n, d) };
-        let (mut a, mut b) = (n.abs(), d);
-        while b != 0 {
-            (a, b) = (b, a % b);
-        }
-        let g = a.max(1);
-        Q(n / g, d / g)
-    }
-}
-
-impl Num for Q {
-    fn of(x: f32) -> Self {
-        assert!(
-            x == x.trunc() && x.abs() < 1e6,
-            "exact oracle takes small integers, got {x}"
-        );
-        Q(x as i128, 1)
-    }
-    fn sub(self, o: Self) -> Self {
-        Q::new(self.0 * o.1 - o.0 * self.1, self.1 * o.1)
-    }
-    fn mul(self, o: Self) -> Self {
-        Q::new(self.0 * o.0, self.1 * o.1)
-    }
-    fn div(self, o: Self) -> Self {
-        Q::new(self.0 * o.1, self.1 * o.0)
-    }
-    fn le_zero(self) -> bool {
-        self.0 <= 0
-    }
-}
-
-/// `true` when the planar convex polygon meets the closed box: Sutherland–
-/// Hodgman clipping by the six closed half-spaces leaves something.
+/// `true` when the planar convex polygon meets the closed box.
 fn clip_oracle<N: Num>(points: &[Vec3], b: &Aabb) -> bool {
-    let mut poly: Vec<[N; 3]> = points.iter().map(|p| [N::of(p.x), N::of(p.y), N::of(p.z)]).collect();
-    for axis in 0..3 {
-        for (plane, upper) in [(b.min[axis], false), (b.max[axis], true)] {
-            let plane = N::of(plane);
-            let side = |p: &[N; 3]| if upper { p[axis].sub(plane) } else { plane.sub(p[axis]) };
-            let mut out = Vec::new();
-            for (i, cur) in poly.iter().enumerate() {
-                let prev = &poly[(i + poly.len() - 1) % poly.len()];
-                let (dp, dc) = (side(prev), side(cur));
-                if dp.le_zero() != dc.le_zero() {
-                    let mut x = [plane; 3];
-                    for k in (0..3).filter(|&k| k != axis) {
-                        x[k] = prev[k].mul(dc).sub(cur[k].mul(dp)).div(dc.sub(dp));
-                    }
-                    out.push(x);
-                }
-                if dc.le_zero() {
-                    out.push(*cur);
-                }
-            }
-            poly = out;
-            if poly.is_empty() {
-                return false;
-            }
-        }
-    }
-    true
+    clip_by_box::<N>(points, b)
 }
 
 // ----------------------------------------------------------- comparisons ---

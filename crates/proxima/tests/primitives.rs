@@ -2,66 +2,12 @@
 //! projection plus edges, instead of the Voronoi-region walk under test) and
 //! against dense sampling of the primitive.
 
+mod common;
+
 use proptest::prelude::*;
 use proxima::{Aabb, Bounded, ClosestPoint, LineSegment, Point, Triangle, Vec3, Vec3A};
 
-type D3 = [f64; 3];
-
-fn d3(v: Vec3) -> D3 {
-    [v.x as f64, v.y as f64, v.z as f64]
-}
-fn sub(a: D3, b: D3) -> D3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn dot(a: D3, b: D3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn cross(a: D3, b: D3) -> D3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-fn dist(a: D3, b: D3) -> f64 {
-    dot(sub(a, b), sub(a, b)).sqrt()
-}
-
-fn segment_distance(a: D3, b: D3, p: D3) -> f64 {
-    let ab = sub(b, a);
-    let len2 = dot(ab, ab);
-    let t = if len2 > 0.0 {
-        (dot(sub(p, a), ab) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    dist([a[0] + ab[0] * t, a[1] + ab[1] * t, a[2] + ab[2] * t], p)
-}
-
-/// Distance from `p` to the triangle: the plane projection if it falls
-/// inside (barycentric test in f64), else the nearest edge.
-fn triangle_distance(t: &Triangle, p: D3) -> f64 {
-    let (a, b, c) = (d3(t.a), d3(t.b), d3(t.c));
-    let edges = segment_distance(a, b, p)
-        .min(segment_distance(b, c, p))
-        .min(segment_distance(c, a, p));
-    let n = cross(sub(b, a), sub(c, a));
-    let nn = dot(n, n);
-    if nn <= 1e-30 * dot(sub(b, a), sub(b, a)).max(dot(sub(c, a), sub(c, a))).powi(2) {
-        return edges;
-    }
-    let ap = sub(p, a);
-    let h = dot(ap, n) / nn;
-    let q = [p[0] - n[0] * h, p[1] - n[1] * h, p[2] - n[2] * h];
-    let w1 = dot(cross(sub(c, b), sub(q, b)), n);
-    let w2 = dot(cross(sub(a, c), sub(q, c)), n);
-    let w3 = dot(cross(sub(b, a), sub(q, a)), n);
-    if w1 >= 0.0 && w2 >= 0.0 && w3 >= 0.0 {
-        dist(q, p).min(edges)
-    } else {
-        edges
-    }
-}
+use common::oracle::{d3, dist, segment_distance, triangle_distance};
 
 fn coord() -> impl Strategy<Value = f32> {
     prop_oneof![-10.0f32..10.0, Just(0.0f32), Just(1.0f32), -1.0f32..1.0]
