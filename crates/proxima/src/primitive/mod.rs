@@ -6,7 +6,7 @@
 //! [`Bounded::bounds`] can go into a tree; one that can also say its
 //! [`ClosestPoint::closest_point`] answers closest-point queries.
 
-mod closest_triangle;
+pub(crate) mod closest_triangle;
 mod point;
 mod point_aabb;
 pub mod ray_triangle;

@@ -2,6 +2,8 @@
 //! real meshes of ../shared/data (skipped with a note when absent).
 #![allow(dead_code)]
 
+pub mod degenerate;
+
 use proxima::sample::Rng;
 use proxima::{Mesh, Vec3};
 use std::path::PathBuf;
