@@ -246,7 +246,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     for &kind in &kinds {
         crate::common::require_primitives(&mesh, kind, &args.mesh)?;
     }
-    let records = measure(&mesh, &kinds, &points, args.threads, &args.split.config(), !args.json)?;
+    let records = measure(&mesh, &kinds, &points, args.threads, &args.split.config(), !args.json)
+        .with_context(|| args.mesh.display().to_string())?;
     if args.json {
         let results: Vec<_> = records
             .iter()

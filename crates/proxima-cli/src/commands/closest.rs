@@ -2,7 +2,7 @@
 
 use crate::common::{Primitives, Split, build_tree, load_mesh, parse_vec3, read_points, require_primitives};
 use crate::with_tree;
-use anyhow::bail;
+use anyhow::{Context, bail};
 use proxima::bvh::WideTree;
 use proxima::{ClosestHit, ClosestPoint, LinearSearch, PrimitiveSet, Vec3};
 use std::io::{BufWriter, Write};
@@ -54,7 +54,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     require_primitives(&mesh, args.primitives, &args.mesh)?;
     let answers: Vec<Vec<ClosestHit>> = match args.method {
         Method::Tree => {
-            let (tree, _) = build_tree(&mesh, args.primitives, &args.split.config())?;
+            let (tree, _) = build_tree(&mesh, args.primitives, &args.split.config())
+                .with_context(|| args.mesh.display().to_string())?;
             // The 4-wide tree gives the same answers as the binary one, faster.
             with_tree!(tree, t => WideTree::from_tree(t).k_nearest_batch(&points, args.k))
         }

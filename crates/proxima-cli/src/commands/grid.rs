@@ -148,8 +148,11 @@ pub fn run(args: Args) -> Result<()> {
     for (n, &kind) in kinds.iter().enumerate() {
         let keep = args.cells_out.is_some() && n + 1 == kinds.len();
         built.push(match args.hasher {
-            Hasher::Classic => build_kind::<ClassicHash>(&mesh, kind, &config, keep)?,
-            Hasher::Fast => build_kind::<FastHash>(&mesh, kind, &config, keep)?,
+            Hasher::Classic => build_kind::<ClassicHash>(&mesh, kind, &config, keep)
+                .with_context(|| args.mesh.display().to_string())?,
+            Hasher::Fast => {
+                build_kind::<FastHash>(&mesh, kind, &config, keep).with_context(|| args.mesh.display().to_string())?
+            }
         });
     }
     if let (Some(path), Some(last)) = (&args.cells_out, built.last()) {

@@ -3,7 +3,7 @@
 
 use super::grid::parse_cell;
 use crate::common::{load_mesh, parse_vec3};
-use anyhow::{Result, bail};
+use anyhow::{Context, Result, bail};
 use proxima::grid::{FastHash, GridConfig, HashGrid};
 use proxima::{GridError, Triangle, Vec3};
 use serde_json::json;
@@ -37,7 +37,7 @@ pub fn run(args: Args) -> Result<()> {
     }
     let mesh = load_mesh(&args.mesh)?;
     if mesh.face_count() == 0 {
-        bail!("the mesh has no faces to hit");
+        bail!("{}: the mesh has no faces to hit", args.mesh.display());
     }
     let triangles = mesh.triangles();
     let cell = args.cell.unwrap_or_else(|| {
@@ -45,7 +45,8 @@ pub fn run(args: Args) -> Result<()> {
         Vec3::splat(side / (triangles.len() as f32).cbrt().max(1.0))
     });
     let start = Instant::now();
-    let grid: HashGrid<Triangle, FastHash> = HashGrid::build(triangles, &GridConfig::new(cell))?;
+    let grid: HashGrid<Triangle, FastHash> =
+        HashGrid::build(triangles, &GridConfig::new(cell)).with_context(|| args.mesh.display().to_string())?;
     let build = start.elapsed().as_secs_f64();
     let start = Instant::now();
     let hit = grid.first_hit(args.origin, args.dir.normalize(), 0.0, f32::INFINITY)?;
