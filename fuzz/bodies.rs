@@ -542,7 +542,8 @@ fn traversal_body(data: &[u8]) -> Result<()> {
         return Ok(());
     }
     let t_min = if u.arbitrary()? { 0.0 } else { -free(&mut u)?.abs() };
-    let t_max = t_min + free(&mut u)?.abs() * 3.0;
+    // At most 2 units of ray: the oracle tests every cell of the segment's box.
+    let t_max = t_min + free(&mut u)?.abs() * 0.5;
     let got: Vec<_> = GridTraversal::in_layout(&layout, o, d, t_min, t_max)
         .expect("valid ray")
         .collect();
