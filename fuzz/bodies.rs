@@ -28,8 +28,11 @@ pub const MAX_INPUT: usize = 1 << 20;
 /// Decompression limit of the gzip target (the library's default is 4 GiB).
 pub const MAX_GUNZIP: u64 = 8 << 20;
 
+/// A fuzz target's body.
+pub type Body = fn(&[u8]);
+
 /// Every target: its name (the file in `fuzz/fuzz_targets/`) and body.
-pub const TARGETS: &[(&str, fn(&[u8]))] = &[
+pub const TARGETS: &[(&str, Body)] = &[
     ("load_obj", load_obj),
     ("load_ply", load_ply),
     ("load_stl", load_stl),
@@ -205,7 +208,6 @@ fn build_config(u: &mut Unstructured<'_>) -> Result<BuildConfig> {
         } else {
             SplitMethod::Median
         },
-        ..BuildConfig::default()
     })
 }
 

@@ -240,7 +240,7 @@ fn ply_ascii_fewer_values_than_announced() {
 fn stl_binary_count_beyond_size() {
     let dir = temp_dir("stl_binary_count_beyond_size");
     let path = dir.join("count.stl");
-    std::fs::write(&path, &stl_with_count(1000)).unwrap();
+    std::fs::write(&path, stl_with_count(1000)).unwrap();
     let out = proxima(&["info", path.to_str().unwrap()]);
     assert_one_line_error(&out, 1, &["count.stl", "1000 triangles"]);
 }

@@ -257,7 +257,7 @@ fn ply_ascii_fewer_values_than_announced() {
 fn stl_binary_count_beyond_size() {
     let dir = temp_dir("stl_binary_count_beyond_size");
     let path = dir.join("count.stl");
-    std::fs::write(&path, &stl_with_count(1000)).unwrap();
+    std::fs::write(&path, stl_with_count(1000)).unwrap();
     let e = proxima::io::load(&path).unwrap_err();
     assert_load_error(&e, &path, None, "announces 1000 triangles", |k| {
         matches!(k, LoadErrorKind::Truncated(_))

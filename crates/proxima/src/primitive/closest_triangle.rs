@@ -38,7 +38,8 @@ pub(crate) fn closest_on_triangle(a: Vec3A, b: Vec3A, c: Vec3A, p: Vec3A) -> Vec
     // Slivers, and sizes where f32 products could overflow or lose their
     // precision to underflow (edges shorter than about 1e-10), go to f64.
     if n.length_squared() <= SLIVER_SIN2 * scale
-        || !(scale >= f32::MIN_POSITIVE)
+        || scale.is_nan()
+        || scale < f32::MIN_POSITIVE
         || ab2.max(ac2) > FAST_EDGE2
         || ap.length_squared() > FAST_REACH2
     {

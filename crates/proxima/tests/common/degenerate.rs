@@ -104,7 +104,7 @@ fn v(x: f32, y: f32, z: f32) -> Vec3 {
 
 /// Every case of the table.
 pub fn cases() -> Vec<Case> {
-    let unit = vec![v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(0.0, 1.0, 0.0), v(0.0, 0.0, 1.0)];
+    let unit = [v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(0.0, 1.0, 0.0), v(0.0, 0.0, 1.0)];
     let small_features =
         |offset: f32, size: f32| -> Vec<Vec3> { unit.iter().map(|&p| Vec3::splat(offset) + p * size).collect() };
     let mut out = vec![

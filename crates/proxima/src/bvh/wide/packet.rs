@@ -169,7 +169,8 @@ impl TrianglePacket {
                 let scale = ab2 * ac2;
                 // The scalar routine's size bounds, widened the same way.
                 if n.length_squared() <= SCALAR_SIN2 * scale
-                    || !(scale >= 4.0 * f32::MIN_POSITIVE)
+                    || scale.is_nan()
+                    || scale < 4.0 * f32::MIN_POSITIVE
                     || ab2.max(ac2) > FAST_EDGE2 / 4.0
                 {
                     packet.slow |= 1 << lane;
