@@ -50,9 +50,20 @@ pub fn read_points(path: &Path) -> Result<Vec<Vec3>> {
     Ok(points)
 }
 
+/// The environment variable that lowers (or raises) the decompression cap of
+/// `.gz` meshes, in bytes (default [`proxima::io::DEFAULT_MAX_DECOMPRESSED_BYTES`]).
+pub const MAX_DECOMPRESSED_ENV: &str = "PROXIMA_MAX_DECOMPRESSED_BYTES";
+
 /// Loads a mesh; the error names the file (and line).
 pub fn load_mesh(path: &Path) -> Result<Mesh> {
-    Ok(proxima::io::load(path)?)
+    let mut options = proxima::io::LoadOptions::default();
+    if let Ok(text) = std::env::var(MAX_DECOMPRESSED_ENV) {
+        options.max_decompressed_bytes = text
+            .trim()
+            .parse()
+            .map_err(|_| anyhow::anyhow!("{MAX_DECOMPRESSED_ENV}: '{text}' is not a number of bytes"))?;
+    }
+    Ok(proxima::io::load_with(path, &options)?)
 }
 
 /// Which primitives of a mesh a command works on.

@@ -65,6 +65,13 @@ pub enum LoadErrorKind {
     /// The data parses but does not make a valid mesh.
     #[error("{0}")]
     Mesh(#[from] MeshError),
+    /// A compressed file expands beyond the configured limit
+    /// ([`LoadOptions::max_decompressed_bytes`](crate::io::LoadOptions)).
+    #[error("decompressed data exceeds the limit of {limit} bytes")]
+    DecompressedTooLarge {
+        /// The limit, in bytes.
+        limit: u64,
+    },
 }
 
 /// A load failure, with the file and (for text formats) the 1-based line.
@@ -118,6 +125,16 @@ pub enum BuildError {
     NonFinite {
         /// Index of the primitive in the input.
         index: usize,
+    },
+    /// A primitive has a coordinate beyond the bound
+    /// ([`MAX_COORDINATE`](crate::bvh::MAX_COORDINATE)) where squared distances
+    /// would overflow `f32`.
+    #[error("primitive {index} has a coordinate beyond ±{bound:e}, where squared distances overflow f32")]
+    CoordinateTooLarge {
+        /// Index of the primitive in the input.
+        index: usize,
+        /// The largest accepted magnitude.
+        bound: f32,
     },
     /// More primitives than 32-bit indices can address.
     #[error("{count} primitives is more than 32-bit indices can address")]
@@ -177,6 +194,13 @@ pub enum GridError {
     /// A point whose cell index does not fit the supported range (|index| < 2^52).
     #[error("a coordinate lies too far from the grid origin for the cell size (cell index out of range)")]
     OutOfRange,
+    /// A primitive whose cell indices do not fit the supported range
+    /// ([`OutOfRange`](GridError::OutOfRange) met while building a grid).
+    #[error("primitive {index} lies too far from the grid origin for the cell size (cell index out of range)")]
+    PrimitiveOutOfRange {
+        /// Index of the primitive in the input.
+        index: usize,
+    },
     /// A primitive whose bounding box spans more cells than the limit.
     #[error("primitive {index} spans {cells} cells, more than the limit of {limit}")]
     PrimitiveTooLarge {

@@ -165,9 +165,22 @@ impl GridTraversal {
         if !(t_min.is_finite() && t_min <= t_max) {
             return Err(GridError::RayRange { t_min, t_max });
         }
+        Self::in_layout_f64(layout, origin, direction, t_min as f64, t_max as f64)
+    }
+
+    /// [`GridTraversal::in_layout`] over an `f64` parameter range, for callers
+    /// that clip the ray in `f64` (a long ray's `f32` parameters cannot tell
+    /// its cells apart). The ray and range must already be valid.
+    pub(crate) fn in_layout_f64(
+        layout: &GridLayout,
+        origin: Vec3,
+        direction: Vec3,
+        t_min: f64,
+        t_max: f64,
+    ) -> Result<Self, GridError> {
         let o = [origin.x as f64, origin.y as f64, origin.z as f64];
         let d = [direction.x as f64, direction.y as f64, direction.z as f64];
-        let t0 = t_min as f64;
+        let t0 = t_min;
         let mut walk = Self {
             layout: *layout,
             origin: o,
@@ -185,7 +198,7 @@ impl GridTraversal {
             offset: d.map(|x| (x > 0.0) as i64),
             t_next: [f64::INFINITY; 3],
             t: t0,
-            t_max: t_max as f64,
+            t_max,
             steps_left: u64::MAX,
             done: t_min == t_max,
         };

@@ -473,7 +473,7 @@ fn errors_instead_of_exhaustion() {
     let far = PrimitiveSet::from_primitives(vec![Point(Vec3::splat(1e30))]);
     assert_eq!(
         HashGrid::<Point>::build(far, &GridConfig::cubic(1e-10)).unwrap_err(),
-        GridError::OutOfRange
+        GridError::PrimitiveOutOfRange { index: 0 }
     );
     let nan = PrimitiveSet::from_primitives(vec![Point(Vec3::ZERO), Point(Vec3::new(f32::NAN, 0.0, 0.0))]);
     assert_eq!(

@@ -281,7 +281,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         &args.split.config(),
         !args.json,
         args.planarity,
-    )?;
+    )
+    .with_context(|| args.mesh.display().to_string())?;
     if args.json {
         let results: Vec<_> = records
             .iter()

@@ -5,7 +5,7 @@ use crate::common::{
     require_primitives,
 };
 use crate::with_tree;
-use anyhow::bail;
+use anyhow::{Context, bail};
 use proxima::bvh::WideTree;
 use proxima::{ClosestHit, ClosestPoint, LinearSearch, PrimitiveSet, Vec3};
 use std::io::{BufWriter, Write};
@@ -63,7 +63,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     note_polygons(&mesh, args.primitives, &args.mesh, args.planarity);
     let answers: Vec<Vec<ClosestHit>> = match args.method {
         Method::Tree => {
-            let (tree, _) = build_tree_planar(&mesh, args.primitives, &args.split.config(), args.planarity)?;
+            let (tree, _) = build_tree_planar(&mesh, args.primitives, &args.split.config(), args.planarity)
+                .with_context(|| args.mesh.display().to_string())?;
             // The 4-wide tree gives the same answers as the binary one, faster.
             with_tree!(tree, t => WideTree::from_tree(t).k_nearest_batch(&points, args.k))
         }

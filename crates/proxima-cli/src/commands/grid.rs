@@ -159,8 +159,10 @@ pub fn run(args: Args) -> Result<()> {
     for (n, &kind) in kinds.iter().enumerate() {
         let keep = args.cells_out.is_some() && n + 1 == kinds.len();
         built.push(match args.hasher {
-            Hasher::Classic => build_kind::<ClassicHash>(&mesh, kind, &config, keep, &polygons)?,
-            Hasher::Fast => build_kind::<FastHash>(&mesh, kind, &config, keep, &polygons)?,
+            Hasher::Classic => build_kind::<ClassicHash>(&mesh, kind, &config, keep, &polygons)
+                .with_context(|| args.mesh.display().to_string())?,
+            Hasher::Fast => build_kind::<FastHash>(&mesh, kind, &config, keep, &polygons)
+                .with_context(|| args.mesh.display().to_string())?,
         });
     }
     if let (Some(path), Some(last)) = (&args.cells_out, built.last()) {

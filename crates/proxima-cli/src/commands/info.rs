@@ -2,6 +2,7 @@
 
 use crate::common::{Primitives, build_tree, load_mesh};
 use crate::with_tree;
+use anyhow::Context;
 use proxima::primitive::polygon::DEFAULT_PLANARITY_TOLERANCE;
 use proxima::{BuildConfig, TreeStats};
 use serde_json::json;
@@ -32,7 +33,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         if crate::common::require_primitives(&mesh, kind, &args.mesh).is_err() {
             continue; // info reports what there is; nothing to build for this kind
         }
-        let (tree, seconds) = build_tree(&mesh, kind, &config)?;
+        let (tree, seconds) = build_tree(&mesh, kind, &config).with_context(|| args.mesh.display().to_string())?;
         let stats: TreeStats = with_tree!(&tree, t => t.stats());
         trees.push((kind, stats, seconds));
     }

@@ -4,7 +4,7 @@
 
 use super::grid::parse_cell;
 use crate::common::{load_mesh, parse_vec3};
-use anyhow::{Result, bail};
+use anyhow::{Context, Result, bail};
 use proxima::grid::{FastHash, GridConfig, HashGrid};
 use proxima::{AabbTree, BuildConfig, RayError, Triangle, Vec3};
 use serde_json::json;
@@ -78,14 +78,15 @@ pub fn run(args: Args) -> Result<()> {
     }
     let mesh = load_mesh(&args.mesh)?;
     if mesh.face_count() == 0 {
-        bail!("the mesh has no faces to hit");
+        bail!("{}: the mesh has no faces to hit", args.mesh.display());
     }
     let triangles = mesh.triangles();
     let direction = args.dir.normalize();
     let (found, any, build, query, structure, label) = match method {
         RayMethod::Tree => {
             let start = Instant::now();
-            let tree = AabbTree::build_set(triangles, &BuildConfig::default())?;
+            let tree = AabbTree::build_set(triangles, &BuildConfig::default())
+                .with_context(|| args.mesh.display().to_string())?;
             let build = start.elapsed().as_secs_f64();
             let start = Instant::now();
             let (found, any) = if args.any {
@@ -119,7 +120,8 @@ pub fn run(args: Args) -> Result<()> {
                 Vec3::splat(side / (triangles.len() as f32).cbrt().max(1.0))
             });
             let start = Instant::now();
-            let grid: HashGrid<Triangle, FastHash> = HashGrid::build(triangles, &GridConfig::new(cell))?;
+            let grid: HashGrid<Triangle, FastHash> =
+                HashGrid::build(triangles, &GridConfig::new(cell)).with_context(|| args.mesh.display().to_string())?;
             let build = start.elapsed().as_secs_f64();
             let start = Instant::now();
             let hit = grid.first_hit(args.origin, direction, 0.0, f32::INFINITY)?;

@@ -48,7 +48,9 @@ pub fn run(args: Args) -> Result<()> {
     let pool = rayon::ThreadPoolBuilder::new().num_threads(args.threads).build()?;
     let threads = pool.current_num_threads();
     let start = Instant::now();
-    let voxels = pool.install(|| voxelize(&triangles, &bounds, &config))?;
+    let voxels = pool
+        .install(|| voxelize(&triangles, &bounds, &config))
+        .with_context(|| args.mesh.display().to_string())?;
     let seconds = start.elapsed().as_secs_f64();
     if let Some(path) = &args.out {
         write_voxels(path, &voxels)?;

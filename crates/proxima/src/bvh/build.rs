@@ -2,7 +2,7 @@
 //! in parallel and joined.
 
 use super::AabbTree;
-use super::config::{BuildConfig, SplitMethod};
+use super::config::{BuildConfig, MAX_COORDINATE, SplitMethod};
 use super::node::{Node, NodePair};
 use crate::aabb::Aabb;
 use crate::error::BuildError;
@@ -43,7 +43,7 @@ impl<T: Bounded + Copy + Send + Sync> AabbTree<T> {
     /// Builds a tree over `primitives`; the source of each is its input index.
     ///
     /// Fails when the configuration is invalid, a primitive has a non-finite
-    /// coordinate, or there are 2^32 or more primitives. Large builds use all
+    /// coordinate or one beyond [`MAX_COORDINATE`](super::MAX_COORDINATE), or there are 2^32 or more primitives. Large builds use all
     /// threads of rayon's current pool; run it inside a one-thread pool for a
     /// single-thread build (the tree is the same either way).
     pub fn build(primitives: Vec<T>, config: &BuildConfig) -> Result<Self, BuildError> {
@@ -84,6 +84,13 @@ impl<T: Bounded + Copy + Send + Sync> AabbTree<T> {
             .collect();
         if let Some(index) = items.iter().position(|it| !(it.min.is_finite() && it.max.is_finite())) {
             return Err(BuildError::NonFinite { index });
+        }
+        let beyond = |it: &Item| it.min.abs().max(it.max.abs()).max_element() > MAX_COORDINATE;
+        if let Some(index) = items.iter().position(beyond) {
+            return Err(BuildError::CoordinateTooLarge {
+                index,
+                bound: MAX_COORDINATE,
+            });
         }
         let (nodes, depth) = build_nodes(&mut items, config);
         let indices: Vec<u32> = items.par_iter().map(|it| it.index).collect();

@@ -6,6 +6,16 @@ use crate::error::BuildError;
 /// many entries, so no query allocates and none can overflow.
 pub const MAX_DEPTH: u32 = 60;
 
+/// The largest coordinate magnitude a tree accepts: 2^60 (about 1.15e18).
+///
+/// Distances are compared squared, in `f32`. Between points whose coordinates
+/// are at most 2^60 (2^62 for the query) in magnitude, a squared distance is
+/// below 3 · 2^126 and stays finite; beyond that it can overflow to infinity,
+/// and every candidate would tie at `∞`. A build over larger coordinates fails
+/// with [`BuildError::CoordinateTooLarge`] instead of answering nonsense
+/// (rescale such data first).
+pub const MAX_COORDINATE: f32 = (1u64 << 60) as f32;
+
 /// How a node's primitives are divided between its two children.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum SplitMethod {

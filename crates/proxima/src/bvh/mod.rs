@@ -20,7 +20,7 @@ pub mod wide;
 
 pub use self::wide::{WideChild, WideKnnScratch, WideNode, WideTree};
 pub use batch::BatchOptions;
-pub use config::{BuildConfig, MAX_DEPTH, SplitMethod};
+pub use config::{BuildConfig, MAX_COORDINATE, MAX_DEPTH, SplitMethod};
 pub use knn::KnnScratch;
 pub use node::Node;
 use node::NodePair;

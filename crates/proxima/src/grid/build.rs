@@ -115,6 +115,7 @@ impl<T: GridInsert, S: BuildHasher + Default> HashGrid<T, S> {
 fn with_index(e: GridError, index: usize) -> GridError {
     match e {
         GridError::NonFinite { .. } => GridError::NonFinite { index },
+        GridError::OutOfRange => GridError::PrimitiveOutOfRange { index },
         GridError::PrimitiveTooLarge { cells, limit, .. } => GridError::PrimitiveTooLarge { index, cells, limit },
         other => other,
     }

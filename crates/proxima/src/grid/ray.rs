@@ -83,7 +83,10 @@ impl<S: BuildHasher> HashGrid<Triangle, S> {
         );
         let margin = 1e-5 * (lo.abs().max(hi.abs()).max_element() + layout.cell_size().max_element());
         let world = Aabb::new(lo, hi).inflate(margin);
-        let Some((t0, t1)) = world.ray_interval(origin, direction.recip(), t_min, t_max) else {
+        // Clipped in f64: a ray whose direction is long compared with the
+        // cells (a fuzzed one started 3e15 away, with t = 1 at the hit)
+        // crosses the whole grid within one f32 ulp of t.
+        let Some((t0, t1)) = ray_interval_f64(&world, origin, direction, t_min as f64, t_max as f64) else {
             return Ok(None);
         };
         if !t1.is_finite() {
@@ -95,7 +98,11 @@ impl<S: BuildHasher> HashGrid<Triangle, S> {
         // best hit lies before the exit by more than that.
         let reach = (world.min - origin).abs().max((world.max - origin).abs()).max_element();
         let slack = 32.0 * f32::EPSILON * reach / direction.abs().max_element();
-        let walk = GridTraversal::in_layout(layout, origin, direction, t0, t1)?;
+        // The walk also starts a margin before t_min: a triangle hit right at
+        // the origin may lie, by a rounding, in the cell behind an origin on
+        // a cell boundary (the hit test itself still starts at t_min).
+        let back = margin as f64 / direction.abs().max_element() as f64;
+        let walk = GridTraversal::in_layout_f64(layout, origin, direction, t0 - back, t1)?;
         let mut best: Option<GridRayHit> = None;
         let mut visited = 0u32;
         for step in walk {
@@ -117,7 +124,11 @@ impl<S: BuildHasher> HashGrid<Triangle, S> {
                     });
                 }
             }
-            if best.is_some_and(|b| b.t < step.t_exit - slack) {
+            // Stop once the best hit lies before the exit of this cell by more
+            // than the rounding slack and an ulp (the exit is rounded to f32; a
+            // fuzzed ray with 1e17 coordinates met two triangles at their
+            // shared vertex, on a cell boundary): a tie beyond is still seen.
+            if best.is_some_and(|b| b.t < step.t_exit - slack && b.t.next_up() < step.t_exit) {
                 break;
             }
         }
@@ -126,4 +137,28 @@ impl<S: BuildHasher> HashGrid<Triangle, S> {
             ..b
         }))
     }
+}
+
+/// The parameter interval of `origin + t · direction` inside `b` within
+/// `[t_min, t_max]`, in `f64` (slab test); `None` when it misses.
+fn ray_interval_f64(b: &Aabb, origin: Vec3, direction: Vec3, t_min: f64, t_max: f64) -> Option<(f64, f64)> {
+    let (mut t0, mut t1) = (t_min, t_max);
+    for axis in 0..3 {
+        let (o, d) = (origin[axis] as f64, direction[axis] as f64);
+        let (lo, hi) = (b.min[axis] as f64, b.max[axis] as f64);
+        if d == 0.0 {
+            if o < lo || o > hi {
+                return None;
+            }
+            continue;
+        }
+        let (near, far) = ((lo - o) / d, (hi - o) / d);
+        let (near, far) = if near <= far { (near, far) } else { (far, near) };
+        t0 = t0.max(near);
+        t1 = t1.min(far);
+        if t0 > t1 {
+            return None;
+        }
+    }
+    Some((t0, t1))
 }

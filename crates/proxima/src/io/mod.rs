@@ -139,12 +139,40 @@ fn is_gzip_path(path: &Path) -> bool {
         .is_some_and(|e| e.eq_ignore_ascii_case("gz"))
 }
 
+/// Default of [`LoadOptions::max_decompressed_bytes`]: 4 GiB, far above any
+/// real mesh (the ascii dragon is 33 MB) and below what a gzip bomb expands to.
+pub const DEFAULT_MAX_DECOMPRESSED_BYTES: u64 = 4 << 30;
+
+/// Limits applied while loading.
+///
+/// ```
+/// use proxima::io::LoadOptions;
+/// let strict = LoadOptions { max_decompressed_bytes: 64 << 20 };
+/// assert!(strict.max_decompressed_bytes < LoadOptions::default().max_decompressed_bytes);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LoadOptions {
+    /// A `.gz` file that decompresses to more bytes than this fails with
+    /// [`LoadErrorKind::DecompressedTooLarge`] (decompression stops there).
+    pub max_decompressed_bytes: u64,
+}
+
+impl Default for LoadOptions {
+    fn default() -> Self {
+        Self {
+            max_decompressed_bytes: DEFAULT_MAX_DECOMPRESSED_BYTES,
+        }
+    }
+}
+
 /// Loads a mesh, choosing the format by the file extension (see [`Format::from_path`])
-/// and decompressing a `.gz` file on the way.
+/// and decompressing a `.gz` file on the way, with the default [`LoadOptions`].
 ///
 /// Fails with [`LoadErrorKind::UnknownFormat`] for an extension it does not know,
 /// [`LoadErrorKind::Io`] when the file cannot be read or its gzip stream is
-/// corrupt, and the errors of [`parse`] otherwise; every error names `path`.
+/// corrupt, [`LoadErrorKind::DecompressedTooLarge`] for a gzip stream that
+/// expands beyond the limit, and the errors of [`parse`] otherwise; every
+/// error names `path`.
 ///
 /// ```no_run
 /// let mesh = proxima::io::load("dragon_vrip.ply.gz")?;
@@ -152,22 +180,49 @@ fn is_gzip_path(path: &Path) -> bool {
 /// # Ok::<(), proxima::LoadError>(())
 /// ```
 pub fn load(path: impl AsRef<Path>) -> Result<Mesh, LoadError> {
+    load_with(path, &LoadOptions::default())
+}
+
+/// [`load`] with explicit limits.
+pub fn load_with(path: impl AsRef<Path>, options: &LoadOptions) -> Result<Mesh, LoadError> {
     let path = path.as_ref();
     let format = Format::from_path(path).ok_or_else(|| LoadError::new(path, None, LoadErrorKind::UnknownFormat))?;
     let bytes = std::fs::read(path).map_err(|e| LoadError::new(path, None, e))?;
     if is_gzip_path(path) {
-        let bytes = gunzip(&bytes).map_err(|e| LoadError::new(path, None, e))?;
+        let bytes = gunzip(&bytes, options.max_decompressed_bytes).map_err(|e| LoadError::new(path, None, e))?;
         parse(&bytes, format, path)
     } else {
         parse(&bytes, format, path)
     }
 }
 
-/// Decompresses every gzip member of `bytes`.
-fn gunzip(bytes: &[u8]) -> std::io::Result<Vec<u8>> {
+/// Decompresses every gzip member of `bytes`, failing with
+/// [`LoadErrorKind::DecompressedTooLarge`] as soon as the output would exceed
+/// `max_bytes` (so a gzip bomb costs at most `max_bytes` of memory), and with
+/// [`LoadErrorKind::Io`] for a corrupt stream.
+///
+/// ```
+/// use std::io::Write;
+/// let mut encoder = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::best());
+/// encoder.write_all(&vec![b' '; 1 << 20]).unwrap();
+/// let bomb = encoder.finish().unwrap();
+/// assert!(proxima::io::gunzip(&bomb, 1 << 20).is_ok());
+/// assert!(matches!(
+///     proxima::io::gunzip(&bomb, 1000),
+///     Err(proxima::LoadErrorKind::DecompressedTooLarge { limit: 1000 })
+/// ));
+/// ```
+pub fn gunzip(bytes: &[u8], max_bytes: u64) -> Result<Vec<u8>, LoadErrorKind> {
     // A guess only (text meshes compress about 4:1), capped; the vector grows as needed.
-    let mut out = Vec::with_capacity(bytes.len().saturating_mul(4).min(1 << 28));
-    flate2::read::MultiGzDecoder::new(bytes).read_to_end(&mut out)?;
+    let guess = (bytes.len() as u64).saturating_mul(4).min(1 << 28).min(max_bytes);
+    let mut out = Vec::with_capacity(guess as usize);
+    // One byte past the limit tells "exactly at the limit" from "beyond it".
+    flate2::read::MultiGzDecoder::new(bytes)
+        .take(max_bytes.saturating_add(1))
+        .read_to_end(&mut out)?;
+    if out.len() as u64 > max_bytes {
+        return Err(LoadErrorKind::DecompressedTooLarge { limit: max_bytes });
+    }
     Ok(out)
 }
 

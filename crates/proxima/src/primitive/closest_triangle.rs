@@ -10,22 +10,41 @@ use glam::DVec3;
 /// meshes and take the `f64` path instead.
 const SLIVER_SIN2: f32 = 1e-4;
 
+/// Squared edge length above which the fast path's products could overflow
+/// `f32` (edges longer than 2^30): such triangles take the `f64` path.
+pub(crate) const FAST_EDGE2: f32 = (1u64 << 60) as f32;
+/// Squared distance from `a` above which the query takes the `f64` path
+/// (farther than 2^32). With edges of at most 2^30 every dot product is then
+/// below 2^63 and every product of two below 2^126, so no region test
+/// overflows; a fuzzed triangle with 1e16-long edges had `|n|²` overflow to
+/// infinity and returned the query itself as its closest point.
+pub(crate) const FAST_REACH2: f32 = (1u128 << 64) as f32;
+
 /// The point of triangle `a`, `b`, `c` closest to `p`.
 ///
 /// The query is classified against the triangle's vertex, edge and face
 /// regions using dot products only, so a point in a vertex or edge region
 /// costs no division. Slivers and degenerate triangles (repeated or collinear
-/// vertices) go to [`closest_on_sliver`].
+/// vertices), edges beyond 2^30 or below about 1e-10, and queries farther than
+/// 2^32 from the triangle go to [`closest_on_sliver`].
 #[inline(always)]
 pub(crate) fn closest_on_triangle(a: Vec3A, b: Vec3A, c: Vec3A, p: Vec3A) -> Vec3A {
     let ab = b - a;
     let ac = c - a;
     let n = ab.cross(ac);
-    // Also true when the product overflows or underflows: those go to f64.
-    if n.length_squared() <= SLIVER_SIN2 * ab.length_squared() * ac.length_squared() {
+    let ap = p - a;
+    let (ab2, ac2) = (ab.length_squared(), ac.length_squared());
+    let scale = ab2 * ac2;
+    // Slivers, and sizes where f32 products could overflow or lose their
+    // precision to underflow (edges shorter than about 1e-10), go to f64.
+    if n.length_squared() <= SLIVER_SIN2 * scale
+        || scale.is_nan()
+        || scale < f32::MIN_POSITIVE
+        || ab2.max(ac2) > FAST_EDGE2
+        || ap.length_squared() > FAST_REACH2
+    {
         return closest_on_sliver(a, b, c, p);
     }
-    let ap = p - a;
     let d1 = ab.dot(ap);
     let d2 = ac.dot(ap);
     if d1 <= 0.0 && d2 <= 0.0 {

@@ -7,7 +7,7 @@
 //! [`ClosestPoint::closest_point`] answers closest-point queries.
 
 mod closest_polygon;
-mod closest_triangle;
+pub(crate) mod closest_triangle;
 mod point;
 mod point_aabb;
 pub mod polygon;

@@ -2,6 +2,7 @@
 //! real meshes of ../shared/data (skipped with a note when absent).
 #![allow(dead_code)]
 
+pub mod degenerate;
 pub mod oracle;
 
 use proxima::sample::Rng;

@@ -13,6 +13,7 @@
 
 use crate::math::Vec3A;
 use crate::primitive::Triangle;
+use crate::primitive::closest_triangle::{FAST_EDGE2, FAST_REACH2};
 use wide::f32x4;
 
 /// The scalar routine sends a triangle to its `f64` path when
@@ -164,7 +165,14 @@ impl TrianglePacket {
                 let (a, b, c) = (Vec3A::from(t.a), Vec3A::from(t.b), Vec3A::from(t.c));
                 let (ab, ac) = (b - a, c - a);
                 let n = ab.cross(ac);
-                if n.length_squared() <= SCALAR_SIN2 * ab.length_squared() * ac.length_squared() {
+                let (ab2, ac2) = (ab.length_squared(), ac.length_squared());
+                let scale = ab2 * ac2;
+                // The scalar routine's size bounds, widened the same way.
+                if n.length_squared() <= SCALAR_SIN2 * scale
+                    || scale.is_nan()
+                    || scale < 4.0 * f32::MIN_POSITIVE
+                    || ab2.max(ac2) > FAST_EDGE2 / 4.0
+                {
                     packet.slow |= 1 << lane;
                 } else {
                     packet.fast |= 1 << lane;
@@ -174,10 +182,12 @@ impl TrianglePacket {
         packet
     }
 
-    /// The closest point of each lane's triangle to `p`, and its squared
-    /// distance; lanes outside [`fast`](Self::fast) are meaningless.
+    /// The closest point of each lane's triangle to `p`, its squared
+    /// distance, and the lanes where `p` is so far that the scalar routine
+    /// may take its `f64` path (a superset); those and lanes outside
+    /// [`fast`](Self::fast) are meaningless.
     #[inline(always)]
-    pub(crate) fn closest(&self, p: &V3) -> (V3, f32x4) {
+    pub(crate) fn closest(&self, p: &V3) -> (V3, f32x4, u32) {
         let zero = f32x4::ZERO;
         let (a, b, c) = (V3::load(&self.a), V3::load(&self.b), V3::load(&self.c));
         let ab = b.sub(a);
@@ -213,7 +223,8 @@ impl TrianglePacket {
         q = q.replace(in_b, b);
         q = q.replace(in_a, a);
         let d = q.sub(*p);
-        (q, d.dot(d))
+        let far = ap.dot(ap).simd_gt(f32x4::splat(FAST_REACH2 / 4.0)).to_bitmask();
+        (q, d.dot(d), far)
     }
 }
 
@@ -272,9 +283,9 @@ mod tests {
             for j in 0..40 {
                 let scale = [1e-20, 1.0, 3.0, 1e18][j % 4];
                 let p = Vec3A::from(vec(&mut rng, scale));
-                let (q, d2) = packet.closest(&V3::splat(p));
+                let (q, d2, far) = packet.closest(&V3::splat(p));
                 for (lane, t) in chunk.iter().enumerate() {
-                    if packet.fast & (1 << lane) == 0 {
+                    if (packet.fast & !far) & (1 << lane) == 0 {
                         continue;
                     }
                     let expected = t.closest_point(p);

@@ -121,15 +121,15 @@ impl<T> WideTree<T> {
                     }
                 } else {
                     for packet in &packets[child as usize..child as usize + n.div_ceil(4)] {
-                        let (q, d2) = packet.closest(&pv);
+                        let (q, d2, far) = packet.closest(&pv);
                         // Only lanes that can change the answer are offered.
-                        let mut bits = d2.simd_le(f32x4::splat(visitor.bound())).to_bitmask() & packet.fast;
+                        let mut bits = d2.simd_le(f32x4::splat(visitor.bound())).to_bitmask() & packet.fast & !far;
                         while bits != 0 {
                             let lane = bits.trailing_zeros() as usize;
                             bits &= bits - 1;
                             visitor.offer(packet.first as usize + lane, q.lane(lane), d2.as_array()[lane]);
                         }
-                        let mut slow = packet.slow;
+                        let mut slow = packet.slow | (packet.fast & far);
                         while slow != 0 {
                             let slot = packet.first as usize + slow.trailing_zeros() as usize;
                             slow &= slow - 1;

@@ -1,0 +1,392 @@
+//! The bad-input catalogue (`docs/errors.md`), command-line side: one test per
+//! kind of bad input, with the same names as the library side
+//! (`crates/proxima/tests/errors.rs`). Every failure on input prints exactly
+//! one line, `proxima: FILE[:LINE]: what`, never "panicked", and exits with 1;
+//! usage errors (clap) exit with 2.
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn proxima(args: &[&str]) -> Output {
+    proxima_env(args, &[])
+}
+
+fn proxima_env(args: &[&str], env: &[(&str, &str)]) -> Output {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_proxima"));
+    command.args(args);
+    for (key, value) in env {
+        command.env(key, value);
+    }
+    command.output().expect("run proxima")
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("proxima-errors-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Exit status `code`, no panic, and (for status 1) exactly one line on
+/// stderr starting with `proxima: ` and containing every needle.
+fn assert_one_line_error(out: &Output, code: i32, needles: &[&str]) {
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(code), "stderr: {err}");
+    assert!(!err.contains("panicked"), "panic: {err}");
+    if code == 1 {
+        assert_eq!(err.trim_end().lines().count(), 1, "one line expected: {err}");
+        assert!(err.starts_with("proxima: "), "{err}");
+    }
+    for needle in needles {
+        assert!(err.contains(needle), "'{needle}' missing from: {err}");
+    }
+}
+
+/// A binary STL of 84 + 50 bytes whose header announces `count` triangles.
+fn stl_with_count(count: u32) -> Vec<u8> {
+    let mut bytes = vec![b'x'; 80];
+    bytes.extend(count.to_le_bytes());
+    bytes.extend([0u8; 50]);
+    bytes
+}
+
+const TRIANGLE: &[u8] = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+
+/// Writes the one-triangle OBJ into a fresh directory.
+fn triangle_file(name: &str) -> String {
+    let path = temp_dir(name).join("ok.obj");
+    std::fs::write(&path, TRIANGLE).unwrap();
+    path.display().to_string()
+}
+
+// ------------------------------------------------------------- loading ---
+
+#[test]
+fn missing_file() {
+    let dir = temp_dir("missing_file");
+    let path = dir.join("missing.obj");
+    let out = proxima(&["info", path.to_str().unwrap()]);
+    assert_one_line_error(&out, 1, &["missing.obj"]);
+}
+
+#[test]
+fn unknown_extension() {
+    let dir = temp_dir("unknown_extension");
+    let path = dir.join("mesh.xyz");
+    std::fs::write(&path, b"1 2 3\n").unwrap();
+    let out = proxima(&["info", path.to_str().unwrap()]);
+    assert_one_line_error(&out, 1, &["mesh.xyz", "unknown mesh format"]);
+}
+
+#[test]
+fn directory_instead_of_file() {
+    let dir = temp_dir("directory_instead_of_file");
+    let path = dir.join("dir.obj");
+    std::fs::create_dir_all(&path).unwrap();
+    let out = proxima(&["info", path.to_str().unwrap()]);
+    assert_one_line_error(&out, 1, &["dir.obj"]);
+}
+
+#[test]
+fn obj_bad_number() {
+    let dir = temp_dir("obj_bad_number");
+    let path = dir.join("badnum.obj");
+    std::fs::write(&path, b"v 0 0 0\nv 1 x 0\n").unwrap();
+    let out = proxima(&["info", path.to_str().unwrap()]);
+    assert_one_line_error(&out, 1, &["badnum.obj:2"]);
+}
+
+#[test]
+fn obj_index_zero() {
+    let dir = temp_dir("obj_index_zero");
+    let path = dir.join("zero.obj");
+    std::fs::write(&path, b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n").unwrap();
+    let out = proxima(&["info", path.to_str().unwrap()]);
+    assert_one_line_error(&out, 1, &["zero.obj:4", "index 0"]);
+}
+
+#[test]
+fn obj_index_out_of_range() {
+    let dir = temp_dir("obj_index_out_of_range");
+    let path = dir.join("range.obj");
+    std::fs::write(&path, b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n").unwrap();
+    let out = proxima(&["info", path.to_str().unwrap()]);
+    assert_one_line_error(&out, 1, &["range.obj:4"]);
+}
+
+#[test]
+fn obj_relative_index_before_first() {
+    let dir = temp_dir("obj_relative_index_before_first");
+    let path = dir.join("rel.obj");
+    std::fs::write(&path, b"v 0 0 0\nf -3 -2 -1\n").unwrap();
+    let out = proxima(&["info", path.to_str().unwrap()]);
+    assert_one_line_error(&out, 1, &["rel.obj:2"]);
+}
+
+#[test]
+fn obj_face_too_small() {
+    let dir = temp_dir("obj_face_too_small");
+    let path = dir.join("small.obj");
+    std::fs::write(&path, b"v 0 0 0\nv 1 0 0\nf 1 2\n").unwrap();
+    let out = proxima(&["info", path.to_str().unwrap()]);
+    assert_one_line_error(&out, 1, &["small.obj:3", "at least 3"]);
+}
+
+#[test]
+fn obj_nan_coordinate() {
+    let dir = temp_dir("obj_nan_coordinate");
+    let path = dir.join("nan.obj");
+    std::fs::write(&path, b"v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let out = proxima(&["info", path.to_str().unwrap()]);
+    assert_one_line_error(&out, 1, &["nan.obj:2", "non-finite"]);
+}
+
+#[test]
+fn off_overflowing_coordinate() {
+    let dir = temp_dir("off_overflowing_coordinate");
+    let path = dir.join("over.off");
+    std::fs::write(&path, b"OFF\n3 1 0\n0 0 0\n1e999 0 0\n0 1 0\n3 0 1 2\n").unwrap();
+    let out = proxima(&["info", path.to_str().unwrap()]);
+    assert_one_line_error(&out, 1, &["over.off:4"]);
+}
+
+#[test]
+fn off_truncated() {
+    let dir = temp_dir("off_truncated");
+    let path = dir.join("trunc.off");
+    std::fs::write(&path, b"OFF\n4 2 0\n0 0 0\n1 0 0\n").unwrap();
+    let out = proxima(&["info", path.to_str().unwrap()]);
+    assert_one_line_error(&out, 1, &["trunc.off"]);
+}
+
+#[test]
+fn off_trailing_content() {
+    let dir = temp_dir("off_trailing_content");
+    let path = dir.join("trail.off");
+    std::fs::write(&path, b"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\nextra\n").unwrap();
+    let out = proxima(&["info", path.to_str().unwrap()]);
+    assert_one_line_error(&out, 1, &["trail.off:7"]);
+}
+
+#[test]
+fn off_negative_index() {
+    let dir = temp_dir("off_negative_index");
+    let path = dir.join("neg.off");
+    std::fs::write(&path, b"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 -1 2\n").unwrap();
+    let out = proxima(&["info", path.to_str().unwrap()]);
+    assert_one_line_error(&out, 1, &["neg.off:6"]);
+}
+
+#[test]
+fn ply_no_format_line() {
+    let dir = temp_dir("ply_no_format_line");
+    let path = dir.join("nofmt.ply");
+    std::fs::write(&path, b"ply\nelement vertex 3\nend_header\n").unwrap();
+    let out = proxima(&["info", path.to_str().unwrap()]);
+    assert_one_line_error(&out, 1, &["nofmt.ply:3"]);
+}
+
+#[test]
+fn ply_implausible_vertex_count() {
+    let dir = temp_dir("ply_implausible_vertex_count");
+    let path = dir.join("huge.ply");
+    std::fs::write(&path, b"ply\nformat ascii 1.0\nelement vertex 1000000000000\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n").unwrap();
+    let out = proxima(&["info", path.to_str().unwrap()]);
+    assert_one_line_error(&out, 1, &["huge.ply:3", "implausible"]);
+}
+
+#[test]
+fn ply_binary_truncated() {
+    let dir = temp_dir("ply_binary_truncated");
+    let path = dir.join("trunc_bin.ply");
+    std::fs::write(&path, b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n\x00\x00\x00\x00").unwrap();
+    let out = proxima(&["info", path.to_str().unwrap()]);
+    assert_one_line_error(&out, 1, &["trunc_bin.ply"]);
+}
+
+#[test]
+fn ply_list_count_not_integer() {
+    let dir = temp_dir("ply_list_count_not_integer");
+    let path = dir.join("listtype.ply");
+    std::fs::write(&path, b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list float int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n").unwrap();
+    let out = proxima(&["info", path.to_str().unwrap()]);
+    assert_one_line_error(&out, 1, &["listtype.ply:8"]);
+}
+
+#[test]
+fn ply_missing_z() {
+    let dir = temp_dir("ply_missing_z");
+    let path = dir.join("noz.ply");
+    std::fs::write(
+        &path,
+        b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nend_header\n0 0\n1 0\n0 1\n",
+    )
+    .unwrap();
+    let out = proxima(&["info", path.to_str().unwrap()]);
+    assert_one_line_error(&out, 1, &["noz.ply:3"]);
+}
+
+#[test]
+fn ply_ascii_fewer_values_than_announced() {
+    let dir = temp_dir("ply_ascii_fewer_values_than_announced");
+    let path = dir.join("count.ply");
+    std::fs::write(&path, b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n").unwrap();
+    let out = proxima(&["info", path.to_str().unwrap()]);
+    assert_one_line_error(&out, 1, &["count.ply"]);
+}
+
+#[test]
+fn stl_binary_count_beyond_size() {
+    let dir = temp_dir("stl_binary_count_beyond_size");
+    let path = dir.join("count.stl");
+    std::fs::write(&path, stl_with_count(1000)).unwrap();
+    let out = proxima(&["info", path.to_str().unwrap()]);
+    assert_one_line_error(&out, 1, &["count.stl", "1000 triangles"]);
+}
+
+#[test]
+fn stl_ascii_truncated() {
+    let dir = temp_dir("stl_ascii_truncated");
+    let path = dir.join("short.stl");
+    std::fs::write(
+        &path,
+        b"solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0\n",
+    )
+    .unwrap();
+    let out = proxima(&["info", path.to_str().unwrap()]);
+    assert_one_line_error(&out, 1, &["short.stl:5"]);
+}
+
+#[test]
+fn gzip_corrupt() {
+    let dir = temp_dir("gzip_corrupt");
+    let path = dir.join("corrupt.obj.gz");
+    std::fs::write(&path, b"not gzip at all").unwrap();
+    let out = proxima(&["info", path.to_str().unwrap()]);
+    assert_one_line_error(&out, 1, &["corrupt.obj.gz", "gzip"]);
+}
+
+#[test]
+fn gzip_bomb() {
+    let dir = temp_dir("gzip_bomb");
+    let path = dir.join("bomb.obj.gz");
+    let mut encoder = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::best());
+    encoder.write_all(&vec![b' '; 2 << 20]).unwrap();
+    std::fs::write(&path, encoder.finish().unwrap()).unwrap();
+    let path = path.to_str().unwrap();
+    let out = proxima_env(&["info", path], &[("PROXIMA_MAX_DECOMPRESSED_BYTES", "1000000")]);
+    assert_one_line_error(&out, 1, &["bomb.obj.gz", "exceeds the limit of 1000000 bytes"]);
+    let out = proxima_env(&["info", path], &[("PROXIMA_MAX_DECOMPRESSED_BYTES", "lots")]);
+    assert_one_line_error(&out, 1, &["PROXIMA_MAX_DECOMPRESSED_BYTES", "lots"]);
+}
+
+// ------------------------------------------------------------ building ---
+
+#[test]
+fn coordinate_beyond_tree_bound() {
+    let path = temp_dir("coordinate_beyond_tree_bound").join("huge.obj");
+    std::fs::write(&path, b"v 0 0 0\nv 1e30 0 0\nv 0 1e30 0\nf 1 2 3\n").unwrap();
+    let path = path.to_str().unwrap();
+    let out = proxima(&["closest", path, "--primitives", "faces", "--point", "0,0,0"]);
+    assert_one_line_error(&out, 1, &["huge.obj", "beyond"]);
+}
+
+#[test]
+fn empty_mesh() {
+    let path = temp_dir("empty_mesh").join("empty.obj");
+    std::fs::write(&path, b"# nothing\n").unwrap();
+    let path = path.to_str().unwrap();
+    let out = proxima(&["closest", path, "--primitives", "faces", "--point", "0,0,0"]);
+    assert_one_line_error(&out, 1, &["empty.obj", "no faces"]);
+    let out = proxima(&["raycast", path, "--origin", "0,0,0", "--dir", "1,0,0"]);
+    assert_one_line_error(&out, 1, &["empty.obj", "no faces"]);
+}
+
+#[test]
+fn points_file_bad_line() {
+    let mesh = triangle_file("points_file_bad_line");
+    let points = temp_dir("points_file_bad_line_pts").join("bad.pts");
+    std::fs::write(&points, b"0 0 0\n# ok\n1 2\n").unwrap();
+    let out = proxima(&["closest", &mesh, "--points", points.to_str().unwrap()]);
+    assert_one_line_error(&out, 1, &["bad.pts:3", "three numbers"]);
+}
+
+#[test]
+fn non_finite_query_point() {
+    let mesh = triangle_file("non_finite_query_point");
+    let out = proxima(&["closest", &mesh, "--point", "nan,0,0"]);
+    assert_one_line_error(&out, 2, &["not a finite number"]);
+}
+
+#[test]
+fn grid_primitive_spans_too_many_cells() {
+    let mesh = triangle_file("grid_primitive_spans_too_many_cells");
+    let out = proxima(&["grid", &mesh, "--cell", "1e-6"]);
+    assert_one_line_error(&out, 1, &["ok.obj", "spans", "more than the limit"]);
+}
+
+#[test]
+fn grid_cell_size_not_positive() {
+    let mesh = triangle_file("grid_cell_size_not_positive");
+    let out = proxima(&["grid", &mesh, "--cell", "0"]);
+    assert_one_line_error(&out, 1, &["cell size must be finite and positive"]);
+}
+
+#[test]
+fn grid_primitive_out_of_range() {
+    let path = temp_dir("grid_primitive_out_of_range").join("far.obj");
+    std::fs::write(&path, b"v 0 0 0\nv 1e30 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let out = proxima(&[
+        "grid",
+        path.to_str().unwrap(),
+        "--cell",
+        "1e-10",
+        "--primitives",
+        "vertices",
+    ]);
+    assert_one_line_error(&out, 1, &["far.obj", "primitive 1", "out of range"]);
+}
+
+#[test]
+fn ray_zero_direction() {
+    let out = proxima(&["traverse", "--origin", "0,0,0", "--dir", "0,0,0", "--cell", "1"]);
+    assert_one_line_error(&out, 1, &["ray direction must be finite and non-zero"]);
+    let mesh = triangle_file("ray_zero_direction");
+    let out = proxima(&["raycast", &mesh, "--origin", "0,0,0", "--dir", "0,0,0"]);
+    assert_one_line_error(&out, 1, &["ray direction"]);
+}
+
+#[test]
+fn traversal_origin_out_of_range() {
+    let out = proxima(&["traverse", "--origin", "1e20,0,0", "--dir", "1,0,0", "--cell", "1e-6"]);
+    assert_one_line_error(&out, 1, &["out of range"]);
+}
+
+#[test]
+fn voxelize_resolution_zero() {
+    let mesh = triangle_file("voxelize_resolution_zero");
+    let out = proxima(&["voxelize", &mesh, "--res", "0"]);
+    assert_one_line_error(&out, 1, &["resolution must be at least 1"]);
+}
+
+// --------------------------------------------------------------- usage ---
+
+#[test]
+fn usage_unknown_subcommand() {
+    assert_one_line_error(&proxima(&["frobnicate"]), 2, &["unrecognized subcommand"]);
+}
+
+#[test]
+fn usage_unknown_primitive_kind() {
+    let mesh = triangle_file("usage_unknown_primitive_kind");
+    let out = proxima(&["closest", &mesh, "--primitives", "cubes", "--point", "0,0,0"]);
+    assert_one_line_error(&out, 2, &["cubes"]);
+}
+
+#[test]
+fn usage_missing_argument() {
+    let mesh = triangle_file("usage_missing_argument");
+    assert_one_line_error(&proxima(&["closest", &mesh]), 2, &["--point"]);
+    assert_one_line_error(&proxima(&["info"]), 2, &["MESH"]);
+}

@@ -1,0 +1,441 @@
+//! The bad-input catalogue (`docs/errors.md`), library side: one test per kind
+//! of bad input, asserting the typed error, the line where the format is text,
+//! the path in the message, and the text the catalogue quotes. The CLI side is
+//! `crates/proxima-cli/tests/errors_cli.rs`, with the same test names.
+
+use proxima::bvh::{MAX_COORDINATE, WideTree};
+use proxima::grid::{GridConfig, HashGrid, VoxelConfig, voxelize};
+use proxima::io::LoadOptions;
+use proxima::traversal::{GridTraversal, TraversalConfig};
+use proxima::{AabbTree, BuildConfig, BuildError, GridError, LinearSearch, LoadError, LoadErrorKind, MeshError, Vec3};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("proxima-errors-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn assert_load_error(
+    e: &LoadError,
+    path: &Path,
+    line: Option<usize>,
+    text: &str,
+    kind: impl Fn(&LoadErrorKind) -> bool,
+) {
+    let message = e.to_string();
+    assert!(kind(&e.kind), "unexpected kind: {message}");
+    assert_eq!(e.line, line, "{message}");
+    assert_eq!(e.path, path);
+    let file = path.file_name().unwrap().to_string_lossy();
+    assert!(message.contains(&*file), "{message}");
+    assert!(message.contains(text), "'{text}' missing from {message}");
+    assert_eq!(message.lines().count(), 1, "{message}");
+}
+
+/// A binary STL of 84 + 50 bytes whose header announces `count` triangles.
+fn stl_with_count(count: u32) -> Vec<u8> {
+    let mut bytes = vec![b'x'; 80];
+    bytes.extend(count.to_le_bytes());
+    bytes.extend([0u8; 50]);
+    bytes
+}
+
+const TRIANGLE: &[u8] = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+
+// ------------------------------------------------------------- loading ---
+
+#[test]
+fn missing_file() {
+    let dir = temp_dir("missing_file");
+    let path = dir.join("missing.obj");
+    let e = proxima::io::load(&path).unwrap_err();
+    assert_load_error(&e, &path, None, "No such file", |k| matches!(k, LoadErrorKind::Io(_)));
+}
+
+#[test]
+fn unknown_extension() {
+    let dir = temp_dir("unknown_extension");
+    let path = dir.join("mesh.xyz");
+    std::fs::write(&path, b"1 2 3\n").unwrap();
+    let e = proxima::io::load(&path).unwrap_err();
+    assert_load_error(&e, &path, None, "unknown mesh format", |k| {
+        matches!(k, LoadErrorKind::UnknownFormat)
+    });
+}
+
+#[test]
+fn directory_instead_of_file() {
+    let dir = temp_dir("directory_instead_of_file");
+    let path = dir.join("dir.obj");
+    std::fs::create_dir_all(&path).unwrap();
+    let e = proxima::io::load(&path).unwrap_err();
+    assert_load_error(&e, &path, None, "dir.obj", |k| matches!(k, LoadErrorKind::Io(_)));
+}
+
+#[test]
+fn obj_bad_number() {
+    let dir = temp_dir("obj_bad_number");
+    let path = dir.join("badnum.obj");
+    std::fs::write(&path, b"v 0 0 0\nv 1 x 0\n").unwrap();
+    let e = proxima::io::load(&path).unwrap_err();
+    assert_load_error(&e, &path, Some(2), "", |k| matches!(k, LoadErrorKind::Syntax(_)));
+}
+
+#[test]
+fn obj_index_zero() {
+    let dir = temp_dir("obj_index_zero");
+    let path = dir.join("zero.obj");
+    std::fs::write(&path, b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n").unwrap();
+    let e = proxima::io::load(&path).unwrap_err();
+    assert_load_error(&e, &path, Some(4), "vertex index 0", |k| {
+        matches!(k, LoadErrorKind::Syntax(_))
+    });
+}
+
+#[test]
+fn obj_index_out_of_range() {
+    let dir = temp_dir("obj_index_out_of_range");
+    let path = dir.join("range.obj");
+    std::fs::write(&path, b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n").unwrap();
+    let e = proxima::io::load(&path).unwrap_err();
+    assert_load_error(&e, &path, Some(4), "refers to vertex", |k| {
+        matches!(k, LoadErrorKind::Mesh(MeshError::IndexOutOfRange { .. }))
+    });
+}
+
+#[test]
+fn obj_relative_index_before_first() {
+    let dir = temp_dir("obj_relative_index_before_first");
+    let path = dir.join("rel.obj");
+    std::fs::write(&path, b"v 0 0 0\nf -3 -2 -1\n").unwrap();
+    let e = proxima::io::load(&path).unwrap_err();
+    assert_load_error(&e, &path, Some(2), "before the first vertex", |k| {
+        matches!(k, LoadErrorKind::Syntax(_))
+    });
+}
+
+#[test]
+fn obj_face_too_small() {
+    let dir = temp_dir("obj_face_too_small");
+    let path = dir.join("small.obj");
+    std::fs::write(&path, b"v 0 0 0\nv 1 0 0\nf 1 2\n").unwrap();
+    let e = proxima::io::load(&path).unwrap_err();
+    assert_load_error(&e, &path, Some(3), "at least 3", |k| {
+        matches!(k, LoadErrorKind::Mesh(MeshError::FaceTooSmall { .. }))
+    });
+}
+
+#[test]
+fn obj_nan_coordinate() {
+    let dir = temp_dir("obj_nan_coordinate");
+    let path = dir.join("nan.obj");
+    std::fs::write(&path, b"v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let e = proxima::io::load(&path).unwrap_err();
+    assert_load_error(&e, &path, Some(2), "non-finite", |k| {
+        matches!(k, LoadErrorKind::Mesh(MeshError::NonFiniteVertex { index: 1 }))
+    });
+}
+
+#[test]
+fn off_overflowing_coordinate() {
+    let dir = temp_dir("off_overflowing_coordinate");
+    let path = dir.join("over.off");
+    std::fs::write(&path, b"OFF\n3 1 0\n0 0 0\n1e999 0 0\n0 1 0\n3 0 1 2\n").unwrap();
+    let e = proxima::io::load(&path).unwrap_err();
+    assert_load_error(&e, &path, Some(4), "non-finite", |k| {
+        matches!(k, LoadErrorKind::Mesh(MeshError::NonFiniteVertex { index: 1 }))
+    });
+}
+
+#[test]
+fn off_truncated() {
+    let dir = temp_dir("off_truncated");
+    let path = dir.join("trunc.off");
+    std::fs::write(&path, b"OFF\n4 2 0\n0 0 0\n1 0 0\n").unwrap();
+    let e = proxima::io::load(&path).unwrap_err();
+    assert_load_error(&e, &path, Some(4), "", |k| {
+        matches!(k, LoadErrorKind::Truncated(_) | LoadErrorKind::Implausible(_))
+    });
+}
+
+#[test]
+fn off_trailing_content() {
+    let dir = temp_dir("off_trailing_content");
+    let path = dir.join("trail.off");
+    std::fs::write(&path, b"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\nextra\n").unwrap();
+    let e = proxima::io::load(&path).unwrap_err();
+    assert_load_error(&e, &path, Some(7), "after the 1 faces", |k| {
+        matches!(k, LoadErrorKind::Syntax(_))
+    });
+}
+
+#[test]
+fn off_negative_index() {
+    let dir = temp_dir("off_negative_index");
+    let path = dir.join("neg.off");
+    std::fs::write(&path, b"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 -1 2\n").unwrap();
+    let e = proxima::io::load(&path).unwrap_err();
+    assert_load_error(&e, &path, Some(6), "negative vertex index", |k| {
+        matches!(k, LoadErrorKind::Syntax(_))
+    });
+}
+
+#[test]
+fn ply_no_format_line() {
+    let dir = temp_dir("ply_no_format_line");
+    let path = dir.join("nofmt.ply");
+    std::fs::write(&path, b"ply\nelement vertex 3\nend_header\n").unwrap();
+    let e = proxima::io::load(&path).unwrap_err();
+    assert_load_error(&e, &path, Some(3), "no `format` line", |k| {
+        matches!(k, LoadErrorKind::Syntax(_))
+    });
+}
+
+#[test]
+fn ply_implausible_vertex_count() {
+    let dir = temp_dir("ply_implausible_vertex_count");
+    let path = dir.join("huge.ply");
+    std::fs::write(&path, b"ply\nformat ascii 1.0\nelement vertex 1000000000000\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n").unwrap();
+    let e = proxima::io::load(&path).unwrap_err();
+    assert_load_error(&e, &path, Some(3), "1000000000000", |k| {
+        matches!(k, LoadErrorKind::Implausible(_))
+    });
+}
+
+#[test]
+fn ply_binary_truncated() {
+    let dir = temp_dir("ply_binary_truncated");
+    let path = dir.join("trunc_bin.ply");
+    std::fs::write(&path, b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n\x00\x00\x00\x00").unwrap();
+    let e = proxima::io::load(&path).unwrap_err();
+    assert_load_error(&e, &path, Some(3), "4 bytes", |k| {
+        matches!(k, LoadErrorKind::Implausible(_))
+    });
+}
+
+#[test]
+fn ply_list_count_not_integer() {
+    let dir = temp_dir("ply_list_count_not_integer");
+    let path = dir.join("listtype.ply");
+    std::fs::write(&path, b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list float int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n").unwrap();
+    let e = proxima::io::load(&path).unwrap_err();
+    assert_load_error(&e, &path, Some(8), "integer type", |k| {
+        matches!(k, LoadErrorKind::Syntax(_))
+    });
+}
+
+#[test]
+fn ply_missing_z() {
+    let dir = temp_dir("ply_missing_z");
+    let path = dir.join("noz.ply");
+    std::fs::write(
+        &path,
+        b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nend_header\n0 0\n1 0\n0 1\n",
+    )
+    .unwrap();
+    let e = proxima::io::load(&path).unwrap_err();
+    assert_load_error(&e, &path, Some(3), "no property `z`", |k| {
+        matches!(k, LoadErrorKind::Syntax(_))
+    });
+}
+
+#[test]
+fn ply_ascii_fewer_values_than_announced() {
+    let dir = temp_dir("ply_ascii_fewer_values_than_announced");
+    let path = dir.join("count.ply");
+    std::fs::write(&path, b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n").unwrap();
+    let e = proxima::io::load(&path).unwrap_err();
+    assert_load_error(&e, &path, Some(3), "", |k| {
+        matches!(k, LoadErrorKind::Truncated(_) | LoadErrorKind::Implausible(_))
+    });
+}
+
+#[test]
+fn stl_binary_count_beyond_size() {
+    let dir = temp_dir("stl_binary_count_beyond_size");
+    let path = dir.join("count.stl");
+    std::fs::write(&path, stl_with_count(1000)).unwrap();
+    let e = proxima::io::load(&path).unwrap_err();
+    assert_load_error(&e, &path, None, "announces 1000 triangles", |k| {
+        matches!(k, LoadErrorKind::Truncated(_))
+    });
+}
+
+#[test]
+fn stl_ascii_truncated() {
+    let dir = temp_dir("stl_ascii_truncated");
+    let path = dir.join("short.stl");
+    std::fs::write(
+        &path,
+        b"solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0\n",
+    )
+    .unwrap();
+    let e = proxima::io::load(&path).unwrap_err();
+    assert_load_error(&e, &path, Some(5), "expected a coordinate", |k| {
+        matches!(k, LoadErrorKind::Truncated(_))
+    });
+}
+
+#[test]
+fn gzip_corrupt() {
+    let dir = temp_dir("gzip_corrupt");
+    let path = dir.join("corrupt.obj.gz");
+    std::fs::write(&path, b"not gzip at all").unwrap();
+    let e = proxima::io::load(&path).unwrap_err();
+    assert_load_error(&e, &path, None, "gzip", |k| matches!(k, LoadErrorKind::Io(_)));
+}
+
+#[test]
+fn gzip_bomb() {
+    let dir = temp_dir("gzip_bomb");
+    let path = dir.join("bomb.obj.gz");
+    // 2 MB of spaces compress to about 2 KB.
+    let mut encoder = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::best());
+    encoder.write_all(&vec![b' '; 2 << 20]).unwrap();
+    let bomb = encoder.finish().unwrap();
+    assert!(bomb.len() < 10_000);
+    std::fs::write(&path, &bomb).unwrap();
+    let options = LoadOptions {
+        max_decompressed_bytes: 1 << 20,
+    };
+    let e = proxima::io::load_with(&path, &options).unwrap_err();
+    assert_load_error(&e, &path, None, "exceeds the limit of 1048576 bytes", |k| {
+        matches!(k, LoadErrorKind::DecompressedTooLarge { limit: 1048576 })
+    });
+    // Within the limit (and with the default one) it is an ordinary empty OBJ.
+    let mesh = proxima::io::load_with(
+        &path,
+        &LoadOptions {
+            max_decompressed_bytes: 2 << 20,
+        },
+    )
+    .unwrap();
+    assert_eq!(mesh.vertex_count(), 0);
+    assert!(proxima::io::load(&path).is_ok());
+}
+
+// ------------------------------------------------------------ building ---
+
+#[test]
+fn coordinate_beyond_tree_bound() {
+    let dir = temp_dir("coordinate_beyond_tree_bound");
+    let path = dir.join("huge.obj");
+    std::fs::write(&path, b"v 0 0 0\nv 1e30 0 0\nv 0 1e30 0\nf 1 2 3\n").unwrap();
+    let mesh = proxima::io::load(&path).expect("finite coordinates load");
+    let e = AabbTree::build_set(mesh.triangles(), &BuildConfig::default()).unwrap_err();
+    assert_eq!(
+        e,
+        BuildError::CoordinateTooLarge {
+            index: 0,
+            bound: MAX_COORDINATE
+        }
+    );
+    assert!(e.to_string().contains("beyond"), "{e}");
+    assert!(WideTree::build_set(mesh.vertices(), &BuildConfig::default()).is_err());
+}
+
+#[test]
+fn empty_mesh() {
+    // Not an error for the library: empty structures answer nothing.
+    let mesh = proxima::io::parse(b"# nothing\n", proxima::io::Format::Obj, "empty.obj".as_ref()).unwrap();
+    let tree = AabbTree::build_set(mesh.triangles(), &BuildConfig::default()).unwrap();
+    assert_eq!(tree.closest(Vec3::ZERO), None);
+    assert!(tree.k_nearest(Vec3::ZERO, 3).is_empty());
+    let grid: HashGrid<_> = HashGrid::build(mesh.triangles(), &GridConfig::cubic(1.0)).unwrap();
+    assert_eq!(grid.first_hit(Vec3::ZERO, Vec3::X, 0.0, f32::INFINITY).unwrap(), None);
+}
+
+#[test]
+fn non_finite_query_point() {
+    let mesh = proxima::io::parse(TRIANGLE, proxima::io::Format::Obj, "t.obj".as_ref()).unwrap();
+    let tree = AabbTree::build_set(mesh.triangles(), &BuildConfig::default()).unwrap();
+    for p in [Vec3::new(f32::NAN, 0.0, 0.0), Vec3::new(0.0, f32::INFINITY, 0.0)] {
+        assert_eq!(tree.closest(p), None);
+        assert_eq!(LinearSearch::new(mesh.triangles()).closest(p), None);
+        assert!(tree.k_nearest(p, 2).is_empty());
+    }
+}
+
+#[test]
+fn grid_primitive_spans_too_many_cells() {
+    let mesh = proxima::io::parse(TRIANGLE, proxima::io::Format::Obj, "t.obj".as_ref()).unwrap();
+    let e = HashGrid::<proxima::Triangle>::build(mesh.triangles(), &GridConfig::cubic(1e-6)).unwrap_err();
+    assert!(matches!(e, GridError::PrimitiveTooLarge { index: 0, .. }), "{e}");
+    assert!(e.to_string().contains("spans"), "{e}");
+    let config = GridConfig {
+        max_entries: 3,
+        ..GridConfig::cubic(0.1)
+    };
+    assert_eq!(
+        HashGrid::<proxima::Triangle>::build(mesh.triangles(), &config).unwrap_err(),
+        GridError::TooManyCells { limit: 3 }
+    );
+}
+
+#[test]
+fn grid_cell_size_not_positive() {
+    let mesh = proxima::io::parse(TRIANGLE, proxima::io::Format::Obj, "t.obj".as_ref()).unwrap();
+    for size in [0.0, -1.0, f32::NAN] {
+        let e = HashGrid::<proxima::Triangle>::build(mesh.triangles(), &GridConfig::cubic(size)).unwrap_err();
+        assert!(matches!(e, GridError::CellSize { .. }), "{e}");
+        assert!(e.to_string().contains("cell size"), "{e}");
+    }
+}
+
+#[test]
+fn grid_primitive_out_of_range() {
+    let mesh = proxima::io::parse(
+        b"v 0 0 0\nv 1e30 0 0\nv 0 1 0\nf 1 2 3\n",
+        proxima::io::Format::Obj,
+        "t.obj".as_ref(),
+    )
+    .unwrap();
+    let e = HashGrid::<proxima::Point>::build(mesh.vertices(), &GridConfig::cubic(1e-10)).unwrap_err();
+    assert_eq!(e, GridError::PrimitiveOutOfRange { index: 1 });
+    assert!(e.to_string().contains("primitive 1"), "{e}");
+}
+
+#[test]
+fn ray_zero_direction() {
+    let e = GridTraversal::new(Vec3::ZERO, Vec3::ZERO, &TraversalConfig::cubic(1.0)).unwrap_err();
+    assert_eq!(e, GridError::RayDirection);
+    assert!(e.to_string().contains("direction"), "{e}");
+}
+
+#[test]
+fn traversal_origin_out_of_range() {
+    let e = GridTraversal::new(Vec3::new(1e20, 0.0, 0.0), Vec3::X, &TraversalConfig::cubic(1e-6)).unwrap_err();
+    assert_eq!(e, GridError::OutOfRange);
+}
+
+#[test]
+fn voxelize_resolution_zero() {
+    let mesh = proxima::io::parse(TRIANGLE, proxima::io::Format::Obj, "t.obj".as_ref()).unwrap();
+    let tris = mesh.triangles().primitives;
+    let e = voxelize(&tris, &mesh.bounds(), &VoxelConfig::new(0)).unwrap_err();
+    assert_eq!(e, GridError::Resolution);
+    assert!(e.to_string().contains("resolution"), "{e}");
+}
+
+#[test]
+fn mesh_error_kinds_through_the_constructors() {
+    // The same invariants, for meshes built in memory.
+    let v = vec![Vec3::ZERO, Vec3::X, Vec3::Y];
+    assert!(matches!(
+        proxima::Mesh::from_triangles(v.clone(), &[[0, 1, 5]]),
+        Err(MeshError::IndexOutOfRange { face: 0, vertex: 5, .. })
+    ));
+    let mut nan = v.clone();
+    nan[1].y = f32::NAN;
+    assert_eq!(
+        proxima::Mesh::from_triangles(nan, &[[0, 1, 2]]).unwrap_err(),
+        MeshError::NonFiniteVertex { index: 1 }
+    );
+    assert!(matches!(
+        proxima::Mesh::from_faces(v, &[vec![0, 1]]),
+        Err(MeshError::FaceTooSmall { face: 0, len: 2 })
+    ));
+}
