@@ -213,6 +213,26 @@ pub fn note_polygons(mesh: &Mesh, kind: Primitives, path: &Path, planarity: f32)
     }
 }
 
+/// `println!` that returns an error instead of panicking when standard output
+/// is closed (`proxima info MESH | head -1`); `main` ends quietly on it.
+#[macro_export]
+macro_rules! outln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        writeln!(std::io::stdout().lock(), $($arg)*)?
+    }};
+}
+
+/// `true` when the error is a write to a closed pipe: the reader is gone, so
+/// there is no one to tell and nothing went wrong.
+pub fn is_broken_pipe(error: &anyhow::Error) -> bool {
+    error.chain().any(|cause| {
+        cause
+            .downcast_ref::<std::io::Error>()
+            .is_some_and(|e| e.kind() == std::io::ErrorKind::BrokenPipe)
+    })
+}
+
 /// Calls `$body` with `$tree` bound to the concrete tree inside an [`AnyTree`].
 #[macro_export]
 macro_rules! with_tree {

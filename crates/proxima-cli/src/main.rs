@@ -58,6 +58,7 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(error) if common::is_broken_pipe(&error) => ExitCode::SUCCESS,
         Err(error) => {
             // One line: the chain of causes joined, no backtrace.
             eprintln!("proxima: {}", common::one_line(&error));

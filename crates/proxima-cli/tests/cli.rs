@@ -278,3 +278,51 @@ fn every_bad_input_gets_one_clear_line() {
         assert!(!stderr(&o).contains("panicked"));
     }
 }
+
+/// A reader that stops early (`proxima traverse ... | head -1`) closes the
+/// pipe: the writer ends quietly with status 0, without a panic message.
+#[test]
+fn a_closed_output_pipe_ends_quietly() {
+    use std::io::{BufRead, BufReader};
+    use std::process::Stdio;
+    for args in [
+        &[
+            "traverse",
+            "--origin",
+            "0,0,0",
+            "--dir",
+            "1,0.3,0.2",
+            "--cell",
+            "0.001",
+            "--steps",
+            "2000000",
+        ][..],
+        &[
+            "info",
+            "--json",
+            concat!(env!("CARGO_MANIFEST_DIR"), "/assets/bunny-npm.obj"),
+        ][..],
+        &["demo"][..],
+    ] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_proxima"))
+            .args(args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let mut first = String::new();
+        BufReader::new(child.stdout.take().unwrap())
+            .read_line(&mut first)
+            .unwrap();
+        assert!(!first.is_empty(), "{args:?}: no output");
+        // The reader is dropped here: the pipe is closed while the child still writes.
+        let output = child.wait_with_output().unwrap();
+        let err = String::from_utf8_lossy(&output.stderr);
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        assert!(
+            output.status.success(),
+            "{args:?}: status {:?}, stderr {err}",
+            output.status
+        );
+    }
+}

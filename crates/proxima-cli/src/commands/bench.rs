@@ -218,17 +218,24 @@ pub fn measure(
 }
 
 /// Prints the records as a table.
-pub fn print_table(records: &[Record]) {
-    println!(
+pub fn print_table(records: &[Record]) -> std::io::Result<()> {
+    crate::outln!(
         "{:<10} {:<11} {:>10} {:>8} {:>10} {:>12} {:>10} {:>9}",
-        "primitives", "method", "build ms", "queries", "seconds", "queries/s", "vs linear", "agree"
+        "primitives",
+        "method",
+        "build ms",
+        "queries",
+        "seconds",
+        "queries/s",
+        "vs linear",
+        "agree"
     );
     for r in records {
         let linear = records
             .iter()
             .find(|l| l.primitives == r.primitives && l.method == "linear");
         let speedup = linear.map_or(1.0, |l| r.queries_per_second() / l.queries_per_second());
-        println!(
+        crate::outln!(
             "{:<10} {:<11} {:>10.3} {:>8} {:>10.4} {:>12.0} {:>9.1}x {:>9}",
             r.primitives,
             r.method,
@@ -240,6 +247,7 @@ pub fn print_table(records: &[Record]) {
             if r.agree { "yes" } else { "NO" }
         );
     }
+    Ok(())
 }
 
 /// Runs `proxima bench`.
@@ -299,9 +307,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             "query_set": set_name, "threads": args.threads, "split": format!("{:?}", args.split).to_lowercase(),
             "results": results,
         });
-        println!("{out:#}");
+        crate::outln!("{out:#}");
     } else {
-        println!(
+        crate::outln!(
             "{}: {} vertices, {} triangles; {} {set_name} queries; {} thread(s)",
             args.mesh.display(),
             mesh.vertex_count(),
@@ -309,12 +317,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             points.len(),
             args.threads
         );
-        print_table(&records);
+        print_table(&records)?;
         if let Some(r) = records
             .iter()
             .find(|r| r.method == "linear" && r.queries < points.len())
         {
-            println!(
+            crate::outln!(
                 "(linear search ran on the first {} queries only, to bound its time)",
                 r.queries
             );

@@ -17,7 +17,7 @@ pub struct Args {
 pub fn run(args: Args) -> anyhow::Result<()> {
     let (mesh, name) = load_or_default(None)?;
     let b = mesh.bounds();
-    println!(
+    crate::outln!(
         "{name}: {} vertices, {} edges, {} triangles; bbox {:?} .. {:?}",
         mesh.vertex_count(),
         mesh.edge_indices().len(),
@@ -30,16 +30,20 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         b.max + b.size() * 0.25,
         Vec3::new(b.min.x, b.center().y, b.max.z),
     ];
-    println!("\nclosest primitive to a few points:");
-    println!(
+    crate::outln!("\nclosest primitive to a few points:");
+    crate::outln!(
         "{:<10} {:<28} {:>8} {:<28} {:>10}",
-        "type", "query", "index", "closest point", "distance"
+        "type",
+        "query",
+        "index",
+        "closest point",
+        "distance"
     );
     for kind in Primitives::ALL {
         let (tree, seconds) = build_tree(&mesh, kind, &BuildConfig::default())?;
         for q in queries {
             let hit = with_tree!(&tree, t => t.closest(q)).ok_or_else(|| anyhow::anyhow!("empty tree"))?;
-            println!(
+            crate::outln!(
                 "{:<10} {:<28} {:>8} {:<28} {:>10.5}",
                 kind.name(),
                 format!("({:.3}, {:.3}, {:.3})", q.x, q.y, q.z),
@@ -48,10 +52,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 hit.distance
             );
         }
-        println!("{:<10} tree built in {:.3} ms", "", seconds * 1e3);
+        crate::outln!("{:<10} tree built in {:.3} ms", "", seconds * 1e3);
     }
     let points = proxima::sample::near_surface(&mesh, args.queries, 0.01, 1);
-    println!(
+    crate::outln!(
         "\nlinear search vs AABB tree, {} near-surface queries, 1 thread:",
         points.len()
     );
@@ -64,6 +68,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         false,
         proxima::primitive::polygon::DEFAULT_PLANARITY_TOLERANCE,
     )?;
-    super::bench::print_table(&records);
+    super::bench::print_table(&records)?;
     Ok(())
 }

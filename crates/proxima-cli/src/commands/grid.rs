@@ -188,23 +188,29 @@ pub fn run(args: Args) -> Result<()> {
             "mesh": args.mesh.display().to_string(), "cell": args.cell.to_array(),
             "origin": config.origin.to_array(), "insert": insert, "hasher": hasher, "grids": grids,
         });
-        println!("{out:#}");
+        crate::outln!("{out:#}");
         return Ok(());
     }
-    println!("mesh    {}", args.mesh.display());
-    println!(
+    crate::outln!("mesh    {}", args.mesh.display());
+    crate::outln!(
         "cell    {:?}  origin {:?}  insert {insert}  hasher {hasher}",
         args.cell.to_array(),
         config.origin.to_array()
     );
-    println!();
-    println!(
+    crate::outln!();
+    crate::outln!(
         "{:<10} {:>10} {:>10} {:>11} {:>9} {:>10} {:>10}",
-        "grid", "count", "occupied", "entries", "max/cell", "mean/cell", "build ms"
+        "grid",
+        "count",
+        "occupied",
+        "entries",
+        "max/cell",
+        "mean/cell",
+        "build ms"
     );
     for b in &built {
         let s = &b.stats;
-        println!(
+        crate::outln!(
             "{:<10} {:>10} {:>10} {:>11} {:>9} {:>10.2} {:>10.2}",
             b.kind,
             s.primitives,

@@ -55,35 +55,41 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             "bbox": {"min": bounds.min.to_array(), "max": bounds.max.to_array()},
             "trees": trees,
         });
-        println!("{out:#}");
+        crate::outln!("{out:#}");
         return Ok(());
     }
-    println!("mesh       {}", args.mesh.display());
-    println!("vertices   {}", mesh.vertex_count());
-    println!("edges      {edges}");
-    println!(
+    crate::outln!("mesh       {}", args.mesh.display());
+    crate::outln!("vertices   {}", mesh.vertex_count());
+    crate::outln!("edges      {edges}");
+    crate::outln!(
         "faces      {} ({} with more than 3 vertices)",
         mesh.face_count(),
         mesh.polygon_count()
     );
-    println!("triangles  {}", mesh.triangle_count());
+    crate::outln!("triangles  {}", mesh.triangle_count());
     if bounds.is_empty() {
-        println!("bbox       empty");
+        crate::outln!("bbox       empty");
     } else {
-        println!(
+        crate::outln!(
             "bbox       min {:?}  max {:?}  diagonal {}",
             bounds.min.to_array(),
             bounds.max.to_array(),
             bounds.diagonal()
         );
     }
-    println!();
-    println!(
+    crate::outln!();
+    crate::outln!(
         "{:<10} {:>9} {:>9} {:>9} {:>6} {:>14} {:>11}",
-        "tree", "count", "nodes", "leaves", "depth", "leaf min/mean/max", "build ms"
+        "tree",
+        "count",
+        "nodes",
+        "leaves",
+        "depth",
+        "leaf min/mean/max",
+        "build ms"
     );
     for (kind, s, seconds) in &trees {
-        println!(
+        crate::outln!(
             "{:<10} {:>9} {:>9} {:>9} {:>6} {:>6}/{:.2}/{:<4} {:>11.3}",
             kind.name(),
             s.primitives,

@@ -160,22 +160,27 @@ pub fn run(args: Args) -> Result<()> {
         for (key, value) in structure.as_object().into_iter().flatten() {
             out[key] = value.clone();
         }
-        println!("{out:#}");
+        crate::outln!("{out:#}");
         return Ok(());
     }
     if args.any {
-        println!("{}", if any { "hit" } else { "no hit" });
+        crate::outln!("{}", if any { "hit" } else { "no hit" });
         return Ok(());
     }
     match found {
         Some(h) => {
             let visited = visited_key.replace('_', " ");
-            println!(
+            crate::outln!(
                 "hit face {} at t = {} point {} {} {} ({} {visited}, {label})",
-                h.face, h.t, h.point.x, h.point.y, h.point.z, h.visited
+                h.face,
+                h.t,
+                h.point.x,
+                h.point.y,
+                h.point.z,
+                h.visited
             )
         }
-        None => println!("no hit"),
+        None => crate::outln!("no hit"),
     }
     Ok(())
 }

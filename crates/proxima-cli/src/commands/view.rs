@@ -136,9 +136,11 @@ pub fn run(args: Args) -> Result<()> {
                 f.mean_ms, f.median_ms, f.max_ms, f.count
             );
         }
-        println!(
+        crate::outln!(
             " ({}, {} triangles, {} cells)",
-            report.model, report.triangles, report.cells
+            report.model,
+            report.triangles,
+            report.cells
         );
     }
     Ok(())

@@ -61,9 +61,9 @@ pub fn run(args: Args) -> Result<()> {
             "occupied": voxels.occupied(), "seconds": seconds, "threads": if config.parallel { threads } else { 1 },
             "dense": voxels.is_dense(), "triangles": triangles.len(),
         });
-        println!("{out:#}");
+        crate::outln!("{out:#}");
     } else {
-        println!(
+        crate::outln!(
             "{} occupied cells of {}³ (cell {}, origin {:?}) in {:.2} ms, {} triangles, {} thread(s)",
             voxels.occupied(),
             args.res,
