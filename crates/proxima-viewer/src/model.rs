@@ -3,6 +3,7 @@
 //! queries the panel asks of them. Built off the UI thread; no GL, no egui.
 
 use crate::scene::{self, MeshBuffers};
+use proxima::frustum::Frustum;
 use proxima::math::Vec3;
 use proxima::{
     Aabb, AabbTree, BuildConfig, ClosestHit, LineSegment, LinearSearch, Mesh, Point, PrimitiveSet, TreeStats, Triangle,
@@ -79,17 +80,20 @@ pub struct Timings {
 struct Index<T> {
     tree: AabbTree<T>,
     linear: LinearSearch<T>,
+    /// `sources[i]`: the mesh element build input `i` came from.
+    sources: Vec<u32>,
     /// Computed once: it walks every node.
     stats: TreeStats,
 }
 
-impl<T: proxima::ClosestPoint + Copy + Send + Sync> Index<T> {
+impl<T: proxima::ClosestPoint + proxima::FrustumOverlap + Copy + Send + Sync> Index<T> {
     fn build(set: PrimitiveSet<T>) -> Result<(Self, f64), String> {
         let start = Instant::now();
         let tree = AabbTree::build_set(set.clone(), &BuildConfig::default()).map_err(|e| e.to_string())?;
         let seconds = start.elapsed().as_secs_f64();
         Ok((
             Self {
+                sources: set.sources.clone(),
                 stats: tree.stats(),
                 tree,
                 linear: LinearSearch::new(set),
@@ -304,6 +308,75 @@ impl Model {
             tree_seconds,
             linear_seconds,
             nearest,
+        }
+    }
+
+    /// Build-input indices of the primitives of `kind` overlapping `frustum`
+    /// by the tree (ascending), with the mean seconds per query.
+    pub fn frustum_query(&self, kind: PrimitiveKind, frustum: &Frustum) -> (Vec<u32>, f64) {
+        let mut out = Vec::new();
+        let seconds = match kind {
+            PrimitiveKind::Vertices => timed(|| self.vertices.tree.frustum_into(frustum, &mut out)).1,
+            PrimitiveKind::Edges => timed(|| self.edge_index.tree.frustum_into(frustum, &mut out)).1,
+            PrimitiveKind::Faces => match &self.faces {
+                Some(f) => timed(|| f.tree.frustum_into(frustum, &mut out)).1,
+                None => 0.0,
+            },
+        };
+        (out, seconds)
+    }
+
+    /// [`frustum_query`](Self::frustum_query) by brute force (every
+    /// primitive tested), with the seconds it took.
+    pub fn frustum_linear(&self, kind: PrimitiveKind, frustum: &Frustum) -> (Vec<u32>, f64) {
+        let start = Instant::now();
+        let out = match kind {
+            PrimitiveKind::Vertices => self.vertices.linear.frustum(frustum),
+            PrimitiveKind::Edges => self.edge_index.linear.frustum(frustum),
+            PrimitiveKind::Faces => self
+                .faces
+                .as_ref()
+                .map(|f| f.linear.frustum(frustum))
+                .unwrap_or_default(),
+        };
+        (out, start.elapsed().as_secs_f64())
+    }
+
+    /// The mesh element (vertex, edge or face) that build input `input` of
+    /// `kind` came from.
+    pub fn input_source(&self, kind: PrimitiveKind, input: u32) -> Option<u32> {
+        let sources = match kind {
+            PrimitiveKind::Vertices => &self.vertices.sources,
+            PrimitiveKind::Edges => &self.edge_index.sources,
+            PrimitiveKind::Faces => &self.faces.as_ref()?.sources,
+        };
+        sources.get(input as usize).copied()
+    }
+
+    /// The geometry of build input `input` of `kind` (a face's fan triangle,
+    /// not the whole face), for highlighting query answers given as inputs.
+    pub fn input_shape(&self, kind: PrimitiveKind, input: u32) -> Option<scene::Shape> {
+        let i = input as usize;
+        match kind {
+            PrimitiveKind::Vertices => self
+                .vertices
+                .linear
+                .primitives()
+                .get(i)
+                .map(|p| scene::Shape::Point(p.0)),
+            PrimitiveKind::Edges => self
+                .edge_index
+                .linear
+                .primitives()
+                .get(i)
+                .map(|e| scene::Shape::Segment(e.a, e.b)),
+            PrimitiveKind::Faces => self
+                .faces
+                .as_ref()?
+                .linear
+                .primitives()
+                .get(i)
+                .map(|t| scene::Shape::Polygon(vec![t.a, t.b, t.c])),
         }
     }
 

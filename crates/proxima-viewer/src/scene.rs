@@ -42,6 +42,10 @@ pub mod colors {
     pub const CLOSEST_PRIMITIVE: [u8; 4] = [255, 60, 60, 255];
     /// The other k-nearest primitives.
     pub const NEAREST: [u8; 4] = [255, 200, 40, 255];
+    /// The edges of the second camera's frustum.
+    pub const FRUSTUM: [u8; 4] = [200, 110, 255, 255];
+    /// Primitives the frustum query selects (a colour nothing else uses).
+    pub const FRUSTUM_SELECTED: [u8; 4] = [160, 255, 0, 255];
 }
 
 /// Diameter in pixels of the query and closest-point markers.
