@@ -8,8 +8,9 @@ use crate::cells::{CellGrid, RayWalk, walk_ray};
 use crate::frustum_view::{self, FrustumSelection, settings_frustum};
 use crate::gl::Renderer;
 use crate::model::{Model, ModelSource, PrimitiveKind, Progress, QueryResult};
-use crate::scene::{self, BoxSet, colors};
+use crate::scene::{self, BoxSet, Overlay, colors};
 use crate::screenshot::{FrameTimer, ScreenshotOptions, ScreenshotReport, save_png, sidecar_path};
+use crate::spheres::spheres_overlay;
 use crate::state::{FrameInputs, Settings, compose_frame, nice_size};
 use crate::{InitialView, ViewerOptions};
 use eframe::egui::mutex::Mutex;
@@ -61,6 +62,9 @@ struct LinearKey {
     kind: PrimitiveKind,
     query: Vec3,
 }
+
+/// Inputs of the cached tree nodes at a depth: model, kind, depth.
+type NodeKey = (u64, PrimitiveKind, u32);
 
 /// Inputs of the cached frustum query.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -133,8 +137,10 @@ pub struct ViewerApp {
     grid_job: Option<GridJob>,
     grid_error: Option<(GridKey, String)>,
     ray: Option<(RayKey, Result<RayWalk, String>)>,
-    nodes: Option<((u64, PrimitiveKind, u32), Arc<BoxSet>)>,
+    nodes: Option<(NodeKey, Arc<BoxSet>)>,
     frustum: Option<(FrustumKey, Result<FrustumSelection, String>)>,
+    /// Great circles of the sphere tree's nodes at the depth, and their count.
+    spheres: Option<(NodeKey, (usize, Overlay))>,
     pick_message: Option<String>,
     timer: FrameTimer,
     last_frame: Option<Instant>,
@@ -188,6 +194,7 @@ impl ViewerApp {
             ray: None,
             nodes: None,
             frustum: None,
+            spheres: None,
             pick_message: None,
             timer: FrameTimer::default(),
             last_frame: None,
@@ -297,6 +304,7 @@ impl ViewerApp {
             settings.show_nodes = s.show_nodes;
             settings.node_depth = s.node_depth;
             settings.show_frustum = s.show_frustum;
+            settings.show_spheres = s.show_spheres;
             settings.frustum_fov = s.frustum_fov;
         }
         if let Some(initial) = self.initial.take() {
@@ -314,6 +322,7 @@ impl ViewerApp {
         self.ray = None;
         self.nodes = None;
         self.frustum = None;
+        self.spheres = None;
         self.pick_message = None;
         self.needs_fit = true;
         self.model = Some(Arc::new(model));
@@ -359,6 +368,10 @@ impl ViewerApp {
         if s.show_nodes && self.nodes.as_ref().is_none_or(|(k, _)| *k != node_key) {
             let boxes = Arc::new(BoxSet::new(model.nodes_at_depth(s.kind, s.node_depth)));
             self.nodes = Some((node_key, boxes));
+        }
+        if s.show_spheres && self.spheres.as_ref().is_none_or(|(k, _)| *k != node_key) {
+            let spheres = model.sphere_nodes_at_depth(s.kind, s.node_depth);
+            self.spheres = Some((node_key, (spheres.len(), spheres_overlay(&spheres))));
         }
         let frustum_key = FrustumKey {
             model: self.model_serial,
@@ -455,7 +468,7 @@ impl ViewerApp {
         egui::CollapsingHeader::new("Hash grid and ray")
             .default_open(true)
             .show(ui, |ui| self.grid_section(ui, &model));
-        egui::CollapsingHeader::new("AABB tree")
+        egui::CollapsingHeader::new("AABB and sphere trees")
             .default_open(true)
             .show(ui, |ui| self.tree_section(ui, &model));
         egui::CollapsingHeader::new("Frustum query")
@@ -678,6 +691,15 @@ impl ViewerApp {
         {
             ui.label(format!("{} nodes at depth {}", boxes.len(), s.node_depth));
         }
+        ui.checkbox(
+            &mut s.show_spheres,
+            format!("show the {} sphere tree's nodes at that depth", s.kind.name()),
+        );
+        if s.show_spheres
+            && let Some((_, (count, _))) = &self.spheres
+        {
+            ui.label(format!("{count} spheres at depth {}", s.node_depth));
+        }
     }
 
     fn frustum_section(&mut self, ui: &mut egui::Ui, model: &Model) {
@@ -821,6 +843,7 @@ impl ViewerApp {
                 grid: self.current_grid().map(|g| g.as_ref()),
                 ray,
                 nodes: self.nodes.as_ref().map(|(_, b)| b),
+                spheres: self.spheres.as_ref().map(|(_, (_, o))| o),
                 frustum: self.frustum.as_ref().and_then(|(_, f)| f.as_ref().ok()),
             })
         };

@@ -17,6 +17,7 @@
 //! - [`cells`]: occupied grid cells and the ray walk;
 //! - [`frustum_view`]: a second camera's frustum and the primitives its
 //!   frustum query selects;
+//! - [`spheres`]: the sphere tree's nodes at a depth as great circles;
 //! - [`state`]: the panel settings and the composition of a frame;
 //! - [`screenshot`]: the scripted mode (one PNG and exit);
 //! - `gl` (private): the OpenGL renderer; `app` (private): the eframe app.
@@ -34,6 +35,7 @@ mod gl;
 pub mod model;
 pub mod scene;
 pub mod screenshot;
+pub mod spheres;
 pub mod state;
 
 pub use camera::{OrbitCamera, Viewport};

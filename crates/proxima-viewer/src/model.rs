@@ -6,10 +6,11 @@ use crate::scene::{self, MeshBuffers};
 use proxima::frustum::Frustum;
 use proxima::math::Vec3;
 use proxima::{
-    Aabb, AabbTree, BuildConfig, ClosestHit, LineSegment, LinearSearch, Mesh, Point, PrimitiveSet, TreeStats, Triangle,
+    Aabb, AabbTree, BuildConfig, ClosestHit, LineSegment, LinearSearch, Mesh, Point, PrimitiveSet, Sphere, SphereTree,
+    TreeStats, Triangle,
 };
 use std::path::PathBuf;
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 use std::time::Instant;
 
 /// Which primitives of the mesh the queries run on.
@@ -84,6 +85,8 @@ struct Index<T> {
     sources: Vec<u32>,
     /// Computed once: it walks every node.
     stats: TreeStats,
+    /// The sphere tree over the same inputs, built when first shown.
+    spheres: OnceLock<Option<SphereTree<T>>>,
 }
 
 impl<T: proxima::ClosestPoint + proxima::FrustumOverlap + Copy + Send + Sync> Index<T> {
@@ -94,6 +97,7 @@ impl<T: proxima::ClosestPoint + proxima::FrustumOverlap + Copy + Send + Sync> In
         Ok((
             Self {
                 sources: set.sources.clone(),
+                spheres: OnceLock::new(),
                 stats: tree.stats(),
                 tree,
                 linear: LinearSearch::new(set),
@@ -256,6 +260,34 @@ impl Model {
     /// The tree over faces (for picking), if the mesh has faces.
     pub fn face_tree(&self) -> Option<&AabbTree<Triangle>> {
         self.faces.as_ref().map(|f| &f.tree)
+    }
+
+    /// Spheres of the sphere tree's nodes of `kind` at exactly `depth` (root
+    /// = 0). The sphere tree is built on first use (same inputs as the AABB
+    /// tree, same hierarchy).
+    pub fn sphere_nodes_at_depth(&self, kind: PrimitiveKind, depth: u32) -> Vec<Sphere> {
+        fn at<T: Copy + proxima::ClosestPoint + proxima::primitive::BoundingPoints + Send + Sync>(
+            index: &Index<T>,
+            depth: u32,
+        ) -> Vec<Sphere> {
+            // The same inputs built the AABB tree, so the build does not fail.
+            let tree = index.spheres.get_or_init(|| {
+                SphereTree::build_with_sources(
+                    index.linear.primitives().to_vec(),
+                    index.sources.clone(),
+                    &BuildConfig::default(),
+                )
+                .ok()
+            });
+            tree.as_ref()
+                .map(|t| crate::spheres::sphere_nodes_at_depth(t, depth))
+                .unwrap_or_default()
+        }
+        match kind {
+            PrimitiveKind::Vertices => at(&self.vertices, depth),
+            PrimitiveKind::Edges => at(&self.edge_index, depth),
+            PrimitiveKind::Faces => self.faces.as_ref().map(|f| at(f, depth)).unwrap_or_default(),
+        }
     }
 
     /// Boxes of the tree nodes of `kind` at exactly `depth` (root = 0).
@@ -516,5 +548,7 @@ mod tests {
             1
         );
         assert!(m.nodes_at_depth(PrimitiveKind::Faces, 0).is_empty());
+        assert!(m.sphere_nodes_at_depth(PrimitiveKind::Faces, 0).is_empty());
+        assert_eq!(m.sphere_nodes_at_depth(PrimitiveKind::Vertices, 0).len(), 1);
     }
 }

@@ -24,6 +24,8 @@ pub mod colors {
     pub const CELLS: [u8; 4] = [235, 235, 235, 255];
     /// Tree node boxes.
     pub const NODES: [u8; 4] = [90, 220, 120, 255];
+    /// Sphere tree node spheres.
+    pub const SPHERES: [u8; 4] = [255, 140, 200, 255];
     /// The ray.
     pub const RAY: [u8; 4] = [255, 230, 0, 255];
     /// Cells the ray passes through.
