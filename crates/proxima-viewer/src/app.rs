@@ -767,6 +767,7 @@ impl ViewerApp {
             row("edges", model.count(PrimitiveKind::Edges).to_string());
             row("faces", model.mesh.face_count().to_string());
             row("triangles", model.count(PrimitiveKind::Faces).to_string());
+            row("convex polygons", model.count(PrimitiveKind::Polygons).to_string());
             row("load", format_seconds(t.load));
             row("normals, buffers", format_seconds(t.buffers));
             for kind in PrimitiveKind::ALL {

@@ -222,8 +222,9 @@ mod tests {
                     .filter(|&i| match m.input_shape(kind, i).unwrap() {
                         crate::scene::Shape::Point(p) => proxima::Point(p).overlaps_frustum(&f),
                         crate::scene::Shape::Segment(a, b) => proxima::LineSegment::new(a, b).overlaps_frustum(&f),
+                        // A polygon overlaps when one of its fan triangles does.
                         crate::scene::Shape::Polygon(v) => {
-                            proxima::Triangle::new(v[0], v[1], v[2]).overlaps_frustum(&f)
+                            (1..v.len() - 1).any(|i| proxima::Triangle::new(v[0], v[i], v[i + 1]).overlaps_frustum(&f))
                         }
                     })
                     .collect();
@@ -236,9 +237,17 @@ mod tests {
                 let highlighted = match kind {
                     PrimitiveKind::Vertices => sel.overlay.points.len(),
                     PrimitiveKind::Edges => sel.overlay.lines.len() / 2 - 12,
-                    PrimitiveKind::Faces => sel.overlay.triangles.len() / 3,
+                    PrimitiveKind::Faces | PrimitiveKind::Polygons => sel.overlay.triangles.len() / 3,
                 };
-                assert_eq!(highlighted, sel.selected.len(), "{kind:?}");
+                let expected: usize = sel
+                    .selected
+                    .iter()
+                    .map(|&i| match m.input_shape(kind, i).unwrap() {
+                        crate::scene::Shape::Polygon(v) => v.len() - 2,
+                        _ => 1,
+                    })
+                    .sum();
+                assert_eq!(highlighted, expected, "{kind:?}");
             }
         }
     }

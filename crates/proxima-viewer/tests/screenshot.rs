@@ -70,9 +70,9 @@ fn scenarios() -> Vec<Scenario> {
             frames: 5,
         },
         Scenario {
-            name: "bunny_frustum",
+            name: "bunny_polygons_frustum",
             mesh: BUNNY.into(),
-            kind: PrimitiveKind::Faces,
+            kind: PrimitiveKind::Polygons,
             query: Vec3::new(3.0, 6.0, 4.0),
             cells: None,
             ray: None,
@@ -355,6 +355,9 @@ fn run_scenario(s: &Scenario, dir: &Path, xvfb: Option<&Path>) -> Result<String,
             .map_err(|e| e.to_string())?
             .closest(s.query),
         PrimitiveKind::Faces => AabbTree::build_set(mesh_data.triangles(), &BuildConfig::default())
+            .map_err(|e| e.to_string())?
+            .closest(s.query),
+        PrimitiveKind::Polygons => AabbTree::build_set(mesh_data.polygons(), &BuildConfig::default())
             .map_err(|e| e.to_string())?
             .closest(s.query),
     }

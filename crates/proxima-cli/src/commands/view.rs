@@ -126,9 +126,7 @@ pub fn run(args: Args) -> Result<()> {
         Some(Primitives::Vertices) => Some(PrimitiveKind::Vertices),
         Some(Primitives::Edges) => Some(PrimitiveKind::Edges),
         Some(Primitives::Faces) => Some(PrimitiveKind::Faces),
-        Some(Primitives::Polygons) => {
-            anyhow::bail!("the viewer shows vertices, edges and faces; polygons are not drawn yet")
-        }
+        Some(Primitives::Polygons) => Some(PrimitiveKind::Polygons),
     };
     let options = ViewerOptions {
         source,
