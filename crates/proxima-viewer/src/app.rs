@@ -5,10 +5,12 @@
 
 use crate::camera::{OrbitCamera, Viewport};
 use crate::cells::{CellGrid, RayWalk, walk_ray};
+use crate::frustum_view::{self, FrustumSelection, settings_frustum};
 use crate::gl::Renderer;
 use crate::model::{Model, ModelSource, PrimitiveKind, Progress, QueryResult};
-use crate::scene::{self, BoxSet, colors};
+use crate::scene::{self, BoxSet, Overlay, colors};
 use crate::screenshot::{FrameTimer, ScreenshotOptions, ScreenshotReport, save_png, sidecar_path};
+use crate::spheres::spheres_overlay;
 use crate::state::{FrameInputs, Settings, compose_frame, nice_size};
 use crate::{InitialView, ViewerOptions};
 use eframe::egui::mutex::Mutex;
@@ -59,6 +61,22 @@ struct LinearKey {
     model: u64,
     kind: PrimitiveKind,
     query: Vec3,
+}
+
+/// Inputs of the cached tree nodes at a depth: model, kind, depth.
+type NodeKey = (u64, PrimitiveKind, u32);
+
+/// Inputs of the cached frustum query.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct FrustumKey {
+    model: u64,
+    kind: PrimitiveKind,
+    eye: Vec3,
+    target: Vec3,
+    fov: f32,
+    near: f32,
+    far: f32,
+    linear: bool,
 }
 
 /// A brute-force answer and its time.
@@ -119,7 +137,10 @@ pub struct ViewerApp {
     grid_job: Option<GridJob>,
     grid_error: Option<(GridKey, String)>,
     ray: Option<(RayKey, Result<RayWalk, String>)>,
-    nodes: Option<((u64, PrimitiveKind, u32), Arc<BoxSet>)>,
+    nodes: Option<(NodeKey, Arc<BoxSet>)>,
+    frustum: Option<(FrustumKey, Result<FrustumSelection, String>)>,
+    /// Great circles of the sphere tree's nodes at the depth, and their count.
+    spheres: Option<(NodeKey, (usize, Overlay))>,
     pick_message: Option<String>,
     timer: FrameTimer,
     last_frame: Option<Instant>,
@@ -172,6 +193,8 @@ impl ViewerApp {
             grid_error: None,
             ray: None,
             nodes: None,
+            frustum: None,
+            spheres: None,
             pick_message: None,
             timer: FrameTimer::default(),
             last_frame: None,
@@ -280,6 +303,9 @@ impl ViewerApp {
             settings.show_ray = s.show_ray;
             settings.show_nodes = s.show_nodes;
             settings.node_depth = s.node_depth;
+            settings.show_frustum = s.show_frustum;
+            settings.show_spheres = s.show_spheres;
+            settings.frustum_fov = s.frustum_fov;
         }
         if let Some(initial) = self.initial.take() {
             initial.apply(&mut settings);
@@ -295,6 +321,8 @@ impl ViewerApp {
         self.grid_error = None;
         self.ray = None;
         self.nodes = None;
+        self.frustum = None;
+        self.spheres = None;
         self.pick_message = None;
         self.needs_fit = true;
         self.model = Some(Arc::new(model));
@@ -340,6 +368,24 @@ impl ViewerApp {
         if s.show_nodes && self.nodes.as_ref().is_none_or(|(k, _)| *k != node_key) {
             let boxes = Arc::new(BoxSet::new(model.nodes_at_depth(s.kind, s.node_depth)));
             self.nodes = Some((node_key, boxes));
+        }
+        if s.show_spheres && self.spheres.as_ref().is_none_or(|(k, _)| *k != node_key) {
+            let spheres = model.sphere_nodes_at_depth(s.kind, s.node_depth);
+            self.spheres = Some((node_key, (spheres.len(), spheres_overlay(&spheres))));
+        }
+        let frustum_key = FrustumKey {
+            model: self.model_serial,
+            kind: s.kind,
+            eye: s.frustum_eye,
+            target: s.frustum_target,
+            fov: s.frustum_fov,
+            near: s.frustum_near,
+            far: s.frustum_far,
+            linear: s.compare_linear,
+        };
+        if s.show_frustum && self.frustum.as_ref().is_none_or(|(k, _)| *k != frustum_key) {
+            let selection = settings_frustum(s).map(|f| frustum_view::select(&model, s.kind, &f, s.compare_linear));
+            self.frustum = Some((frustum_key, selection));
         }
         let grid_key = GridKey {
             model: self.model_serial,
@@ -422,9 +468,12 @@ impl ViewerApp {
         egui::CollapsingHeader::new("Hash grid and ray")
             .default_open(true)
             .show(ui, |ui| self.grid_section(ui, &model));
-        egui::CollapsingHeader::new("AABB tree")
+        egui::CollapsingHeader::new("AABB and sphere trees")
             .default_open(true)
             .show(ui, |ui| self.tree_section(ui, &model));
+        egui::CollapsingHeader::new("Frustum query")
+            .default_open(true)
+            .show(ui, |ui| self.frustum_section(ui, &model));
         egui::CollapsingHeader::new("Statistics")
             .default_open(true)
             .show(ui, |ui| self.stats_section(ui, &model));
@@ -642,6 +691,68 @@ impl ViewerApp {
         {
             ui.label(format!("{} nodes at depth {}", boxes.len(), s.node_depth));
         }
+        ui.checkbox(
+            &mut s.show_spheres,
+            format!("show the {} sphere tree's nodes at that depth", s.kind.name()),
+        );
+        if s.show_spheres
+            && let Some((_, (count, _))) = &self.spheres
+        {
+            ui.label(format!("{count} spheres at depth {}", s.node_depth));
+        }
+    }
+
+    fn frustum_section(&mut self, ui: &mut egui::Ui, model: &Model) {
+        let s = &mut self.settings;
+        ui.checkbox(
+            &mut s.show_frustum,
+            format!("second camera: {} in its frustum", s.kind.name()),
+        );
+        let speed = model.bounds.diagonal() / 500.0;
+        vec3_row(ui, "eye", &mut s.frustum_eye, speed);
+        vec3_row(ui, "target", &mut s.frustum_target, speed);
+        ui.add(egui::Slider::new(&mut s.frustum_fov, 1.0..=170.0).text("fov (degrees)"));
+        let reach = 10.0 * model.bounds.diagonal().max(1e-6);
+        ui.add(
+            egui::Slider::new(&mut s.frustum_near, reach * 1e-5..=reach)
+                .logarithmic(true)
+                .text("near"),
+        );
+        ui.add(
+            egui::Slider::new(&mut s.frustum_far, reach * 1e-5..=reach)
+                .logarithmic(true)
+                .text("far"),
+        );
+        if s.show_frustum
+            && let Some((_, selection)) = &self.frustum
+        {
+            match selection {
+                Ok(sel) => {
+                    ui.label(format!(
+                        "{} {} selected ({} sources) in {}",
+                        sel.selected.len(),
+                        sel.kind.name(),
+                        sel.sources,
+                        format_seconds(sel.tree_seconds)
+                    ));
+                    if let Some(linear) = &sel.linear {
+                        let agree = if *linear == sel.selected {
+                            "same set"
+                        } else {
+                            "DIFFERENT SET"
+                        };
+                        ui.label(format!(
+                            "brute force: {} in {} ({agree})",
+                            linear.len(),
+                            format_seconds(sel.linear_seconds)
+                        ));
+                    }
+                }
+                Err(e) => {
+                    ui.colored_label(Color32::from_rgb(255, 110, 110), e);
+                }
+            }
+        }
     }
 
     fn stats_section(&mut self, ui: &mut egui::Ui, model: &Model) {
@@ -656,6 +767,7 @@ impl ViewerApp {
             row("edges", model.count(PrimitiveKind::Edges).to_string());
             row("faces", model.mesh.face_count().to_string());
             row("triangles", model.count(PrimitiveKind::Faces).to_string());
+            row("convex polygons", model.count(PrimitiveKind::Polygons).to_string());
             row("load", format_seconds(t.load));
             row("normals, buffers", format_seconds(t.buffers));
             for kind in PrimitiveKind::ALL {
@@ -732,6 +844,8 @@ impl ViewerApp {
                 grid: self.current_grid().map(|g| g.as_ref()),
                 ray,
                 nodes: self.nodes.as_ref().map(|(_, b)| b),
+                spheres: self.spheres.as_ref().map(|(_, (_, o))| o),
+                frustum: self.frustum.as_ref().and_then(|(_, f)| f.as_ref().ok()),
             })
         };
         frame.interactive = interactive;

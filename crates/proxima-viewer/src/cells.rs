@@ -6,7 +6,7 @@ use crate::scene::{BoxSet, Overlay, colors};
 use proxima::grid::{Cell, FastHash, GridConfig, GridStats, HashGrid, InsertMethod};
 use proxima::math::Vec3;
 use proxima::traversal::{GridTraversal, TraversalConfig};
-use proxima::{LineSegment, Point, Triangle};
+use proxima::{ConvexPolygon, LineSegment, Point, Triangle};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -23,6 +23,7 @@ enum AnyGrid {
     Vertices(HashGrid<Point, FastHash>),
     Edges(HashGrid<LineSegment, FastHash>),
     Faces(HashGrid<Triangle, FastHash>),
+    Polygons(HashGrid<ConvexPolygon, FastHash>),
 }
 
 /// A hash grid over one kind of primitive, with its occupied cells as boxes.
@@ -68,11 +69,17 @@ impl CellGrid {
                 let s = g.stats();
                 (AnyGrid::Faces(g), s)
             }
+            PrimitiveKind::Polygons => {
+                let g = HashGrid::build(model.mesh.polygons(), &config).map_err(|e| e.to_string())?;
+                let s = g.stats();
+                (AnyGrid::Polygons(g), s)
+            }
         };
         let cells: Vec<Cell> = match &grid {
             AnyGrid::Vertices(g) => g.occupied().map(|(c, _)| c).collect(),
             AnyGrid::Edges(g) => g.occupied().map(|(c, _)| c).collect(),
             AnyGrid::Faces(g) => g.occupied().map(|(c, _)| c).collect(),
+            AnyGrid::Polygons(g) => g.occupied().map(|(c, _)| c).collect(),
         };
         let boxes = Arc::new(BoxSet::new(cells.iter().map(|&c| layout.cell_box(c))));
         Ok(CellGrid {
@@ -96,10 +103,11 @@ impl CellGrid {
             AnyGrid::Vertices(g) => !g.cell(cell).is_empty(),
             AnyGrid::Edges(g) => !g.cell(cell).is_empty(),
             AnyGrid::Faces(g) => !g.cell(cell).is_empty(),
+            AnyGrid::Polygons(g) => !g.cell(cell).is_empty(),
         }
     }
 
-    /// The first face hit by the ray (only for a grid over faces).
+    /// The first face hit by the ray (only for a grid over faces; the grid has no ray query over polygons).
     pub fn first_hit(&self, origin: Vec3, direction: Vec3) -> Option<Vec3> {
         match &self.grid {
             AnyGrid::Faces(g) => g
@@ -107,6 +115,7 @@ impl CellGrid {
                 .ok()
                 .flatten()
                 .map(|h| h.point),
+
             _ => None,
         }
     }

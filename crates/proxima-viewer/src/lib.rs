@@ -15,6 +15,9 @@
 //! - [`scene`]: draw data (buffers, boxes, overlay lines and markers) and
 //!   picking;
 //! - [`cells`]: occupied grid cells and the ray walk;
+//! - [`frustum_view`]: a second camera's frustum and the primitives its
+//!   frustum query selects;
+//! - [`spheres`]: the sphere tree's nodes at a depth as great circles;
 //! - [`state`]: the panel settings and the composition of a frame;
 //! - [`screenshot`]: the scripted mode (one PNG and exit);
 //! - `gl` (private): the OpenGL renderer; `app` (private): the eframe app.
@@ -27,10 +30,12 @@
 mod app;
 pub mod camera;
 pub mod cells;
+pub mod frustum_view;
 mod gl;
 pub mod model;
 pub mod scene;
 pub mod screenshot;
+pub mod spheres;
 pub mod state;
 
 pub use camera::{OrbitCamera, Viewport};
@@ -60,6 +65,10 @@ pub struct InitialView {
     pub tree_depth: Option<u32>,
     /// Highlight this many nearest primitives.
     pub k: Option<usize>,
+    /// Show a second camera's frustum query from this eye to this target.
+    pub frustum: Option<(Vec3, Vec3)>,
+    /// Vertical field of view of the second camera, in degrees.
+    pub frustum_fov: Option<f32>,
 }
 
 impl InitialView {
@@ -89,6 +98,18 @@ impl InitialView {
         }
         if let Some(k) = self.k {
             settings.k = k;
+        }
+        if let Some((eye, target)) = self.frustum {
+            settings.show_frustum = true;
+            settings.frustum_eye = eye;
+            settings.frustum_target = target;
+            // Near close to this eye, far past the target by the default far distance.
+            let distance = (target - eye).length();
+            settings.frustum_near = (0.05 * distance).max(1e-6);
+            settings.frustum_far += distance;
+        }
+        if let Some(fov) = self.frustum_fov {
+            settings.frustum_fov = fov;
         }
     }
 }
@@ -200,6 +221,8 @@ mod tests {
             ray_steps: Some(7),
             tree_depth: Some(4),
             k: Some(3),
+            frustum: Some((Vec3::new(5.0, 0.0, 0.0), Vec3::ZERO)),
+            frustum_fov: Some(40.0),
         };
         v.apply(&mut s);
         assert_eq!(s.query, Vec3::ONE);
@@ -208,6 +231,8 @@ mod tests {
         assert!(s.show_ray && s.ray_direction == Vec3::X && s.ray_steps == 7);
         assert!(s.show_nodes && s.node_depth == 4);
         assert_eq!(s.k, 3);
+        assert!(s.show_frustum && s.frustum_eye == Vec3::new(5.0, 0.0, 0.0) && s.frustum_fov == 40.0);
+        assert!(crate::frustum_view::settings_frustum(&s).is_ok());
     }
 
     #[test]

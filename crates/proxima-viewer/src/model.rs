@@ -3,12 +3,14 @@
 //! queries the panel asks of them. Built off the UI thread; no GL, no egui.
 
 use crate::scene::{self, MeshBuffers};
+use proxima::frustum::Frustum;
 use proxima::math::Vec3;
 use proxima::{
-    Aabb, AabbTree, BuildConfig, ClosestHit, LineSegment, LinearSearch, Mesh, Point, PrimitiveSet, TreeStats, Triangle,
+    Aabb, AabbTree, BuildConfig, ClosestHit, ConvexPolygon, LineSegment, LinearSearch, Mesh, Point, PrimitiveSet,
+    Sphere, SphereTree, TreeStats, Triangle,
 };
 use std::path::PathBuf;
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 use std::time::Instant;
 
 /// Which primitives of the mesh the queries run on.
@@ -21,11 +23,19 @@ pub enum PrimitiveKind {
     /// Faces (fan-triangulated; the source is the face).
     #[default]
     Faces,
+    /// Faces as convex polygons (`Mesh::polygons`: convex planar faces kept
+    /// whole, others fan-triangulated; the source is the face).
+    Polygons,
 }
 
 impl PrimitiveKind {
     /// All kinds, in display order.
-    pub const ALL: [PrimitiveKind; 3] = [PrimitiveKind::Vertices, PrimitiveKind::Edges, PrimitiveKind::Faces];
+    pub const ALL: [PrimitiveKind; 4] = [
+        PrimitiveKind::Vertices,
+        PrimitiveKind::Edges,
+        PrimitiveKind::Faces,
+        PrimitiveKind::Polygons,
+    ];
 
     /// Lowercase name, as on the command line.
     pub fn name(self) -> &'static str {
@@ -33,6 +43,7 @@ impl PrimitiveKind {
             PrimitiveKind::Vertices => "vertices",
             PrimitiveKind::Edges => "edges",
             PrimitiveKind::Faces => "faces",
+            PrimitiveKind::Polygons => "polygons",
         }
     }
 
@@ -71,25 +82,31 @@ pub struct Timings {
     pub load: f64,
     /// Vertex normals and draw buffers.
     pub buffers: f64,
-    /// Tree build per kind (vertices, edges, faces).
-    pub build: [f64; 3],
+    /// Tree build per kind (vertices, edges, faces, polygons).
+    pub build: [f64; 4],
 }
 
 /// Trees and brute-force searches over one kind of primitive.
 struct Index<T> {
     tree: AabbTree<T>,
     linear: LinearSearch<T>,
+    /// `sources[i]`: the mesh element build input `i` came from.
+    sources: Vec<u32>,
     /// Computed once: it walks every node.
     stats: TreeStats,
+    /// The sphere tree over the same inputs, built when first shown.
+    spheres: OnceLock<Option<SphereTree<T>>>,
 }
 
-impl<T: proxima::ClosestPoint + Copy + Send + Sync> Index<T> {
+impl<T: proxima::ClosestPoint + proxima::FrustumOverlap + Copy + Send + Sync> Index<T> {
     fn build(set: PrimitiveSet<T>) -> Result<(Self, f64), String> {
         let start = Instant::now();
         let tree = AabbTree::build_set(set.clone(), &BuildConfig::default()).map_err(|e| e.to_string())?;
         let seconds = start.elapsed().as_secs_f64();
         Ok((
             Self {
+                sources: set.sources.clone(),
+                spheres: OnceLock::new(),
                 stats: tree.stats(),
                 tree,
                 linear: LinearSearch::new(set),
@@ -119,6 +136,7 @@ pub struct Model {
     vertices: Index<Point>,
     edge_index: Index<LineSegment>,
     faces: Option<Index<Triangle>>,
+    polygons: Option<Index<ConvexPolygon>>,
 }
 
 /// The answer to one closest-point question, by tree and by brute force.
@@ -201,6 +219,13 @@ impl Model {
         } else {
             (None, 0.0)
         };
+        report("tree over convex polygons", 0.9);
+        let (polygons, t_polygons) = if mesh.face_count() > 0 {
+            let (index, t) = Index::build(mesh.polygons())?;
+            (Some(index), t)
+        } else {
+            (None, 0.0)
+        };
         report("done", 1.0);
         Ok(Model {
             name,
@@ -211,12 +236,13 @@ impl Model {
             timings: Timings {
                 load,
                 buffers: buffer_seconds,
-                build: [t_vertices, t_edges, t_faces],
+                build: [t_vertices, t_edges, t_faces, t_polygons],
             },
             mesh,
             vertices,
             edge_index,
             faces,
+            polygons,
         })
     }
 
@@ -232,6 +258,7 @@ impl Model {
             PrimitiveKind::Vertices => self.vertices.tree.len(),
             PrimitiveKind::Edges => self.edge_index.tree.len(),
             PrimitiveKind::Faces => self.faces.as_ref().map_or(0, |f| f.tree.len()),
+            PrimitiveKind::Polygons => self.polygons.as_ref().map_or(0, |f| f.tree.len()),
         }
     }
 
@@ -241,6 +268,7 @@ impl Model {
             PrimitiveKind::Vertices => self.vertices.stats,
             PrimitiveKind::Edges => self.edge_index.stats,
             PrimitiveKind::Faces => self.faces.as_ref().map(|f| f.stats).unwrap_or_default(),
+            PrimitiveKind::Polygons => self.polygons.as_ref().map(|f| f.stats).unwrap_or_default(),
         }
     }
 
@@ -254,6 +282,35 @@ impl Model {
         self.faces.as_ref().map(|f| &f.tree)
     }
 
+    /// Spheres of the sphere tree's nodes of `kind` at exactly `depth` (root
+    /// = 0). The sphere tree is built on first use (same inputs as the AABB
+    /// tree, same hierarchy).
+    pub fn sphere_nodes_at_depth(&self, kind: PrimitiveKind, depth: u32) -> Vec<Sphere> {
+        fn at<T: Copy + proxima::ClosestPoint + proxima::primitive::BoundingPoints + Send + Sync>(
+            index: &Index<T>,
+            depth: u32,
+        ) -> Vec<Sphere> {
+            // The same inputs built the AABB tree, so the build does not fail.
+            let tree = index.spheres.get_or_init(|| {
+                SphereTree::build_with_sources(
+                    index.linear.primitives().to_vec(),
+                    index.sources.clone(),
+                    &BuildConfig::default(),
+                )
+                .ok()
+            });
+            tree.as_ref()
+                .map(|t| crate::spheres::sphere_nodes_at_depth(t, depth))
+                .unwrap_or_default()
+        }
+        match kind {
+            PrimitiveKind::Vertices => at(&self.vertices, depth),
+            PrimitiveKind::Edges => at(&self.edge_index, depth),
+            PrimitiveKind::Faces => self.faces.as_ref().map(|f| at(f, depth)).unwrap_or_default(),
+            PrimitiveKind::Polygons => self.polygons.as_ref().map(|f| at(f, depth)).unwrap_or_default(),
+        }
+    }
+
     /// Boxes of the tree nodes of `kind` at exactly `depth` (root = 0).
     pub fn nodes_at_depth(&self, kind: PrimitiveKind, depth: u32) -> Vec<Aabb> {
         match kind {
@@ -261,6 +318,11 @@ impl Model {
             PrimitiveKind::Edges => scene::nodes_at_depth(&self.edge_index.tree, depth),
             PrimitiveKind::Faces => self
                 .faces
+                .as_ref()
+                .map(|f| scene::nodes_at_depth(&f.tree, depth))
+                .unwrap_or_default(),
+            PrimitiveKind::Polygons => self
+                .polygons
                 .as_ref()
                 .map(|f| scene::nodes_at_depth(&f.tree, depth))
                 .unwrap_or_default(),
@@ -294,6 +356,10 @@ impl Model {
                 Some(index) => run(index, p, k, with_linear),
                 None => (None, 0.0, None, 0.0, Vec::new()),
             },
+            PrimitiveKind::Polygons => match &self.polygons {
+                Some(index) => run(index, p, k, with_linear),
+                None => (None, 0.0, None, 0.0, Vec::new()),
+            },
         };
         let (tree, tree_seconds, linear, linear_seconds, nearest) = answer;
         QueryResult {
@@ -307,6 +373,92 @@ impl Model {
         }
     }
 
+    /// Build-input indices of the primitives of `kind` overlapping `frustum`
+    /// by the tree (ascending), with the mean seconds per query.
+    pub fn frustum_query(&self, kind: PrimitiveKind, frustum: &Frustum) -> (Vec<u32>, f64) {
+        let mut out = Vec::new();
+        let seconds = match kind {
+            PrimitiveKind::Vertices => timed(|| self.vertices.tree.frustum_into(frustum, &mut out)).1,
+            PrimitiveKind::Edges => timed(|| self.edge_index.tree.frustum_into(frustum, &mut out)).1,
+            PrimitiveKind::Faces => match &self.faces {
+                Some(f) => timed(|| f.tree.frustum_into(frustum, &mut out)).1,
+                None => 0.0,
+            },
+            PrimitiveKind::Polygons => match &self.polygons {
+                Some(f) => timed(|| f.tree.frustum_into(frustum, &mut out)).1,
+                None => 0.0,
+            },
+        };
+        (out, seconds)
+    }
+
+    /// [`frustum_query`](Self::frustum_query) by brute force (every
+    /// primitive tested), with the seconds it took.
+    pub fn frustum_linear(&self, kind: PrimitiveKind, frustum: &Frustum) -> (Vec<u32>, f64) {
+        let start = Instant::now();
+        let out = match kind {
+            PrimitiveKind::Vertices => self.vertices.linear.frustum(frustum),
+            PrimitiveKind::Edges => self.edge_index.linear.frustum(frustum),
+            PrimitiveKind::Faces => self
+                .faces
+                .as_ref()
+                .map(|f| f.linear.frustum(frustum))
+                .unwrap_or_default(),
+            PrimitiveKind::Polygons => self
+                .polygons
+                .as_ref()
+                .map(|f| f.linear.frustum(frustum))
+                .unwrap_or_default(),
+        };
+        (out, start.elapsed().as_secs_f64())
+    }
+
+    /// The mesh element (vertex, edge or face) that build input `input` of
+    /// `kind` came from.
+    pub fn input_source(&self, kind: PrimitiveKind, input: u32) -> Option<u32> {
+        let sources = match kind {
+            PrimitiveKind::Vertices => &self.vertices.sources,
+            PrimitiveKind::Edges => &self.edge_index.sources,
+            PrimitiveKind::Faces => &self.faces.as_ref()?.sources,
+            PrimitiveKind::Polygons => &self.polygons.as_ref()?.sources,
+        };
+        sources.get(input as usize).copied()
+    }
+
+    /// The geometry of build input `input` of `kind` (a face's fan triangle,
+    /// not the whole face), for highlighting query answers given as inputs.
+    pub fn input_shape(&self, kind: PrimitiveKind, input: u32) -> Option<scene::Shape> {
+        let i = input as usize;
+        match kind {
+            PrimitiveKind::Vertices => self
+                .vertices
+                .linear
+                .primitives()
+                .get(i)
+                .map(|p| scene::Shape::Point(p.0)),
+            PrimitiveKind::Edges => self
+                .edge_index
+                .linear
+                .primitives()
+                .get(i)
+                .map(|e| scene::Shape::Segment(e.a, e.b)),
+            PrimitiveKind::Faces => self
+                .faces
+                .as_ref()?
+                .linear
+                .primitives()
+                .get(i)
+                .map(|t| scene::Shape::Polygon(vec![t.a, t.b, t.c])),
+            PrimitiveKind::Polygons => self
+                .polygons
+                .as_ref()?
+                .linear
+                .primitives()
+                .get(i)
+                .map(|polygon| scene::Shape::Polygon(polygon.vertices().to_vec())),
+        }
+    }
+
     /// Closest primitive of `kind` to `p` by brute force, with the seconds it
     /// took (run on a worker thread by the viewer: on the dragon it takes
     /// tens of milliseconds).
@@ -316,6 +468,7 @@ impl Model {
             PrimitiveKind::Vertices => self.vertices.linear.closest(p),
             PrimitiveKind::Edges => self.edge_index.linear.closest(p),
             PrimitiveKind::Faces => self.faces.as_ref().and_then(|f| f.linear.closest(p)),
+            PrimitiveKind::Polygons => self.polygons.as_ref().and_then(|f| f.linear.closest(p)),
         };
         (hit, start.elapsed().as_secs_f64())
     }
@@ -332,6 +485,8 @@ impl Model {
                 .get(s)
                 .map(|&[a, b]| scene::Shape::Segment(p[a as usize], p[b as usize])),
             PrimitiveKind::Faces => (s < self.mesh.face_count())
+                .then(|| scene::Shape::Polygon(self.mesh.face(s).iter().map(|&i| p[i as usize]).collect())),
+            PrimitiveKind::Polygons => (s < self.mesh.face_count())
                 .then(|| scene::Shape::Polygon(self.mesh.face(s).iter().map(|&i| p[i as usize]).collect())),
         }
     }
@@ -443,5 +598,56 @@ mod tests {
             1
         );
         assert!(m.nodes_at_depth(PrimitiveKind::Faces, 0).is_empty());
+        assert!(m.sphere_nodes_at_depth(PrimitiveKind::Faces, 0).is_empty());
+        assert_eq!(m.sphere_nodes_at_depth(PrimitiveKind::Vertices, 0).len(), 1);
+    }
+
+    #[test]
+    fn polygons_are_whole_faces_queried_like_triangles() {
+        // A cube of six quads: six polygons, twelve triangles.
+        let positions: Vec<Vec3> = (0..8)
+            .map(|i| Vec3::new((i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32))
+            .collect();
+        let faces = vec![
+            vec![0, 2, 3, 1],
+            vec![4, 5, 7, 6],
+            vec![0, 1, 5, 4],
+            vec![2, 6, 7, 3],
+            vec![0, 4, 6, 2],
+            vec![1, 3, 7, 5],
+        ];
+        let m = Model::load(
+            ModelSource::Mesh {
+                mesh: Mesh::from_faces(positions, &faces).unwrap(),
+                name: "cube".into(),
+            },
+            &|_| {},
+        )
+        .unwrap();
+        assert_eq!(m.count(PrimitiveKind::Polygons), 6);
+        assert_eq!(m.count(PrimitiveKind::Faces), 12);
+        assert_eq!(m.tree_stats(PrimitiveKind::Polygons).primitives, 6);
+        assert_eq!(m.nodes_at_depth(PrimitiveKind::Polygons, 0).len(), 1);
+        assert_eq!(m.sphere_nodes_at_depth(PrimitiveKind::Polygons, 0).len(), 1);
+        for p in [
+            Vec3::new(0.3, 0.6, 2.0),
+            Vec3::new(-1.0, 0.5, 0.5),
+            Vec3::new(0.45, 0.2, 0.4),
+        ] {
+            let polygons = m.query(PrimitiveKind::Polygons, p, 2, true);
+            let faces = m.query(PrimitiveKind::Faces, p, 0, false);
+            assert_eq!(polygons.tree, polygons.linear);
+            // Same surface, same closest face and distance as over triangles.
+            let (a, b) = (polygons.tree.unwrap(), faces.tree.unwrap());
+            assert_eq!(a.source, b.source);
+            assert!((a.distance - b.distance).abs() < 1e-6);
+            // The polygon's own shape is the whole quad.
+            match m.input_shape(PrimitiveKind::Polygons, 0).unwrap() {
+                scene::Shape::Polygon(v) => assert_eq!(v.len(), 4),
+                other => panic!("{other:?}"),
+            }
+        }
+        let grid = crate::cells::CellGrid::build(&m, PrimitiveKind::Polygons, 0.25).unwrap();
+        assert!(grid.occupied_count() > 0);
     }
 }

@@ -24,6 +24,8 @@ pub mod colors {
     pub const CELLS: [u8; 4] = [235, 235, 235, 255];
     /// Tree node boxes.
     pub const NODES: [u8; 4] = [90, 220, 120, 255];
+    /// Sphere tree node spheres.
+    pub const SPHERES: [u8; 4] = [255, 140, 200, 255];
     /// The ray.
     pub const RAY: [u8; 4] = [255, 230, 0, 255];
     /// Cells the ray passes through.
@@ -42,6 +44,10 @@ pub mod colors {
     pub const CLOSEST_PRIMITIVE: [u8; 4] = [255, 60, 60, 255];
     /// The other k-nearest primitives.
     pub const NEAREST: [u8; 4] = [255, 200, 40, 255];
+    /// The edges of the second camera's frustum.
+    pub const FRUSTUM: [u8; 4] = [200, 110, 255, 255];
+    /// Primitives the frustum query selects (a colour nothing else uses).
+    pub const FRUSTUM_SELECTED: [u8; 4] = [160, 255, 0, 255];
 }
 
 /// Diameter in pixels of the query and closest-point markers.

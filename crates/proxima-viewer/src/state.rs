@@ -3,8 +3,9 @@
 
 use crate::camera::{OrbitCamera, Viewport};
 use crate::cells::{CellGrid, RayWalk};
+use crate::frustum_view::FrustumSelection;
 use crate::model::{Model, PrimitiveKind, QueryResult};
-use crate::scene::{self, BoxLayer, BoxSet, DrawFrame, colors};
+use crate::scene::{self, BoxLayer, BoxSet, DrawFrame, Overlay, colors};
 use proxima::Aabb;
 use proxima::math::Vec3;
 use std::sync::Arc;
@@ -41,6 +42,20 @@ pub struct Settings {
     pub show_nodes: bool,
     /// Depth of the nodes drawn (root = 0).
     pub node_depth: u32,
+    /// Draw the sphere tree's nodes at `node_depth`.
+    pub show_spheres: bool,
+    /// Draw a second camera's frustum and the primitives its query selects.
+    pub show_frustum: bool,
+    /// Position of the second camera.
+    pub frustum_eye: Vec3,
+    /// Point the second camera looks at.
+    pub frustum_target: Vec3,
+    /// Vertical field of view of the second camera, in degrees.
+    pub frustum_fov: f32,
+    /// Near plane distance of the second camera.
+    pub frustum_near: f32,
+    /// Far plane distance of the second camera.
+    pub frustum_far: f32,
 }
 
 impl Default for Settings {
@@ -75,6 +90,15 @@ impl Settings {
             ray_steps: 400,
             show_nodes: false,
             node_depth: 3,
+            show_spheres: false,
+            // From the -x side, a narrow view aimed above the centre: it
+            // sees part of the model, not all of it.
+            show_frustum: false,
+            frustum_eye: b.center() - Vec3::new(diagonal, 0.0, 0.0),
+            frustum_target: b.center() + Vec3::new(0.0, 0.25 * size.y, 0.0),
+            frustum_fov: 25.0,
+            frustum_near: 0.2 * diagonal,
+            frustum_far: 2.0 * diagonal,
         }
     }
 
@@ -138,6 +162,10 @@ pub struct FrameInputs<'a> {
     pub ray: Option<&'a RayWalk>,
     /// Boxes of the tree nodes at the chosen depth.
     pub nodes: Option<&'a Arc<BoxSet>>,
+    /// Great circles of the sphere tree's nodes at the chosen depth.
+    pub spheres: Option<&'a Overlay>,
+    /// The second camera's frustum query (drawn when its kind matches).
+    pub frustum: Option<&'a FrustumSelection>,
 }
 
 /// The draw data of one frame.
@@ -186,6 +214,17 @@ pub fn compose_frame(inputs: &FrameInputs<'_>) -> DrawFrame {
             color: colors::RAY_CELLS_OCCUPIED,
         });
         frame.overlay.append(ray.overlay());
+    }
+    if s.show_spheres
+        && let Some(spheres) = inputs.spheres
+    {
+        frame.overlay.append(spheres.clone());
+    }
+    if s.show_frustum
+        && let Some(selection) = inputs.frustum
+        && selection.kind == s.kind
+    {
+        frame.overlay.append(selection.overlay.clone());
     }
     if let Some(result) = inputs.result {
         frame.overlay.append(scene::query_overlay(model, result));
@@ -257,6 +296,9 @@ mod tests {
         )
         .unwrap();
         let nodes = Arc::new(BoxSet::new(m.nodes_at_depth(PrimitiveKind::Faces, 1)));
+        let frustum = crate::frustum_view::settings_frustum(&settings).unwrap();
+        let selection = crate::frustum_view::select(&m, PrimitiveKind::Faces, &frustum, false);
+        let spheres = crate::spheres::spheres_overlay(&m.sphere_nodes_at_depth(PrimitiveKind::Faces, 0));
         let viewport = Viewport::new([0.0, 0.0], [300.0, 200.0]);
         let frame = |settings: &Settings| {
             compose_frame(&FrameInputs {
@@ -268,6 +310,8 @@ mod tests {
                 grid: Some(&grid),
                 ray: Some(&ray),
                 nodes: Some(&nodes),
+                spheres: Some(&spheres),
+                frustum: Some(&selection),
             })
         };
         let plain = frame(&settings);
@@ -295,6 +339,23 @@ mod tests {
         assert_eq!(all.boxes[0].set.len(), grid.occupied_count());
         assert_eq!(all.boxes[2].set.len() + all.boxes[3].set.len(), 20);
         assert!(all.overlay.lines.iter().any(|v| v.color == colors::RAY));
+        assert!(!all.overlay.lines.iter().any(|v| v.color == colors::FRUSTUM));
+        settings.show_frustum = true;
+        let with_frustum = frame(&settings);
+        let frustum_lines = with_frustum.overlay.lines.iter().filter(|v| v.color == colors::FRUSTUM);
+        assert_eq!(frustum_lines.count(), 24);
+        settings.show_frustum = false;
+        assert!(!with_frustum.overlay.lines.iter().any(|v| v.color == colors::SPHERES));
+        settings.show_spheres = true;
+        let sphere_lines = frame(&settings)
+            .overlay
+            .lines
+            .iter()
+            .filter(|v| v.color == colors::SPHERES)
+            .count();
+        assert_eq!(sphere_lines, spheres.lines.len());
+        assert!(sphere_lines > 0);
+        settings.show_spheres = false;
 
         // A grid of another cell size or kind is not drawn (a rebuild is pending).
         settings.cell_size *= 2.0;
@@ -310,6 +371,8 @@ mod tests {
             grid: None,
             ray: None,
             nodes: None,
+            spheres: None,
+            frustum: None,
         });
         assert!(empty.mesh.is_none() && empty.boxes.is_empty() && empty.overlay.is_empty());
     }

@@ -8,7 +8,7 @@
 //! - the closest-point marker lands on the pixel that the viewer's own camera
 //!   function ([`OrbitCamera::fit`] + [`OrbitCamera::project`]) predicts for
 //!   the closest point, computed here independently with an [`AabbTree`];
-//! - the query line, grid cells and ray appear when asked for, and not
+//! - the query line, grid cells, ray and frustum selection appear when asked for, and not
 //!   otherwise;
 //! - a broken mesh file makes the scripted mode fail with the file's name.
 //!
@@ -41,6 +41,8 @@ struct Scenario {
     query: Vec3,
     cells: Option<f32>,
     ray: Option<(Vec3, Vec3)>,
+    /// A second camera's eye and target (frustum query shown).
+    frustum: Option<(Vec3, Vec3)>,
     frames: u32,
 }
 
@@ -54,6 +56,7 @@ fn scenarios() -> Vec<Scenario> {
             query: Vec3::new(3.0, 6.0, 4.0),
             cells: None,
             ray: None,
+            frustum: None,
             frames: 5,
         },
         Scenario {
@@ -63,7 +66,18 @@ fn scenarios() -> Vec<Scenario> {
             query: Vec3::new(-3.0, 4.0, 4.5),
             cells: Some(0.5),
             ray: Some((Vec3::new(-6.0, 1.0, -4.0), Vec3::new(1.0, 0.45, 0.7))),
+            frustum: None,
             frames: 5,
+        },
+        Scenario {
+            name: "bunny_polygons_frustum",
+            mesh: BUNNY.into(),
+            kind: PrimitiveKind::Polygons,
+            query: Vec3::new(3.0, 6.0, 4.0),
+            cells: None,
+            ray: None,
+            frustum: Some((Vec3::new(-15.0, 5.0, 0.0), Vec3::new(0.0, 6.0, 0.0))),
+            frames: 3,
         },
         Scenario {
             name: "broken_file",
@@ -72,6 +86,7 @@ fn scenarios() -> Vec<Scenario> {
             query: Vec3::ZERO,
             cells: None,
             ray: None,
+            frustum: None,
             frames: 3,
         },
     ];
@@ -83,6 +98,7 @@ fn scenarios() -> Vec<Scenario> {
             query: Vec3::new(0.0, 0.15, 0.06),
             cells: Some(0.002),
             ray: None,
+            frustum: None,
             frames: 8,
         });
     } else {
@@ -173,6 +189,7 @@ fn child(name: &str) -> ExitCode {
             kind: Some(scenario.kind),
             cells: scenario.cells,
             ray: scenario.ray,
+            frustum: scenario.frustum,
             ..Default::default()
         },
         screenshot: Some(ScreenshotOptions {
@@ -340,6 +357,9 @@ fn run_scenario(s: &Scenario, dir: &Path, xvfb: Option<&Path>) -> Result<String,
         PrimitiveKind::Faces => AabbTree::build_set(mesh_data.triangles(), &BuildConfig::default())
             .map_err(|e| e.to_string())?
             .closest(s.query),
+        PrimitiveKind::Polygons => AabbTree::build_set(mesh_data.polygons(), &BuildConfig::default())
+            .map_err(|e| e.to_string())?
+            .closest(s.query),
     }
     .ok_or("no closest point")?;
     let camera = OrbitCamera::fit(&mesh_data.bounds(), viewport.aspect());
@@ -396,14 +416,29 @@ fn run_scenario(s: &Scenario, dir: &Path, xvfb: Option<&Path>) -> Result<String,
     } else {
         check(ray < 10 && ray_cells < 10, "ray pixels without a ray")?;
     }
+    // The frustum's selection: its highlight colour appears exactly when asked for.
+    let h = colors::FRUSTUM_SELECTED;
+    let (selected, _) = count(&|p| near(p[0], h[0], 30) && near(p[1], h[1], 30) && near(p[2], h[2], 30));
+    if s.frustum.is_some() {
+        check(
+            selected as f64 > 0.002 * view_pixels,
+            &format!("frustum selection: only {selected} highlighted pixels"),
+        )?;
+    } else {
+        check(
+            selected < 10,
+            &format!("{selected} frustum-highlight pixels without a frustum"),
+        )?;
+    }
     let frames = format!(
-        "frame {} ms mean, {} ms max; {} triangles, {} cells; mesh {:.1}% of the view, marker {:.1} px from the projection",
+        "frame {} ms mean, {} ms max; {} triangles, {} cells; mesh {:.1}% of the view, marker {:.1} px from the projection, {} frustum-highlight pixels",
         sidecar["frame_ms_mean"],
         sidecar["frame_ms_max"],
         sidecar["triangles"],
         sidecar_cells,
         100.0 * coverage,
-        dx.hypot(dy)
+        dx.hypot(dy),
+        selected
     );
     Ok(frames)
 }

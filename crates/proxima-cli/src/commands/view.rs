@@ -43,6 +43,12 @@ pub struct Args {
     /// Highlight the k nearest primitives.
     #[arg(short, value_name = "K")]
     k: Option<usize>,
+    /// Show a second camera's frustum, from EYE looking at TARGET, and the primitives its query selects.
+    #[arg(long, value_name = "EX,EY,EZ,TX,TY,TZ", value_parser = parse_frustum, allow_hyphen_values = true)]
+    frustum: Option<(Vec3, Vec3)>,
+    /// Vertical field of view of the second camera, in degrees.
+    #[arg(long, value_name = "DEG", value_parser = parse_fov, requires = "frustum")]
+    frustum_fov: Option<f32>,
     /// Window size in points.
     #[arg(long, value_name = "WxH", default_value = "1280x800", value_parser = parse_size)]
     size: [f32; 2],
@@ -66,6 +72,28 @@ fn parse_ray(text: &str) -> Result<(Vec3, Vec3), String> {
         return Err("the ray direction must not be zero".into());
     }
     Ok((origin, direction))
+}
+
+fn parse_frustum(text: &str) -> Result<(Vec3, Vec3), String> {
+    let numbers: Vec<&str> = text.split([',', ' ', '\t']).filter(|s| !s.is_empty()).collect();
+    if numbers.len() != 6 {
+        return Err(format!("expected six numbers EX,EY,EZ,TX,TY,TZ, got '{text}'"));
+    }
+    let eye = parse_vec3(&numbers[..3].join(","))?;
+    let target = parse_vec3(&numbers[3..].join(","))?;
+    if eye == target {
+        return Err("the frustum's eye and target must differ".into());
+    }
+    Ok((eye, target))
+}
+
+fn parse_fov(text: &str) -> Result<f32, String> {
+    match text.trim().parse::<f32>() {
+        Ok(d) if d > 0.0 && d < 180.0 => Ok(d),
+        _ => Err(format!(
+            "expected a field of view between 0 and 180 degrees, got '{text}'"
+        )),
+    }
 }
 
 fn parse_size(text: &str) -> Result<[f32; 2], String> {
@@ -98,9 +126,7 @@ pub fn run(args: Args) -> Result<()> {
         Some(Primitives::Vertices) => Some(PrimitiveKind::Vertices),
         Some(Primitives::Edges) => Some(PrimitiveKind::Edges),
         Some(Primitives::Faces) => Some(PrimitiveKind::Faces),
-        Some(Primitives::Polygons) => {
-            anyhow::bail!("the viewer shows vertices, edges and faces; polygons are not drawn yet")
-        }
+        Some(Primitives::Polygons) => Some(PrimitiveKind::Polygons),
     };
     let options = ViewerOptions {
         source,
@@ -112,6 +138,8 @@ pub fn run(args: Args) -> Result<()> {
             ray_steps: args.ray_steps,
             tree_depth: args.tree_depth,
             k: args.k,
+            frustum: args.frustum,
+            frustum_fov: args.frustum_fov,
         },
         screenshot: args.screenshot.map(|path| ScreenshotOptions {
             path,
@@ -160,6 +188,13 @@ mod tests {
         assert_eq!(parse_size("640x480").unwrap(), [640.0, 480.0]);
         assert!(parse_size("640").is_err() && parse_size("0x10").is_err());
         assert_eq!(parse_cell_size("0.05").unwrap(), 0.05);
+        assert_eq!(
+            parse_frustum("-3,0,0, 0 1 0").unwrap(),
+            (Vec3::new(-3.0, 0.0, 0.0), Vec3::Y)
+        );
+        assert!(parse_frustum("1,1,1,1,1,1").is_err() && parse_frustum("1,2,3").is_err());
+        assert_eq!(parse_fov("30").unwrap(), 30.0);
+        assert!(parse_fov("0").is_err() && parse_fov("180").is_err() && parse_fov("x").is_err());
         assert!(parse_cell_size("0").is_err() && parse_cell_size("-1").is_err() && parse_cell_size("x").is_err());
     }
 }
