@@ -99,7 +99,7 @@ fn json_lists_sorted_unique_source_indices_matching_the_oracle() {
     let numbers = numbers.join(",");
     let (_, by_matrix) = run_json("vertices", &["--view-proj", &numbers], &[]);
     assert_eq!(by_matrix, vertices);
-    for kind in ["vertices", "edges", "faces"] {
+    for kind in ["vertices", "edges", "faces", "polygons"] {
         let (count, tree) = run_json(kind, &CAMERA, &[]);
         assert!(tree.windows(2).all(|w| w[0] < w[1]), "{kind}: sorted and unique");
         assert_eq!(count as usize, tree.len());
@@ -107,6 +107,8 @@ fn json_lists_sorted_unique_source_indices_matching_the_oracle() {
         assert_eq!(tree, linear, "{kind}: tree and brute force");
         let (_, sah) = run_json(kind, &CAMERA, &["--split", "sah"]);
         assert_eq!(tree, sah, "{kind}: split");
+        let (_, spheres) = run_json(kind, &CAMERA, &["--tree", "sphere"]);
+        assert_eq!(tree, spheres, "{kind}: sphere tree");
     }
 }
 

@@ -8,7 +8,10 @@ use crate::common::{Primitives, Split, load_mesh, parse_planarity, polygons, req
 use anyhow::{Context, Result};
 use proxima::bvh::QueryStats;
 use proxima::frustum::Frustum;
-use proxima::{AabbTree, BuildConfig, ClosestPoint, FrustumOverlap, LinearSearch, Mat4, PrimitiveSet, Vec3};
+use proxima::{
+    AabbTree, BoundingPoints, BuildConfig, ClosestPoint, FrustumOverlap, LinearSearch, Mat4, PrimitiveSet, SphereTree,
+    Vec3,
+};
 use serde_json::json;
 use std::io::{BufWriter, Write};
 use std::path::PathBuf;
@@ -42,6 +45,9 @@ pub struct Args {
     /// Far plane distance (with --look-at).
     #[arg(long, allow_hyphen_values = true)]
     far: Option<f32>,
+    /// Bounding volume of the tree (same answer either way).
+    #[arg(long, value_enum, default_value = "aabb")]
+    tree: TreeKind,
     /// Search method (same answer either way).
     #[arg(long, value_enum, default_value = "tree")]
     method: Method,
@@ -101,6 +107,37 @@ struct Outcome {
     timing: Option<(f64, f64)>,
     build_seconds: f64,
     total: usize,
+}
+
+/// Which tree answers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum TreeKind {
+    /// The AABB tree.
+    Aabb,
+    /// The bounding-sphere tree (same hierarchy, spheres instead of boxes).
+    Sphere,
+}
+
+/// A built tree of either kind.
+enum AnyVolumeTree<T> {
+    Aabb(AabbTree<T>),
+    Sphere(SphereTree<T>),
+}
+
+impl<T: FrustumOverlap> AnyVolumeTree<T> {
+    fn frustum_with_stats(&self, frustum: &Frustum) -> (Vec<u32>, QueryStats) {
+        match self {
+            Self::Aabb(tree) => tree.frustum_with_stats(frustum),
+            Self::Sphere(tree) => tree.frustum_with_stats(frustum),
+        }
+    }
+
+    fn frustum_into(&self, frustum: &Frustum, out: &mut Vec<u32>) {
+        match self {
+            Self::Aabb(tree) => tree.frustum_into(frustum, out),
+            Self::Sphere(tree) => tree.frustum_into(frustum, out),
+        }
+    }
 }
 
 /// Prints the count and the source indices.
@@ -173,7 +210,7 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
-fn search<T: FrustumOverlap + ClosestPoint + Copy + Send + Sync>(
+fn search<T: FrustumOverlap + ClosestPoint + BoundingPoints + Copy + Send + Sync>(
     set: PrimitiveSet<T>,
     frustum: &Frustum,
     args: &Args,
@@ -184,7 +221,12 @@ fn search<T: FrustumOverlap + ClosestPoint + Copy + Send + Sync>(
     let needs_tree = args.method == Method::Tree || args.bench;
     let start = Instant::now();
     let tree = needs_tree
-        .then(|| AabbTree::build_set(set.clone(), config))
+        .then(|| -> Result<AnyVolumeTree<T>, proxima::BuildError> {
+            Ok(match args.tree {
+                TreeKind::Aabb => AnyVolumeTree::Aabb(AabbTree::build_set(set.clone(), config)?),
+                TreeKind::Sphere => AnyVolumeTree::Sphere(SphereTree::build_set(set.clone(), config)?),
+            })
+        })
         .transpose()?;
     let build_seconds = start.elapsed().as_secs_f64();
     let linear = LinearSearch::new(set);
