@@ -11,7 +11,6 @@
 //! answers are therefore the binary tree's, and brute force's.
 
 use super::packet::TrianglePacket;
-use super::traverse::prefetch;
 use super::{LEAF, WideNode, WideTree};
 use crate::bvh::config::MAX_DEPTH;
 use crate::bvh::ray::{AnyHit, FirstHit, RayHit, RaySlabs, RayVisitor, prepare_ray};
@@ -195,35 +194,7 @@ impl<T: RayIntersect> WideTree<T> {
                 let (enter, mask) = slabs.entries(node, t_min, visitor.t_hi());
                 if mask != 0 {
                     let e = enter.to_array();
-                    // The lanes crossed, nearest entry first (insertion sort of at most 4).
-                    let mut order = [0usize; 4];
-                    let mut n = 0;
-                    let mut bits = mask;
-                    while bits != 0 {
-                        let lane = bits.trailing_zeros() as usize;
-                        bits &= bits - 1;
-                        let mut j = n;
-                        while j > 0 && e[order[j - 1]] > e[lane] {
-                            order[j] = order[j - 1];
-                            j -= 1;
-                        }
-                        order[j] = lane;
-                        n += 1;
-                        // Start loading every child crossed now, so that the
-                        // cache misses overlap instead of following one another.
-                        let (c, k) = (node.children[lane] as usize, node.counts[lane]);
-                        if k == 0 {
-                            let next = &self.nodes[c];
-                            prefetch(&next.min_x);
-                            prefetch(&next.max_y);
-                        } else if let Some(packet) = packets.get(c) {
-                            prefetch(packet);
-                            prefetch(&packet.b);
-                            prefetch(&packet.c);
-                        } else if packets.is_empty() && k != LEAF {
-                            prefetch(&primitives[c]);
-                        }
-                    }
+                    let (order, n) = self.lanes_nearest_first(node, mask, &e);
                     for &lane in order[1..n].iter().rev() {
                         stack[top] = (node.children[lane], node.counts[lane], e[lane]);
                         top += 1;

@@ -38,6 +38,53 @@ pub(crate) fn prefetch<T>(x: &T) {
 }
 
 impl<T> WideTree<T> {
+    /// The child lanes set in `mask`, ordered by `keys` ascending (insertion
+    /// sort of at most 4), and their count. Every child selected starts
+    /// loading at once (node, triangle packet, or first and last primitive of
+    /// a leaf), so that the cache misses overlap instead of following one
+    /// another. Shared by the distance and the ray walks.
+    #[inline(always)]
+    pub(crate) fn lanes_nearest_first(
+        &self,
+        node: &super::WideNode,
+        mask: u32,
+        keys: &[f32; 4],
+    ) -> ([usize; 4], usize) {
+        let primitives = self.tree.primitives();
+        let mut order = [0usize; 4];
+        let mut n = 0;
+        let mut bits = mask;
+        while bits != 0 {
+            let lane = bits.trailing_zeros() as usize;
+            bits &= bits - 1;
+            let mut j = n;
+            while j > 0 && keys[order[j - 1]] > keys[lane] {
+                order[j] = order[j - 1];
+                j -= 1;
+            }
+            order[j] = lane;
+            n += 1;
+            let (c, k) = (node.children[lane] as usize, node.counts[lane]);
+            if k == 0 {
+                let next = &self.nodes[c];
+                prefetch(&next.min_x);
+                prefetch(&next.max_y);
+            } else if !self.packets.is_empty() {
+                if let Some(packet) = self.packets.get(c) {
+                    prefetch(packet);
+                    prefetch(&packet.b);
+                    prefetch(&packet.c);
+                }
+            } else if k != LEAF {
+                prefetch(&primitives[c]);
+                prefetch(&primitives[c + (k & !LEAF) as usize - 1]);
+            }
+        }
+        (order, n)
+    }
+}
+
+impl<T> WideTree<T> {
     /// Depth-first, nearest child first, with a fixed stack. At each wide
     /// node the four child box distances are computed at once; the children
     /// within the radius are ordered by distance, the nearest is entered at
@@ -68,38 +115,7 @@ impl<T> WideTree<T> {
                 let mask = d2.simd_le(f32x4::splat(visitor.bound())).to_bitmask();
                 if mask != 0 {
                     let d = d2.to_array();
-                    // The lanes within reach, nearest first (insertion sort of at most 4).
-                    let mut order = [0usize; 4];
-                    let mut n = 0;
-                    let mut bits = mask;
-                    while bits != 0 {
-                        let lane = bits.trailing_zeros() as usize;
-                        bits &= bits - 1;
-                        let mut j = n;
-                        while j > 0 && d[order[j - 1]] > d[lane] {
-                            order[j] = order[j - 1];
-                            j -= 1;
-                        }
-                        order[j] = lane;
-                        n += 1;
-                        // Start loading every child within reach now, so that
-                        // the misses overlap instead of following one another.
-                        let (c, k) = (node.children[lane] as usize, node.counts[lane]);
-                        if k == 0 {
-                            let next = &self.nodes[c];
-                            prefetch(&next.min_x);
-                            prefetch(&next.max_y);
-                        } else if !packets.is_empty() {
-                            if let Some(packet) = packets.get(c) {
-                                prefetch(packet);
-                                prefetch(&packet.b);
-                                prefetch(&packet.c);
-                            }
-                        } else if k != LEAF {
-                            prefetch(&primitives[c]);
-                            prefetch(&primitives[c + (k & !LEAF) as usize - 1]);
-                        }
-                    }
+                    let (order, n) = self.lanes_nearest_first(node, mask, &d);
                     for &lane in order[1..n].iter().rev() {
                         stack[top] = Pending {
                             child: node.children[lane],
