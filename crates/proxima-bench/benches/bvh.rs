@@ -77,7 +77,7 @@ fn closest(c: &mut Criterion) {
                 })
             });
             group.bench_function(id("proxima-batch-1thread"), |b| {
-                b.iter(|| one_thread.install(|| tree.closest_batch_with(&points, BatchOptions { reorder: true })))
+                b.iter(|| one_thread.install(|| tree.closest_batch_with(&points, BatchOptions::default())))
             });
             group.bench_function(id("parry3d"), |b| {
                 b.iter(|| points.iter().map(|&p| parry_distance(&trimesh, p)).sum::<f32>())

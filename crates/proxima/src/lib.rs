@@ -37,6 +37,7 @@ pub mod grid;
 pub mod io;
 pub mod linear;
 pub mod math;
+pub mod memory;
 pub mod mesh;
 pub mod primitive;
 pub mod sample;

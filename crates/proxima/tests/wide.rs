@@ -77,10 +77,19 @@ fn check<T: ClosestPoint + Copy + Send + Sync + std::fmt::Debug + 'static>(
         }
     }
     let batch = wide.closest_batch(points);
-    let plain = wide.closest_batch_with(points, BatchOptions { reorder: false });
     for (i, &p) in points.iter().enumerate() {
         assert_eq!(batch[i], linear.closest(p));
-        assert_eq!(plain[i], batch[i]);
+    }
+    // Every combination of Morton order and radius seeding gives the same answers.
+    for reorder in [false, true] {
+        for (seed_radius, interleave) in [(false, 1), (true, 1), (false, 2), (false, 8), (false, 16), (true, 8)] {
+            let options = BatchOptions {
+                reorder,
+                seed_radius,
+                interleave,
+            };
+            assert_eq!(wide.closest_batch_with(points, options), batch, "{options:?}");
+        }
     }
     if let Some(&k) = ks.iter().max() {
         let batch = wide.k_nearest_batch(points, k);

@@ -55,15 +55,20 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &
     }
     let (tree, trimesh) = (tree.unwrap(), trimesh.unwrap());
     let (wide, t_wide_build) = timed(|| with_wide.then(|| WideTree::from_tree(tree.clone())));
+    // The same wide tree on 4 KiB pages, to measure what huge pages bring.
+    proxima::memory::set_huge_pages(false);
+    let wide_small = with_wide.then(|| WideTree::from_tree(tree.clone()));
+    proxima::memory::set_huge_pages(true);
     if let Some(wide) = &wide {
         println!(
-            "wide tree: {} wide nodes (binary {}), depth {} (binary {}), collapsed in {t_wide_build:.3} s, {:.1} MB on top of the binary tree's {:.1} MB",
+            "wide tree: {} wide nodes (binary {}), depth {} (binary {}), collapsed in {t_wide_build:.3} s, {:.1} MB on top of the binary tree's {:.1} MB; {:.1} MB of this process on huge pages",
             wide.node_count(),
             tree.node_count(),
             wide.depth(),
             tree.depth(),
             wide.extra_memory_bytes() as f64 / 1e6,
             tree.stats().memory_bytes as f64 / 1e6,
+            proxima::memory::huge_page_bytes().unwrap_or(0) as f64 / 1e6,
         );
     }
     let mut wide_rows = Vec::new();
@@ -82,7 +87,8 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &
     ] {
         let (mut t_ours, mut t_batch, mut t_parry) = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
         let (mut ours, mut theirs) = (Vec::new(), Vec::new());
-        let mut t_wide = f64::INFINITY;
+        let (mut t_wide, mut t_wide_small) = (f64::INFINITY, f64::INFINITY);
+        let (mut t_wide_batch, mut t_wide_morton, mut t_wide_all) = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
         for _ in 0..5 {
             let (o, t) = timed(|| {
                 points
@@ -91,7 +97,7 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &
                     .collect::<Vec<_>>()
             });
             (ours, t_ours) = (o, t_ours.min(t));
-            let batch = || one_thread.install(|| tree.closest_batch_with(&points, BatchOptions { reorder: true }));
+            let batch = || one_thread.install(|| tree.closest_batch_with(&points, BatchOptions::default()));
             t_batch = t_batch.min(timed(batch).1);
             if let Some(wide) = &wide {
                 let (w, t) = timed(|| {
@@ -102,6 +108,33 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &
                 });
                 assert_eq!(w, ours, "wide and binary trees disagree");
                 t_wide = t_wide.min(t);
+                // Batches on one thread, in Morton order: interleaved walks (the
+                // default), and one query after the other.
+                for (options, best) in [
+                    (BatchOptions::default(), &mut t_wide_batch),
+                    (
+                        BatchOptions {
+                            interleave: 1,
+                            ..BatchOptions::default()
+                        },
+                        &mut t_wide_morton,
+                    ),
+                ] {
+                    let (b, t) = timed(|| one_thread.install(|| wide.closest_batch_with(&points, options)));
+                    assert!(b.iter().zip(&ours).all(|(h, &d)| h.unwrap().distance == d));
+                    *best = best.min(t);
+                }
+                t_wide_all = t_wide_all.min(timed(|| wide.closest_batch(&points)).1);
+            }
+            if let Some(small) = &wide_small {
+                let (w, t) = timed(|| {
+                    points
+                        .iter()
+                        .map(|&p| small.closest(p).unwrap().distance)
+                        .collect::<Vec<_>>()
+                });
+                assert_eq!(w, ours, "wide and binary trees disagree");
+                t_wide_small = t_wide_small.min(t);
             }
             let (o, t) = timed(|| points.iter().map(|&p| parry_distance(&trimesh, p)).collect::<Vec<_>>());
             (theirs, t_parry) = (o, t_parry.min(t));
@@ -123,7 +156,7 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &
                 (acc.0 + s.nodes_visited, acc.1 + s.primitives_tested)
             });
             wide_rows.push(format!(
-                "| {set} | {:.1} | {:.1} | {:.1} | {:.0} | {:.0} | {:.0} | {:.2}x | {:.2}x |",
+                "| {set} | {:.1} | {:.1} | {:.1} | {:.0} | {:.0} | {:.0} | {:.2}x | {:.2}x | {:.2}x | {:.0} | {:.2}x | {:.2}x | {:.2}x |",
                 nodes as f64 / n as f64,
                 4.0 * nodes as f64 / n as f64,
                 prims as f64 / n as f64,
@@ -132,6 +165,11 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &
                 rate(n, t_parry),
                 t_parry / t_wide,
                 t_ours / t_wide,
+                t_wide_small / t_wide,
+                rate(n, t_wide_batch),
+                t_parry / t_wide_batch,
+                t_wide_morton / t_wide_batch,
+                t_wide_batch / t_wide_all,
             ));
         }
         println!(
@@ -148,9 +186,9 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &
     if !wide_rows.is_empty() {
         println!("\nwide tree, per query in input order (same rounds as above):");
         println!(
-            "| query set | wide nodes/query | boxes/query | primitives/query | binary q/s | wide q/s | parry3d q/s | wide/parry | wide/binary |"
+            "| query set | wide nodes/query | boxes/query | primitives/query | binary q/s | wide q/s | parry3d q/s | wide/parry | wide/binary | huge/4K pages | wide batch q/s | wide batch/parry | batch interleaved/one by one | batch all threads/1 |"
         );
-        println!("|---|---|---|---|---|---|---|---|---|");
+        println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
         for row in wide_rows {
             println!("{row}");
         }

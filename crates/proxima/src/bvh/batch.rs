@@ -14,11 +14,81 @@ pub struct BatchOptions {
     /// walk mostly the same nodes and find them in cache. Results still come
     /// back in input order.
     pub reorder: bool,
+    /// Start each query's search with a radius taken from the previous query
+    /// of the same worker: the distance from the new query point to the
+    /// previous answer's closest point, which lies on a primitive and so
+    /// bounds the new answer's distance. Whole subtrees are then skipped from
+    /// the first node on. The answer is still exact: a search within a radius
+    /// that finds something has found the true closest primitive (anything
+    /// closer would lie within the radius too), and one that finds nothing is
+    /// redone without a radius. Pays off with `reorder`, where consecutive
+    /// queries are neighbours. Off by default: measured on 1M triangles with
+    /// 20,000 queries in Morton order, it answered 0.91-1.01x as many
+    /// queries per second, since the nearest-first walk finds as good a bound
+    /// within its first leaf.
+    pub seed_radius: bool,
+    /// How many queries one thread walks at once in the wide tree's
+    /// batches (rounded down to 1, 2, 4, 8 or 16): it advances each walk by
+    /// one node or leaf in turn, so that while one waits for the memory it
+    /// asked for, the others compute. 1 (the default) answers one query
+    /// after the other. Measured on 1M triangles, one thread: in input order
+    /// 8 walks answer 1.13-1.29x as many near-surface queries per second as
+    /// 1, but in Morton order, where consecutive queries find their nodes in
+    /// cache anyway, 0.8-0.99x. Ignored with `seed_radius` and by the binary tree.
+    pub interleave: usize,
 }
 
 impl Default for BatchOptions {
     fn default() -> Self {
-        Self { reorder: true }
+        Self {
+            reorder: true,
+            seed_radius: false,
+            interleave: 1,
+        }
+    }
+}
+
+impl BatchOptions {
+    /// Input order, no radius seeding: each query as [`closest`](AabbTree::closest) alone would run it.
+    pub const PLAIN: Self = Self {
+        reorder: false,
+        seed_radius: false,
+        interleave: 1,
+    };
+}
+
+/// The previous answer's closest point, kept by a worker for radius seeding
+/// ([`BatchOptions::seed_radius`]).
+#[derive(Default)]
+pub(crate) struct Seed {
+    previous: Option<Vec3>,
+}
+
+impl Seed {
+    /// The closest primitive to `p` by `closest_within`, searched first within
+    /// the distance to the previous answer (slightly enlarged, since that
+    /// point was itself rounded), and without a radius if nothing lies within it.
+    #[inline]
+    pub(crate) fn closest(
+        &mut self,
+        p: Vec3,
+        enabled: bool,
+        closest_within: impl Fn(Vec3, f32) -> Option<ClosestHit>,
+    ) -> Option<ClosestHit> {
+        if enabled && let Some(q) = self.previous {
+            let radius = p.distance(q) * (1.0 + 1e-5);
+            if radius.is_finite()
+                && let Some(hit) = closest_within(p, radius)
+            {
+                self.previous = Some(hit.point);
+                return Some(hit);
+            }
+        }
+        let hit = closest_within(p, f32::INFINITY);
+        if let Some(hit) = &hit {
+            self.previous = Some(hit.point);
+        }
+        hit
     }
 }
 
@@ -40,6 +110,25 @@ pub(crate) fn morton_code(p: Vec3, bounds: &Aabb) -> u32 {
     spread_bits(t.x as u32) | (spread_bits(t.y as u32) << 1) | (spread_bits(t.z as u32) << 2)
 }
 
+/// The order in which a batch is processed: Morton order of the points
+/// within `bounds`, computed and sorted on rayon's pool.
+pub(crate) fn morton_order(points: &[Vec3], bounds: &Aabb) -> Vec<u32> {
+    let codes: Vec<u32> = points.par_iter().map(|&p| morton_code(p, bounds)).collect();
+    let mut order: Vec<u32> = (0..points.len() as u32).collect();
+    order.par_sort_unstable_by_key(|&i| codes[i as usize]);
+    order
+}
+
+/// `answers[k]` is the answer for point `order[k]`: the answers in input order.
+pub(crate) fn unpermute<R>(order: &[u32], answers: Vec<R>) -> Vec<R> {
+    let mut slots: Vec<Option<R>> = std::iter::repeat_with(|| None).take(order.len()).collect();
+    for (&i, answer) in order.iter().zip(answers) {
+        slots[i as usize] = Some(answer);
+    }
+    // `order` is a permutation, so every slot is filled.
+    slots.into_iter().flatten().collect()
+}
+
 /// Answers `query` for every point on rayon's pool and returns the answers
 /// in input order. With `reorder`, the points are processed in Morton order
 /// within `bounds`, so consecutive queries walk mostly the same nodes while
@@ -58,19 +147,12 @@ pub(crate) fn answer_batch<S, R: Send>(
             .map_init(&init, |scratch, &p| query(scratch, p))
             .collect();
     }
-    let codes: Vec<u32> = points.par_iter().map(|&p| morton_code(p, bounds)).collect();
-    let mut order: Vec<u32> = (0..points.len() as u32).collect();
-    order.par_sort_unstable_by_key(|&i| codes[i as usize]);
+    let order = morton_order(points, bounds);
     let answers: Vec<R> = order
         .par_iter()
         .map_init(&init, |scratch, &i| query(scratch, points[i as usize]))
         .collect();
-    let mut slots: Vec<Option<R>> = std::iter::repeat_with(|| None).take(points.len()).collect();
-    for (&i, answer) in order.iter().zip(answers) {
-        slots[i as usize] = Some(answer);
-    }
-    // `order` is a permutation, so every slot is filled.
-    slots.into_iter().flatten().collect()
+    unpermute(&order, answers)
 }
 
 impl<T: ClosestPoint + Sync> AabbTree<T> {
@@ -90,8 +172,8 @@ impl<T: ClosestPoint + Sync> AabbTree<T> {
             points,
             &self.root_bounds(),
             options.reorder,
-            || (),
-            |_, p| self.closest(p),
+            Seed::default,
+            |seed, p| seed.closest(p, options.seed_radius, |p, r| self.closest_within(p, r)),
         )
     }
 

@@ -1,11 +1,18 @@
 //! Queries over many points at once on the wide tree, on all cores.
 
+use super::traverse::Walk;
 use super::{WideKnnScratch, WideTree};
 use crate::aabb::Aabb;
-use crate::bvh::batch::answer_batch;
+use crate::bvh::batch::{Seed, answer_batch, morton_order, unpermute};
+use crate::bvh::closest::Best;
 use crate::bvh::{BatchOptions, ClosestHit};
-use crate::math::Vec3;
+use crate::math::{Vec3, Vec3A};
 use crate::primitive::ClosestPoint;
+use rayon::prelude::*;
+
+/// Queries per parallel task: large enough that the interleaved walks stay
+/// busy, small enough to share work between threads.
+const CHUNK: usize = 1024;
 
 impl<T: ClosestPoint + Sync> WideTree<T> {
     fn root_bounds(&self) -> Aabb {
@@ -19,14 +26,82 @@ impl<T: ClosestPoint + Sync> WideTree<T> {
     }
 
     /// [`closest_batch`](Self::closest_batch) with explicit options.
+    ///
+    /// Without `seed_radius`, each thread interleaves the walks of
+    /// [`interleave`](BatchOptions::interleave) queries: it advances each by
+    /// one node or leaf in turn, so the cache misses of one overlap the work
+    /// of the others. The answers are those of [`closest`](Self::closest), query by query.
     pub fn closest_batch_with(&self, points: &[Vec3], options: BatchOptions) -> Vec<Option<ClosestHit>> {
-        answer_batch(
-            points,
-            &self.root_bounds(),
-            options.reorder,
-            || (),
-            |_, p| self.closest(p),
-        )
+        if options.seed_radius {
+            return answer_batch(
+                points,
+                &self.root_bounds(),
+                options.reorder,
+                Seed::default,
+                |seed, p| seed.closest(p, true, |p, r| self.closest_within(p, r)),
+            );
+        }
+        let order = options.reorder.then(|| morton_order(points, &self.root_bounds()));
+        let sorted: Vec<Vec3> = match &order {
+            Some(order) => order.iter().map(|&i| points[i as usize]).collect(),
+            None => points.to_vec(),
+        };
+        let mut answers = vec![None; points.len()];
+        answers
+            .par_chunks_mut(CHUNK)
+            .zip(sorted.par_chunks(CHUNK))
+            .for_each(|(out, points)| match options.interleave {
+                0 | 1 => {
+                    for (answer, &p) in out.iter_mut().zip(points) {
+                        *answer = self.closest(p);
+                    }
+                }
+                2..4 => self.closest_interleaved::<2>(points, out),
+                4..8 => self.closest_interleaved::<4>(points, out),
+                8..16 => self.closest_interleaved::<8>(points, out),
+                _ => self.closest_interleaved::<16>(points, out),
+            });
+        match &order {
+            Some(order) => unpermute(order, answers),
+            None => answers,
+        }
+    }
+
+    /// The closest primitive to each of `points`, into `out`, with `K` walks
+    /// advanced in turn.
+    fn closest_interleaved<const K: usize>(&self, points: &[Vec3], out: &mut [Option<ClosestHit>]) {
+        let fresh = || Best::new(&self.tree.indices, f32::INFINITY);
+        let mut walks: [Walk<Best<'_>>; K] = std::array::from_fn(|_| Walk::new(self, Vec3A::ZERO, fresh()));
+        // The query each walk answers, if any.
+        let mut serving = [usize::MAX; K];
+        let mut next = 0;
+        let mut busy = 0;
+        loop {
+            for (walk, query) in walks.iter_mut().zip(&mut serving) {
+                if *query == usize::MAX {
+                    // Non-finite points have no answer, as in `closest`.
+                    while next < points.len() && !points[next].is_finite() {
+                        out[next] = None;
+                        next += 1;
+                    }
+                    if next == points.len() {
+                        continue;
+                    }
+                    walk.restart(self, Vec3A::from(points[next]), fresh());
+                    (*query, next, busy) = (next, next + 1, busy + 1);
+                }
+                if !self.step(walk) {
+                    let best = &walk.visitor;
+                    out[*query] = best
+                        .found
+                        .then(|| self.tree.hit(best.slot, best.point, best.distance_squared));
+                    (*query, busy) = (usize::MAX, busy - 1);
+                }
+            }
+            if busy == 0 && next == points.len() {
+                return;
+            }
+        }
     }
 
     /// [`k_nearest`](Self::k_nearest) for every point, in parallel, in Morton

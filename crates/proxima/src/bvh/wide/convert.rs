@@ -112,10 +112,10 @@ impl<T: 'static> WideTree<T> {
                 }
             }
         }
-        let packets = packer.packets;
+        let packets = packer.packets.into();
         Self {
             tree,
-            nodes,
+            nodes: nodes.into(),
             packets,
             depth,
         }

@@ -40,6 +40,7 @@ pub(crate) use traverse::prefetch;
 use super::AabbTree;
 use crate::aabb::Aabb;
 use crate::math::Vec3;
+use crate::memory::HugePageArray;
 use packet::TrianglePacket;
 use wide::f32x4;
 
@@ -54,7 +55,7 @@ const LEAF: u32 = 1 << 31;
 /// A lane without a child has an empty box (`min = +inf`, `max = -inf`) and
 /// refers to an empty range of primitives, so it is harmless even where an
 /// infinite radius lets it pass.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 #[repr(C, align(64))]
 pub struct WideNode {
     /// Smallest x of each child's box.
@@ -166,11 +167,12 @@ impl WideNode {
 pub struct WideTree<T> {
     /// The binary tree the wide one was made from; owns the primitives.
     tree: AabbTree<T>,
-    /// Wide nodes; node 0 is the root. Empty for an empty tree.
-    nodes: Vec<WideNode>,
+    /// Wide nodes; node 0 is the root. Empty for an empty tree. On huge
+    /// pages when large: a query's node loads are mostly cache misses.
+    nodes: HugePageArray<WideNode>,
     /// Triangles of the leaves, four at a time, for trees of [`Triangle`](crate::Triangle)s on
     /// x86-64 (empty otherwise: leaves are then tested one primitive at a time).
-    packets: Vec<TrianglePacket>,
+    packets: HugePageArray<TrianglePacket>,
     /// Depth of the deepest wide node (the root has depth 0).
     depth: u32,
 }

@@ -27,7 +27,7 @@ const SCALAR_SIN2: f32 = 4e-4;
 /// Up to four triangles of one leaf in structure of arrays form, with the
 /// leaf-order slot of the first. Lanes past the leaf's end repeat a real
 /// triangle and are masked out.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 #[repr(C, align(16))]
 pub(crate) struct TrianglePacket {
     /// Slot of lane 0 in the tree's leaf-order primitive array.

@@ -84,7 +84,134 @@ impl<T> WideTree<T> {
     }
 }
 
+/// The query point, as a scalar vector and splatted per axis for the node
+/// and packet arithmetic.
+#[derive(Clone, Copy)]
+pub(crate) struct Query {
+    p: Vec3A,
+    px: f32x4,
+    py: f32x4,
+    pz: f32x4,
+    pv: V3,
+}
+
+impl Query {
+    #[inline(always)]
+    pub(crate) fn new(p: Vec3A) -> Self {
+        Self {
+            p,
+            px: f32x4::splat(p.x),
+            py: f32x4::splat(p.y),
+            pz: f32x4::splat(p.z),
+            pv: V3::splat(p),
+        }
+    }
+}
+
+/// The pending subtrees of one walk: a fixed stack, no allocation.
+#[derive(Clone, Copy)]
+pub(crate) struct Stack {
+    entries: [Pending; STACK],
+    top: usize,
+}
+
+impl Stack {
+    pub(crate) const EMPTY: Self = Self {
+        entries: [Pending {
+            child: 0,
+            count: 0,
+            distance_squared: 0.0,
+        }; STACK],
+        top: 0,
+    };
+
+    /// The next pending subtree still within `bound`, dropping those beyond it.
+    #[inline(always)]
+    fn pop_within(&mut self, bound: f32) -> Option<(u32, u32)> {
+        while self.top > 0 {
+            self.top -= 1;
+            let next = self.entries[self.top];
+            if next.distance_squared <= bound {
+                return Some((next.child, next.count));
+            }
+        }
+        None
+    }
+}
+
 impl<T> WideTree<T> {
+    /// Visits wide node `index`: its children within the visitor's bound are
+    /// ordered by box distance, all but the nearest are pushed (farthest
+    /// first) and the nearest is returned to be entered next.
+    #[inline(always)]
+    fn enter_node<V: LaneVisitor<T>, C: Counter>(
+        &self,
+        index: u32,
+        q: &Query,
+        visitor: &V,
+        stack: &mut Stack,
+        counter: &mut C,
+    ) -> Option<(u32, u32)> {
+        let node = &self.nodes[index as usize];
+        counter.nodes(1);
+        let d2 = node.distances_squared(q.px, q.py, q.pz);
+        let mask = d2.simd_le(f32x4::splat(visitor.bound())).to_bitmask();
+        if mask == 0 {
+            return None;
+        }
+        let d = d2.to_array();
+        let (order, n) = self.lanes_nearest_first(node, mask, &d);
+        for &lane in order[1..n].iter().rev() {
+            stack.entries[stack.top] = Pending {
+                child: node.children[lane],
+                count: node.counts[lane],
+                distance_squared: d[lane],
+            };
+            stack.top += 1;
+        }
+        Some((node.children[order[0]], node.counts[order[0]]))
+    }
+
+    /// Tests the primitives of a leaf lane (`count == LEAF | n`), four
+    /// triangles at a time where the tree has packets.
+    #[inline(always)]
+    fn visit_leaf<V: LaneVisitor<T>, C: Counter>(
+        &self,
+        child: u32,
+        count: u32,
+        q: &Query,
+        visitor: &mut V,
+        counter: &mut C,
+    ) {
+        let primitives = self.tree.primitives();
+        let packets = &self.packets[..];
+        let n = (count & !LEAF) as usize;
+        counter.primitives(n as u64);
+        if packets.is_empty() {
+            let first = child as usize;
+            for (slot, primitive) in (first..).zip(&primitives[first..first + n]) {
+                visitor.visit(slot, primitive, q.p);
+            }
+            return;
+        }
+        for packet in &packets[child as usize..child as usize + n.div_ceil(4)] {
+            let (point, d2, far) = packet.closest(&q.pv);
+            // Only lanes that can change the answer are offered.
+            let mut bits = d2.simd_le(f32x4::splat(visitor.bound())).to_bitmask() & packet.fast & !far;
+            while bits != 0 {
+                let lane = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                visitor.offer(packet.first as usize + lane, point.lane(lane), d2.as_array()[lane]);
+            }
+            let mut slow = packet.slow | (packet.fast & far);
+            while slow != 0 {
+                let slot = packet.first as usize + slow.trailing_zeros() as usize;
+                slow &= slow - 1;
+                visitor.visit(slot, &primitives[slot], q.p);
+            }
+        }
+    }
+
     /// Depth-first, nearest child first, with a fixed stack. At each wide
     /// node the four child box distances are computed at once; the children
     /// within the radius are ordered by distance, the nearest is entered at
@@ -95,77 +222,81 @@ impl<T> WideTree<T> {
         if self.nodes.is_empty() {
             return;
         }
-        let (px, py, pz) = (f32x4::splat(p.x), f32x4::splat(p.y), f32x4::splat(p.z));
-        let primitives = self.tree.primitives();
-        let packets = &self.packets[..];
-        let pv = V3::splat(p);
-        let mut stack = [Pending {
-            child: 0,
-            count: 0,
-            distance_squared: 0.0,
-        }; STACK];
-        let mut top = 0usize;
+        let q = Query::new(p);
+        let mut stack = Stack::EMPTY;
         // The root, entered unconditionally: its lanes are tested below.
-        let (mut child, mut count) = (0u32, 0u32);
-        loop {
-            if count == 0 {
-                let node = &self.nodes[child as usize];
-                counter.nodes(1);
-                let d2 = node.distances_squared(px, py, pz);
-                let mask = d2.simd_le(f32x4::splat(visitor.bound())).to_bitmask();
-                if mask != 0 {
-                    let d = d2.to_array();
-                    let (order, n) = self.lanes_nearest_first(node, mask, &d);
-                    for &lane in order[1..n].iter().rev() {
-                        stack[top] = Pending {
-                            child: node.children[lane],
-                            count: node.counts[lane],
-                            distance_squared: d[lane],
-                        };
-                        top += 1;
-                    }
-                    (child, count) = (node.children[order[0]], node.counts[order[0]]);
-                    continue;
-                }
+        let mut next = Some((0u32, 0u32));
+        while let Some((child, count)) = next {
+            next = if count == 0 {
+                self.enter_node(child, &q, visitor, &mut stack, counter)
             } else {
-                let n = (count & !LEAF) as usize;
-                counter.primitives(n as u64);
-                if packets.is_empty() {
-                    let first = child as usize;
-                    for (slot, primitive) in (first..).zip(&primitives[first..first + n]) {
-                        visitor.visit(slot, primitive, p);
-                    }
-                } else {
-                    for packet in &packets[child as usize..child as usize + n.div_ceil(4)] {
-                        let (q, d2, far) = packet.closest(&pv);
-                        // Only lanes that can change the answer are offered.
-                        let mut bits = d2.simd_le(f32x4::splat(visitor.bound())).to_bitmask() & packet.fast & !far;
-                        while bits != 0 {
-                            let lane = bits.trailing_zeros() as usize;
-                            bits &= bits - 1;
-                            visitor.offer(packet.first as usize + lane, q.lane(lane), d2.as_array()[lane]);
-                        }
-                        let mut slow = packet.slow | (packet.fast & far);
-                        while slow != 0 {
-                            let slot = packet.first as usize + slow.trailing_zeros() as usize;
-                            slow &= slow - 1;
-                            visitor.visit(slot, &primitives[slot], p);
-                        }
-                    }
-                }
+                self.visit_leaf(child, count, &q, visitor, counter);
+                None
             }
-            // Pop the next subtree still within reach.
-            loop {
-                if top == 0 {
-                    return;
-                }
-                top -= 1;
-                let next = stack[top];
-                if next.distance_squared <= visitor.bound() {
-                    (child, count) = (next.child, next.count);
-                    break;
-                }
-            }
+            .or_else(|| stack.pop_within(visitor.bound()));
         }
+    }
+}
+
+/// One nearest-first walk that can be advanced a step at a time, so that a
+/// thread can interleave the walks of several queries: while one waits for
+/// the node or triangles it just asked for, the others compute
+/// ([`WideTree::step`]). Each walk makes exactly the visits
+/// [`WideTree::nearest_first`] would, in the same order, so its answer is the same.
+pub(crate) struct Walk<V> {
+    query: Query,
+    pub(crate) visitor: V,
+    stack: Stack,
+    next: Option<(u32, u32)>,
+}
+
+impl<V> Walk<V> {
+    /// A walk for `p` from the root (none for an empty tree).
+    #[inline(always)]
+    pub(crate) fn new<T>(tree: &WideTree<T>, p: Vec3A, visitor: V) -> Self {
+        if let Some(root) = tree.nodes.first() {
+            prefetch(&root.min_x);
+            prefetch(&root.max_y);
+        }
+        Self {
+            query: Query::new(p),
+            visitor,
+            stack: Stack::EMPTY,
+            next: (!tree.nodes.is_empty()).then_some((0, 0)),
+        }
+    }
+
+    /// Starts over for `p` with `visitor`, reusing the stack's memory.
+    #[inline(always)]
+    pub(crate) fn restart<T>(&mut self, tree: &WideTree<T>, p: Vec3A, visitor: V) {
+        if let Some(root) = tree.nodes.first() {
+            prefetch(&root.min_x);
+            prefetch(&root.max_y);
+        }
+        self.query = Query::new(p);
+        self.visitor = visitor;
+        self.stack.top = 0;
+        self.next = (!tree.nodes.is_empty()).then_some((0, 0));
+    }
+}
+
+impl<T> WideTree<T> {
+    /// Advances `walk` by one node or leaf; `false` once it is finished. The
+    /// next node or leaf it will visit has been prefetched (when its parent
+    /// was entered), so a caller that steps other walks in between finds it
+    /// in cache.
+    #[inline(always)]
+    pub(crate) fn step<V: LaneVisitor<T>>(&self, walk: &mut Walk<V>) -> bool {
+        let Some((child, count)) = walk.next else {
+            return false;
+        };
+        walk.next = if count == 0 {
+            self.enter_node(child, &walk.query, &walk.visitor, &mut walk.stack, &mut ())
+        } else {
+            self.visit_leaf(child, count, &walk.query, &mut walk.visitor, &mut ());
+            None
+        }
+        .or_else(|| walk.stack.pop_within(walk.visitor.bound()));
+        walk.next.is_some()
     }
 }

@@ -1,0 +1,186 @@
+//! Large arrays on transparent huge pages.
+//!
+//! A closest-point query on a big mesh is bound by memory latency: its nodes
+//! and triangles are spread over tens of megabytes, far more than the
+//! translation lookaside buffer covers with 4 KiB pages, so most cache misses
+//! also pay a page-table walk. With 2 MiB pages a miss costs about half as much
+//! on the machines we measure on (see `../shared/BENCHMARKS.md`: ~600 ns
+//! against ~330 ns at 512 MiB). Linux hands out such pages to anonymous
+//! mappings that ask for them with `madvise(MADV_HUGEPAGE)` when transparent
+//! huge pages are in `madvise` mode, the usual default; a `Vec` from the
+//! allocator never asks.
+//!
+//! [`HugePageArray`] is an immutable array of plain-old-data values that, when
+//! large, lives in its own anonymous mapping, aligned to 2 MiB and advised
+//! `MADV_HUGEPAGE`; elsewhere (small arrays, other systems, a refused mapping)
+//! it is an ordinary `Vec`. Either way it reads as a slice, and no code of
+//! ours is `unsafe`: the mapping comes from `memmap2`, the typed view from
+//! `bytemuck`.
+
+use bytemuck::Pod;
+use std::fmt;
+use std::ops::Deref;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Whether new large arrays ask for huge pages ([`set_huge_pages`]).
+static HUGE_PAGES: AtomicBool = AtomicBool::new(true);
+
+/// Turns the use of huge pages for arrays made from now on on or off, for the
+/// whole process (on by default). For measuring what they bring, or for
+/// systems where compacting memory for them costs more than it gains.
+pub fn set_huge_pages(enabled: bool) {
+    HUGE_PAGES.store(enabled, Ordering::Relaxed);
+}
+
+/// Whether arrays made now ask for huge pages ([`set_huge_pages`]).
+pub fn huge_pages() -> bool {
+    HUGE_PAGES.load(Ordering::Relaxed)
+}
+
+/// Size of a transparent huge page on x86-64 and most aarch64 kernels.
+pub const HUGE_PAGE: usize = 2 << 20;
+
+/// Arrays smaller than this stay in a `Vec`: one huge page could not hold
+/// more than a few of them, and small arrays stay in cache anyway.
+const MAPPED_FROM: usize = 4 * HUGE_PAGE;
+
+/// An immutable array of `T`, on transparent huge pages when large (see the
+/// module documentation). Dereferences to `&[T]`.
+pub struct HugePageArray<T: Pod> {
+    storage: Storage<T>,
+}
+
+enum Storage<T> {
+    Heap(Vec<T>),
+    #[cfg(target_os = "linux")]
+    Mapped {
+        map: memmap2::MmapMut,
+        /// Byte offset of the first element: the first 2 MiB boundary in the map.
+        offset: usize,
+        len: usize,
+    },
+}
+
+impl<T: Pod> HugePageArray<T> {
+    /// The values of `values`, moved to huge pages when they take at least
+    /// 8 MiB (and [`huge_pages`] is on).
+    pub fn new(values: Vec<T>) -> Self {
+        #[cfg(target_os = "linux")]
+        if std::mem::size_of_val(&values[..]) >= MAPPED_FROM
+            && huge_pages()
+            && let Some(storage) = Self::mapped(&values)
+        {
+            return Self { storage };
+        }
+        Self {
+            storage: Storage::Heap(values),
+        }
+    }
+
+    /// A copy of `values` in a fresh anonymous mapping advised
+    /// `MADV_HUGEPAGE`, or `None` if the system refuses either step.
+    #[cfg(target_os = "linux")]
+    fn mapped(values: &[T]) -> Option<Storage<T>> {
+        let bytes = std::mem::size_of_val(values);
+        // One huge page more than needed, so that the data can start on a
+        // 2 MiB boundary: only whole, aligned 2 MiB ranges become huge pages.
+        let mut map = memmap2::MmapMut::map_anon(bytes + HUGE_PAGE).ok()?;
+        map.advise(memmap2::Advice::HugePage).ok()?;
+        let start = map.as_ptr() as usize;
+        let offset = start.next_multiple_of(HUGE_PAGE) - start;
+        // The pages are touched (and so allocated, huge) by this copy, after the advice.
+        map[offset..offset + bytes].copy_from_slice(bytemuck::cast_slice(values));
+        Some(Storage::Mapped {
+            map,
+            offset,
+            len: values.len(),
+        })
+    }
+
+    /// `true` when the values live in a mapping advised for huge pages
+    /// (whether the kernel granted them is its own decision; see
+    /// [`huge_page_bytes`]).
+    pub fn is_mapped(&self) -> bool {
+        !matches!(self.storage, Storage::Heap(_))
+    }
+}
+
+impl<T: Pod> Deref for HugePageArray<T> {
+    type Target = [T];
+
+    #[inline(always)]
+    fn deref(&self) -> &[T] {
+        match &self.storage {
+            Storage::Heap(values) => values,
+            #[cfg(target_os = "linux")]
+            Storage::Mapped { map, offset, len } => {
+                bytemuck::cast_slice(&map[*offset..*offset + *len * std::mem::size_of::<T>()])
+            }
+        }
+    }
+}
+
+impl<T: Pod> Clone for HugePageArray<T> {
+    fn clone(&self) -> Self {
+        Self::new(self.to_vec())
+    }
+}
+
+impl<T: Pod + fmt::Debug> fmt::Debug for HugePageArray<T> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_list().entries(self.iter()).finish()
+    }
+}
+
+impl<T: Pod> Default for HugePageArray<T> {
+    fn default() -> Self {
+        Self::new(Vec::new())
+    }
+}
+
+impl<T: Pod> From<Vec<T>> for HugePageArray<T> {
+    fn from(values: Vec<T>) -> Self {
+        Self::new(values)
+    }
+}
+
+/// Bytes of this process's memory that the kernel currently backs with
+/// transparent huge pages (`AnonHugePages` in `/proc/self/smaps_rollup`), or
+/// `None` where that is not known. For reports and benchmarks.
+pub fn huge_page_bytes() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/self/smaps_rollup").ok()?;
+    let line = text.lines().find(|l| l.starts_with("AnonHugePages:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn small_arrays_stay_on_the_heap_and_read_back() {
+        let values: Vec<u32> = (0..1000).collect();
+        let array = HugePageArray::new(values.clone());
+        assert!(!array.is_mapped());
+        assert_eq!(&array[..], &values[..]);
+        assert_eq!(array.clone()[..], values[..]);
+        assert!(HugePageArray::<u32>::default().is_empty());
+    }
+
+    #[test]
+    fn large_arrays_are_mapped_on_a_2_mib_boundary_and_read_back() {
+        // 12 MiB of distinct values, so a wrong offset or length shows.
+        let values: Vec<[u32; 4]> = (0..(12 << 20) / 16).map(|i| [i, !i, i * 7, i ^ 0x55]).collect();
+        let array = HugePageArray::new(values.clone());
+        if cfg!(target_os = "linux") {
+            assert!(array.is_mapped());
+            assert_eq!(array.as_ptr() as usize % HUGE_PAGE, 0);
+        }
+        assert_eq!(array.len(), values.len());
+        assert!(array[..] == values[..]);
+        let copy = array.clone();
+        assert!(copy[..] == values[..]);
+        assert_ne!(copy.as_ptr(), array.as_ptr());
+    }
+}
