@@ -111,9 +111,14 @@ fn info_and_bench_json_have_the_documented_keys() {
     let bench: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
     assert_eq!(bench["triangles"], 4);
     let results = bench["results"].as_array().unwrap();
-    // Per primitive type: linear, tree, tree-wide, tree-batch, sphere-tree.
-    assert_eq!(results.len(), 15);
+    // Per primitive type: linear, tree, tree-wide, tree-batch, sphere-tree;
+    // and for faces the peer, parry3d, on the same queries.
+    assert_eq!(results.len(), 16);
     assert_eq!(results.iter().filter(|r| r["method"] == "sphere-tree").count(), 3);
+    let peer: Vec<_> = results.iter().filter(|r| r["method"] == "parry3d").collect();
+    assert_eq!(peer.len(), 1);
+    assert_eq!(peer[0]["primitives"], "faces");
+    assert_eq!(peer[0]["queries"], 50);
     for r in results {
         for key in [
             "primitives",

@@ -64,7 +64,8 @@ pub struct Record {
     pub primitives: &'static str,
     /// `linear`, `tree` (binary tree, per query in input order), `tree-wide`
     /// (4-wide SIMD tree, per query), `tree-batch` (4-wide tree, Morton-ordered
-    /// batch) or `sphere-tree` (bounding spheres, per query in input order).
+    /// batch), `sphere-tree` (bounding spheres, per query in input order) or,
+    /// for faces, `parry3d` (the peer library, per query in input order).
     pub method: &'static str,
     /// Build time of the structure (0 for linear).
     pub build_seconds: f64,
@@ -92,6 +93,7 @@ fn bench_set<T: ClosestPoint + BoundingPoints + Copy + Send + Sync + 'static>(
     points: &[Vec3],
     config: &BuildConfig,
     progress: bool,
+    peer: impl FnOnce(&[Option<f32>]) -> Option<Record>,
 ) -> anyhow::Result<Vec<Record>> {
     let start = Instant::now();
     let tree = AabbTree::build_set(set.clone(), config)?;
@@ -154,7 +156,8 @@ fn bench_set<T: ClosestPoint + BoundingPoints + Copy + Send + Sync + 'static>(
         seconds,
         agree,
     };
-    Ok(vec![
+    let peer = peer(&per_query);
+    Ok([
         row("linear", 0.0, n_linear, linear_seconds),
         row("tree", build_seconds, points.len(), tree_seconds),
         row("tree-wide", build_seconds + convert_seconds, points.len(), wide_seconds),
@@ -165,7 +168,10 @@ fn bench_set<T: ClosestPoint + BoundingPoints + Copy + Send + Sync + 'static>(
             batch_seconds,
         ),
         row("sphere-tree", sphere_build_seconds, points.len(), sphere_seconds),
-    ])
+    ]
+    .into_iter()
+    .chain(peer)
+    .collect())
 }
 
 /// Runs `f`, returning its value and its time in seconds.
@@ -205,12 +211,19 @@ pub fn measure(
         let mut records = Vec::new();
         for &kind in kinds {
             records.extend(match kind {
-                Primitives::Vertices => bench_set(mesh.vertices(), kind, points, config, progress)?,
-                Primitives::Edges => bench_set(mesh.edges(), kind, points, config, progress)?,
-                Primitives::Faces => bench_set(mesh.triangles(), kind, points, config, progress)?,
-                Primitives::Polygons => {
-                    bench_set(mesh.extract_polygons(planarity).set, kind, points, config, progress)?
-                }
+                Primitives::Vertices => bench_set(mesh.vertices(), kind, points, config, progress, |_| None)?,
+                Primitives::Edges => bench_set(mesh.edges(), kind, points, config, progress, |_| None)?,
+                Primitives::Faces => bench_set(mesh.triangles(), kind, points, config, progress, |expected| {
+                    super::bench_peer::parry3d_faces(mesh, points, expected)
+                })?,
+                Primitives::Polygons => bench_set(
+                    mesh.extract_polygons(planarity).set,
+                    kind,
+                    points,
+                    config,
+                    progress,
+                    |_| None,
+                )?,
             });
         }
         Ok(records)
@@ -305,6 +318,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         let out = json!({
             "mesh": args.mesh.display().to_string(), "triangles": mesh.triangle_count(),
             "query_set": set_name, "threads": args.threads, "split": format!("{:?}", args.split).to_lowercase(),
+            "huge_page_bytes": proxima::memory::huge_page_bytes(),
             "results": results,
         });
         crate::outln!("{out:#}");
@@ -318,6 +332,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             args.threads
         );
         print_table(&records)?;
+        if let Some(peer) = records.iter().find(|r| r.method == "parry3d") {
+            for method in ["tree-wide", "tree-batch"] {
+                if let Some(r) = records.iter().find(|r| r.primitives == "faces" && r.method == method) {
+                    crate::outln!(
+                        "faces: {method} answers {:.2}x as many queries per second as parry3d",
+                        r.queries_per_second() / peer.queries_per_second()
+                    );
+                }
+            }
+        }
         if let Some(r) = records
             .iter()
             .find(|r| r.method == "linear" && r.queries < points.len())

@@ -1,6 +1,7 @@
 //! One file per subcommand, each with its `Args` and `run`.
 
 pub mod bench;
+pub mod bench_peer;
 pub mod closest;
 pub mod demo;
 pub mod frustum;

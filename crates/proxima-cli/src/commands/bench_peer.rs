@@ -1,0 +1,61 @@
+//! The peer row of `proxima bench`: parry3d's closest point on the same
+//! triangles and queries, so that every run states its own ratio to the
+//! library most Rust users would otherwise reach for.
+
+use super::bench::Record;
+use proxima::{Mesh, Vec3};
+
+/// parry3d's build and per-query closest-point time on the mesh's triangles
+/// (faces fanned as proxima fans them), answered in input order on the
+/// current pool. `agree` when every distance is within 1e-5 of the bounding
+/// box diagonal of `expected` (parry3d's closest point differs from ours by
+/// rounding only). `None` when parry3d refuses the mesh.
+#[cfg(feature = "parry3d")]
+pub fn parry3d_faces(mesh: &Mesh, points: &[Vec3], expected: &[Option<f32>]) -> Option<Record> {
+    use parry3d::math::Vector;
+    use parry3d::query::PointQuery;
+    use rayon::prelude::*;
+    use std::time::Instant;
+    let start = Instant::now();
+    let vertices: Vec<Vector> = mesh
+        .positions()
+        .iter()
+        .map(|p| Vector::from_array(p.to_array()))
+        .collect();
+    let mut indices = Vec::with_capacity(mesh.triangle_count());
+    for face in mesh.faces() {
+        for pair in face[1..].windows(2) {
+            indices.push([face[0], pair[0], pair[1]]);
+        }
+    }
+    let trimesh = parry3d::shape::TriMesh::new(vertices, indices).ok()?;
+    let build_seconds = start.elapsed().as_secs_f64();
+    let start = Instant::now();
+    let distances: Vec<f32> = points
+        .par_iter()
+        .map(|p| {
+            let q = Vector::from_array(p.to_array());
+            (trimesh.project_local_point(q, false).point - q).length()
+        })
+        .collect();
+    let seconds = start.elapsed().as_secs_f64();
+    let tolerance = 1e-5 * mesh.bounds().diagonal();
+    let agree = distances
+        .iter()
+        .zip(expected)
+        .all(|(&d, e)| e.is_some_and(|e| (d - e).abs() <= tolerance));
+    Some(Record {
+        primitives: "faces",
+        method: "parry3d",
+        build_seconds,
+        queries: points.len(),
+        seconds,
+        agree,
+    })
+}
+
+/// Without the `parry3d` feature there is no peer row.
+#[cfg(not(feature = "parry3d"))]
+pub fn parry3d_faces(_: &Mesh, _: &[Vec3], _: &[Option<f32>]) -> Option<Record> {
+    None
+}
