@@ -2,11 +2,11 @@
 //! view frustum queries (a camera seeing about 10% of the faces),
 //! against brute force and parry3d on the same meshes and queries.
 //!
-//! Meshes: the seeded bumpy icospheres (always available) and the dragon from
+//! Meshes: the seeded 1M-triangle bumpy icosphere `ico1m` (always available) and the dragon from
 //! ../shared/data when present. `cargo bench -p proxima-bench --bench bvh`.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use proxima::bvh::BatchOptions;
+use proxima::bvh::{BatchOptions, WideTree};
 use proxima::frustum::Frustum;
 use proxima::{AabbTree, BuildConfig, LinearSearch, Mesh, SphereTree, Vec3};
 use proxima_bench::{load_named, parry_distance, parry_trimesh};
@@ -14,7 +14,7 @@ use std::hint::black_box;
 use std::time::Duration;
 
 fn meshes() -> Vec<(&'static str, Mesh)> {
-    let mut out = vec![("ico100k", load_named("ico100k").unwrap())];
+    let mut out = vec![("ico1m", load_named("ico1m").unwrap())];
     if let Ok(dragon) = load_named("dragon_vrip.ply.gz") {
         out.push(("dragon", dragon));
     } else {
@@ -41,6 +41,16 @@ fn build(c: &mut Criterion) {
                 b.iter(|| AabbTree::build_set(black_box(triangles.clone()), &config).unwrap())
             });
         }
+        // The binary tree and its collapse into the 4-wide tree that answers the queries.
+        group.bench_function(BenchmarkId::new("proxima-wide-1thread", name), |b| {
+            b.iter(|| {
+                one_thread.install(|| {
+                    WideTree::from_tree(
+                        AabbTree::build_set(black_box(triangles.clone()), &BuildConfig::default()).unwrap(),
+                    )
+                })
+            })
+        });
         group.bench_function(BenchmarkId::new("parry3d", name), |b| {
             b.iter(|| parry_trimesh(black_box(&mesh)))
         });
@@ -55,6 +65,7 @@ fn closest(c: &mut Criterion) {
     for (name, mesh) in meshes() {
         let tree = AabbTree::build_set(mesh.triangles(), &BuildConfig::default()).unwrap();
         let sah = AabbTree::build_set(mesh.triangles(), &BuildConfig::fast_queries()).unwrap();
+        let wide = WideTree::from_tree(tree.clone());
         let trimesh = parry_trimesh(&mesh);
         for (set, points) in [
             ("near", proxima::sample::near_surface(&mesh, 5_000, 0.01, 1)),
@@ -78,6 +89,15 @@ fn closest(c: &mut Criterion) {
             });
             group.bench_function(id("proxima-batch-1thread"), |b| {
                 b.iter(|| one_thread.install(|| tree.closest_batch_with(&points, BatchOptions::default())))
+            });
+            group.bench_function(id("proxima-wide"), |b| {
+                b.iter(|| points.iter().map(|&p| wide.closest(p).unwrap().distance).sum::<f32>())
+            });
+            group.bench_function(id("proxima-wide-batch-1thread"), |b| {
+                b.iter(|| one_thread.install(|| wide.closest_batch(&points)))
+            });
+            group.bench_function(id("proxima-wide-batch-all-threads"), |b| {
+                b.iter(|| wide.closest_batch(&points))
             });
             group.bench_function(id("parry3d"), |b| {
                 b.iter(|| points.iter().map(|&p| parry_distance(&trimesh, p)).sum::<f32>())
