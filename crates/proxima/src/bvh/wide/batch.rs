@@ -71,7 +71,8 @@ impl<T: ClosestPoint + Sync> WideTree<T> {
     /// advanced in turn.
     fn closest_interleaved<const K: usize>(&self, points: &[Vec3], out: &mut [Option<ClosestHit>]) {
         let fresh = || Best::new(&self.tree.indices, f32::INFINITY);
-        let mut walks: [Walk<Best<'_>>; K] = std::array::from_fn(|_| Walk::new(self, Vec3A::ZERO, fresh()));
+        let slices = self.slices();
+        let mut walks: [Walk<Best<'_>>; K] = std::array::from_fn(|_| Walk::new(&slices, Vec3A::ZERO, fresh()));
         // The query each walk answers, if any.
         let mut serving = [usize::MAX; K];
         let mut next = 0;
@@ -87,10 +88,10 @@ impl<T: ClosestPoint + Sync> WideTree<T> {
                     if next == points.len() {
                         continue;
                     }
-                    walk.restart(self, Vec3A::from(points[next]), fresh());
+                    walk.restart(&slices, Vec3A::from(points[next]), fresh());
                     (*query, next, busy) = (next, next + 1, busy + 1);
                 }
-                if !self.step(walk) {
+                if !slices.step(walk) {
                     let best = &walk.visitor;
                     out[*query] = best
                         .found

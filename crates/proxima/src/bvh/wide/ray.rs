@@ -181,20 +181,20 @@ impl<T: RayIntersect> WideTree<T> {
     ) {
         let Some(root) = self.tree.root() else { return };
         let slabs = WideSlabs::new(&RaySlabs::new(ray.origin(), direction, root.min, root.max));
-        let primitives = self.tree.primitives();
-        let packets = &self.packets[..];
+        let slices = self.slices();
+        let (primitives, packets) = (slices.primitives, slices.packets);
         // (child, count, entry): a wide node (count 0) or a leaf (LEAF | n).
         let mut stack = [(0u32, 0u32, 0f32); 3 * (MAX_DEPTH as usize + 1)];
         let mut top = 0usize;
         let (mut child, mut count) = (0u32, 0u32);
         loop {
             if count == 0 {
-                let node = &self.nodes[child as usize];
+                let node = &slices.nodes[child as usize];
                 counter.nodes(1);
                 let (enter, mask) = slabs.entries(node, t_min, visitor.t_hi());
                 if mask != 0 {
                     let e = enter.to_array();
-                    let (order, n) = self.lanes_nearest_first(node, mask, &e);
+                    let (order, n) = slices.lanes_nearest_first(node, mask, &e);
                     for &lane in order[1..n].iter().rev() {
                         stack[top] = (node.children[lane], node.counts[lane], e[lane]);
                         top += 1;

@@ -37,7 +37,28 @@ pub(crate) fn prefetch<T>(x: &T) {
     let _ = x;
 }
 
+/// The arrays a walk reads, taken once per query: the node and packet
+/// arrays may sit behind a [`HugePageArray`](crate::memory::HugePageArray),
+/// whose dereference is cheap but not free.
+pub(crate) struct Slices<'a, T> {
+    pub(crate) nodes: &'a [super::WideNode],
+    pub(crate) packets: &'a [super::packet::TrianglePacket],
+    pub(crate) primitives: &'a [T],
+}
+
 impl<T> WideTree<T> {
+    /// The arrays a walk reads.
+    #[inline(always)]
+    pub(crate) fn slices(&self) -> Slices<'_, T> {
+        Slices {
+            nodes: &self.nodes,
+            packets: &self.packets,
+            primitives: self.tree.primitives(),
+        }
+    }
+}
+
+impl<T> Slices<'_, T> {
     /// The child lanes set in `mask`, ordered by `keys` ascending (insertion
     /// sort of at most 4), and their count. Every child selected starts
     /// loading at once (node, triangle packet, or first and last primitive of
@@ -50,7 +71,7 @@ impl<T> WideTree<T> {
         mask: u32,
         keys: &[f32; 4],
     ) -> ([usize; 4], usize) {
-        let primitives = self.tree.primitives();
+        let primitives = self.primitives;
         let mut order = [0usize; 4];
         let mut n = 0;
         let mut bits = mask;
@@ -139,7 +160,7 @@ impl Stack {
     }
 }
 
-impl<T> WideTree<T> {
+impl<T> Slices<'_, T> {
     /// Visits wide node `index`: its children within the visitor's bound are
     /// ordered by box distance, all but the nearest are pushed (farthest
     /// first) and the nearest is returned to be entered next.
@@ -183,8 +204,7 @@ impl<T> WideTree<T> {
         visitor: &mut V,
         counter: &mut C,
     ) {
-        let primitives = self.tree.primitives();
-        let packets = &self.packets[..];
+        let (primitives, packets) = (self.primitives, self.packets);
         let n = (count & !LEAF) as usize;
         counter.primitives(n as u64);
         if packets.is_empty() {
@@ -211,7 +231,9 @@ impl<T> WideTree<T> {
             }
         }
     }
+}
 
+impl<T> WideTree<T> {
     /// Depth-first, nearest child first, with a fixed stack. At each wide
     /// node the four child box distances are computed at once; the children
     /// within the radius are ordered by distance, the nearest is entered at
@@ -219,6 +241,14 @@ impl<T> WideTree<T> {
     /// be dropped when popped if the radius has shrunk meanwhile.
     #[inline]
     pub(crate) fn nearest_first<V: LaneVisitor<T>, C: Counter>(&self, p: Vec3A, visitor: &mut V, counter: &mut C) {
+        self.slices().nearest_first(p, visitor, counter);
+    }
+}
+
+impl<T> Slices<'_, T> {
+    /// [`WideTree::nearest_first`] on these arrays.
+    #[inline(always)]
+    fn nearest_first<V: LaneVisitor<T>, C: Counter>(&self, p: Vec3A, visitor: &mut V, counter: &mut C) {
         if self.nodes.is_empty() {
             return;
         }
@@ -253,7 +283,7 @@ pub(crate) struct Walk<V> {
 impl<V> Walk<V> {
     /// A walk for `p` from the root (none for an empty tree).
     #[inline(always)]
-    pub(crate) fn new<T>(tree: &WideTree<T>, p: Vec3A, visitor: V) -> Self {
+    pub(crate) fn new<T>(tree: &Slices<'_, T>, p: Vec3A, visitor: V) -> Self {
         if let Some(root) = tree.nodes.first() {
             prefetch(&root.min_x);
             prefetch(&root.max_y);
@@ -268,7 +298,7 @@ impl<V> Walk<V> {
 
     /// Starts over for `p` with `visitor`, reusing the stack's memory.
     #[inline(always)]
-    pub(crate) fn restart<T>(&mut self, tree: &WideTree<T>, p: Vec3A, visitor: V) {
+    pub(crate) fn restart<T>(&mut self, tree: &Slices<'_, T>, p: Vec3A, visitor: V) {
         if let Some(root) = tree.nodes.first() {
             prefetch(&root.min_x);
             prefetch(&root.max_y);
@@ -280,7 +310,7 @@ impl<V> Walk<V> {
     }
 }
 
-impl<T> WideTree<T> {
+impl<T> Slices<'_, T> {
     /// Advances `walk` by one node or leaf; `false` once it is finished. The
     /// next node or leaf it will visit has been prefetched (when its parent
     /// was entered), so a caller that steps other walks in between finds it
