@@ -67,15 +67,39 @@ pub(crate) trait PairedNode: Sized {
 impl<T> AabbTree<T> {
     #[inline]
     pub(crate) fn nearest_first<V: DistanceVisitor<T>, C: Counter>(&self, p: Vec3A, visitor: &mut V, counter: &mut C) {
-        nearest_first::<super::Node, T, V, C>(&self.nodes, &self.primitives, p, visitor, counter);
+        nearest_first::<super::Node, T, V, C>(&self.nodes, &self.primitives, self.depth, p, visitor, counter);
     }
 }
 
 /// Depth-first, nearer child first, with a fixed stack: the nearer child is
 /// descended at once and the farther one is kept with its distance, so that
 /// when it is popped it can be dropped if the radius shrank meanwhile.
+///
+/// Each inner node on the current path pushes at most one entry, so a tree
+/// whose deepest leaf is at `depth` needs `depth + 1` entries: trees less
+/// deep than 32 (all but extreme ones) get a stack of 32, cheaper to set up
+/// than the full `MAX_DEPTH + 1`.
 #[inline]
 pub(crate) fn nearest_first<N: PairedNode, T, V: DistanceVisitor<T>, C: Counter>(
+    pairs: &[N::Pair],
+    primitives: &[T],
+    depth: u32,
+    p: Vec3A,
+    visitor: &mut V,
+    counter: &mut C,
+) {
+    if depth < SHALLOW as u32 {
+        nearest_first_with::<N, T, V, C, SHALLOW>(pairs, primitives, p, visitor, counter);
+    } else {
+        nearest_first_with::<N, T, V, C, { MAX_DEPTH as usize + 1 }>(pairs, primitives, p, visitor, counter);
+    }
+}
+
+/// Trees less deep than this walk with a stack of this many entries.
+const SHALLOW: usize = 32;
+
+#[inline(always)]
+fn nearest_first_with<N: PairedNode, T, V: DistanceVisitor<T>, C: Counter, const STACK: usize>(
     pairs: &[N::Pair],
     primitives: &[T],
     p: Vec3A,
@@ -92,9 +116,7 @@ pub(crate) fn nearest_first<N: PairedNode, T, V: DistanceVisitor<T>, C: Counter>
     if root_distance.is_nan() || root_distance > visitor.bound() {
         return;
     }
-    // Each inner node on the current path pushes at most one entry, and the
-    // build never goes deeper than MAX_DEPTH.
-    let mut stack = [(0u32, 0f32); MAX_DEPTH as usize + 1];
+    let mut stack = [(0u32, 0f32); STACK];
     let mut top = 0usize;
     let mut node = 0usize;
     loop {
@@ -147,6 +169,55 @@ pub(crate) fn nearest_first<N: PairedNode, T, V: DistanceVisitor<T>, C: Counter>
                 node = next as usize;
                 break;
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bvh::closest::Best;
+    use crate::{BuildConfig, Triangle, Vec3};
+
+    /// The small stack and the full one make the same walk (real trees are
+    /// too shallow to reach the full one, so it is tested directly).
+    #[test]
+    fn small_and_full_stacks_walk_alike() {
+        let mut rng = crate::sample::Rng::new(9);
+        let mut v = || Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
+        let triangles: Vec<Triangle> = (0..3000)
+            .map(|_| {
+                let a = v();
+                Triangle::new(a, a + v() * 0.05, a + v() * 0.05)
+            })
+            .collect();
+        let tree = AabbTree::build(triangles, &BuildConfig::default()).unwrap();
+        assert!(tree.depth() < SHALLOW as u32);
+        for _ in 0..500 {
+            let p = Vec3A::from(v() * 1.5);
+            let mut small = Best::new(&tree.indices, f32::INFINITY);
+            let mut full = Best::new(&tree.indices, f32::INFINITY);
+            let (mut small_stats, mut full_stats) = (QueryStats::default(), QueryStats::default());
+            nearest_first_with::<super::super::Node, _, _, _, SHALLOW>(
+                &tree.nodes,
+                &tree.primitives,
+                p,
+                &mut small,
+                &mut small_stats,
+            );
+            nearest_first_with::<super::super::Node, _, _, _, { MAX_DEPTH as usize + 1 }>(
+                &tree.nodes,
+                &tree.primitives,
+                p,
+                &mut full,
+                &mut full_stats,
+            );
+            assert!(small.found && full.found);
+            assert_eq!(
+                (small.slot, small.point, small.distance_squared),
+                (full.slot, full.point, full.distance_squared)
+            );
+            assert_eq!(small_stats, full_stats);
         }
     }
 }

@@ -37,7 +37,7 @@ impl<T: ClosestPoint> SphereTree<T> {
         }
         let p = Vec3A::from(p);
         let mut best = Best::new(&self.indices, max_distance * max_distance);
-        nearest_first::<SphereNode, T, _, _>(&self.nodes, &self.primitives, p, &mut best, counter);
+        nearest_first::<SphereNode, T, _, _>(&self.nodes, &self.primitives, self.depth, p, &mut best, counter);
         best.found
             .then(|| self.hit(best.slot, best.point, best.distance_squared))
     }

@@ -20,7 +20,7 @@ impl<T: ClosestPoint> SphereTree<T> {
     /// reusing `scratch`, so repeated queries do not allocate.
     pub fn k_nearest_into(&self, p: Vec3, k: usize, scratch: &mut KnnScratch, out: &mut Vec<ClosestHit>) {
         k_nearest_with(p, k, &self.indices, &self.sources, scratch, out, |p, best| {
-            nearest_first::<SphereNode, T, _, _>(&self.nodes, &self.primitives, p, best, &mut ())
+            nearest_first::<SphereNode, T, _, _>(&self.nodes, &self.primitives, self.depth, p, best, &mut ())
         });
     }
 }
