@@ -12,6 +12,7 @@ mod closest;
 mod config;
 mod frustum;
 mod knn;
+mod median;
 mod node;
 mod ray;
 mod traverse;

@@ -1,0 +1,223 @@
+//! The median split of the build: a histogram selection that moves a node's
+//! items into the other buffer, in halves, and computes both halves' boxes
+//! on the way.
+//!
+//! A comparison selection (introselect) walks a node's items several times,
+//! and the boxes of the two children need one more pass each. Here one pass
+//! counts the keys into buckets spread evenly over the node's extent, and a
+//! second pass moves every item to its final half (or, for the one bucket that
+//! holds the median, to the middle) while growing the halves' boxes. Only the
+//! median bucket, a small fraction of the node, is left to a comparison
+//! selection.
+
+use super::build::Item;
+use crate::aabb::Aabb;
+use crate::math::Vec4;
+
+/// Most buckets of a histogram: with ~1M items, the median bucket holds about
+/// a thousand, and the counts stay in the L1 cache.
+const MAX_BUCKETS: usize = 2048;
+
+/// Reusable histogram space, one per thread of the build.
+#[derive(Default)]
+pub(super) struct Counts {
+    /// Four interleaved histograms.
+    counts: Vec<u32>,
+    /// Each item's bucket, computed once by the counting pass.
+    buckets: Vec<u16>,
+}
+
+/// A box grown item by item, in 16-byte lanes (`w` means nothing).
+#[derive(Clone, Copy)]
+struct Grower {
+    min: Vec4,
+    max: Vec4,
+}
+
+impl Grower {
+    const EMPTY: Grower = Grower {
+        min: Vec4::INFINITY,
+        max: Vec4::NEG_INFINITY,
+    };
+
+    /// The box grown to hold `item`'s box when `take`, unchanged otherwise
+    /// (a select instead of a branch the processor could not predict).
+    #[inline(always)]
+    fn grown_if(self, item: &Item, take: bool) -> Grower {
+        let pad = Vec4::splat(PAD[take as usize]);
+        Grower {
+            min: self.min.min(item.lower + pad),
+            max: self.max.max(item.upper - pad),
+        }
+    }
+
+    fn aabb(self) -> Aabb {
+        Aabb::new(self.min.truncate(), self.max.truncate())
+    }
+}
+
+/// The box of `items`' boxes.
+pub(super) fn bounds_of(items: &[Item]) -> Aabb {
+    items.iter().fold(Grower::EMPTY, |b, it| b.grown_if(it, true)).aabb()
+}
+
+/// Moves `source` into `target` (of the same length) so that the first
+/// `source.len() / 2` items of `target` are those with the smallest keys along
+/// `axis` (ties go either way), and returns the boxes of the two halves.
+/// `bounds` must hold every item's box.
+pub(super) fn median_partition(
+    source: &[Item],
+    target: &mut [Item],
+    axis: usize,
+    bounds: &Aabb,
+    scratch: &mut Counts,
+) -> (Aabb, Aabb) {
+    // One copy per axis: a key read through a run-time axis costs a branch per item.
+    match axis {
+        0 => median_partition_along::<0>(source, target, bounds, scratch),
+        1 => median_partition_along::<1>(source, target, bounds, scratch),
+        _ => median_partition_along::<2>(source, target, bounds, scratch),
+    }
+}
+
+/// Added to a box's lower corner (subtracted from its upper corner) to take
+/// it into a union (index 1) or leave the union unchanged (index 0).
+const PAD: [f32; 2] = [f32::INFINITY, 0.0];
+
+#[inline(always)]
+fn key_along<const AXIS: usize>(it: &Item) -> f32 {
+    it.lower[AXIS] + it.upper[AXIS]
+}
+
+fn median_partition_along<const AXIS: usize>(
+    source: &[Item],
+    target: &mut [Item],
+    bounds: &Aabb,
+    scratch: &mut Counts,
+) -> (Aabb, Aabb) {
+    debug_assert_eq!(source.len(), target.len());
+    let len = source.len();
+    let half = len / 2;
+    if len < 2 {
+        target.copy_from_slice(source);
+        return (Aabb::EMPTY, bounds_of(target));
+    }
+    // Keys are doubled centers, so they lie in the doubled extent. The bucket
+    // is a non-decreasing function of the key (a rounded product clamped into
+    // range): a lower bucket never holds a larger key.
+    let low = 2.0 * bounds.min[AXIS];
+    let high = 2.0 * bounds.max[AXIS];
+    let buckets = (len / 4).clamp(2, MAX_BUCKETS);
+    let top = (buckets - 1) as u32;
+    let scale = top as f32 / (high - low);
+    // A degenerate extent puts every item in bucket 0.
+    let scale = if scale.is_finite() { scale } else { 0.0 };
+    // Adding 2^23 rounds a float in [0, 2^22) to an integer in its low
+    // mantissa bits: a non-decreasing map, cheaper than a saturating cast.
+    const ROUNDER: f32 = (1 << 23) as f32;
+    let bucket = |it: &Item| {
+        let position = (key_along::<AXIS>(it) - low) * scale;
+        ((position + ROUNDER).to_bits() - ROUNDER.to_bits()).min(top) as u16
+    };
+    // Neighbouring items often fall in the same bucket; counting them in four
+    // interleaved histograms keeps each increment from waiting for the last.
+    let Counts {
+        counts,
+        buckets: item_buckets,
+    } = scratch;
+    counts.clear();
+    counts.resize(4 * buckets, 0);
+    item_buckets.clear();
+    item_buckets.extend(source.iter().map(bucket));
+    let (lane0, rest) = counts.split_at_mut(buckets);
+    let (lane1, rest) = rest.split_at_mut(buckets);
+    let (lane2, lane3) = rest.split_at_mut(buckets);
+    let mut quads = item_buckets.chunks_exact(4);
+    for quad in &mut quads {
+        lane0[quad[0] as usize] += 1;
+        lane1[quad[1] as usize] += 1;
+        lane2[quad[2] as usize] += 1;
+        lane3[quad[3] as usize] += 1;
+    }
+    for &b in quads.remainder() {
+        lane0[b as usize] += 1;
+    }
+    // The median bucket: the one holding the item of rank `half`.
+    let (mut median, mut below) = (0, 0);
+    let mut equal = 0;
+    for i in 0..buckets {
+        let count = (lane0[i] + lane1[i] + lane2[i] + lane3[i]) as usize;
+        if below + count > half {
+            (median, equal) = (i as u16, count);
+            break;
+        }
+        below += count;
+    }
+    // Items below the median bucket go first, those above last, the median
+    // bucket's in between. The slot is picked with masks, not branches: an
+    // item's side is as unpredictable as a coin toss.
+    let (mut first, mut between, mut last) = (0usize, below, below + equal);
+    let (mut left, mut right) = (Grower::EMPTY, Grower::EMPTY);
+    for (it, &b) in source.iter().zip(item_buckets.iter()) {
+        let (is_left, is_right) = (b < median, b > median);
+        let is_middle = !is_left && !is_right;
+        let mask = |take: bool| (take as usize).wrapping_neg();
+        let slot = (first & mask(is_left)) | (last & mask(is_right)) | (between & mask(is_middle));
+        target[slot] = *it;
+        first += is_left as usize;
+        last += is_right as usize;
+        between += is_middle as usize;
+        left = left.grown_if(it, is_left);
+        right = right.grown_if(it, is_right);
+    }
+    let middle = &mut target[below..below + equal];
+    let rank = half - below;
+    if rank > 0 {
+        middle.select_nth_unstable_by(rank, |a, b| key_along::<AXIS>(a).total_cmp(&key_along::<AXIS>(b)));
+    }
+    for (i, it) in middle.iter().enumerate() {
+        left = left.grown_if(it, i < rank);
+        right = right.grown_if(it, i >= rank);
+    }
+    (left.aabb(), right.aabb())
+}
+
+/// Up to this many items, a node is split by [`median_small`].
+pub(super) const SMALL_NODE: usize = 256;
+
+/// The key's bits, in an order that agrees with [`f32::total_cmp`].
+#[inline(always)]
+fn ordered_bits(key: f32) -> u32 {
+    let bits = key.to_bits();
+    if bits >> 31 == 1 { !bits } else { bits | 1 << 31 }
+}
+
+/// Like [`median_partition`], for at most [`SMALL_NODE`] items: a comparison
+/// selection over packed (key, position) integers, then one gather. Moving
+/// 8-byte integers instead of 28-byte items, with the key computed once, is
+/// what makes it cheaper than selecting the items themselves.
+pub(super) fn median_small(source: &[Item], target: &mut [Item], axis: usize) -> (Aabb, Aabb) {
+    match axis {
+        0 => median_small_along::<0>(source, target),
+        1 => median_small_along::<1>(source, target),
+        _ => median_small_along::<2>(source, target),
+    }
+}
+
+fn median_small_along<const AXIS: usize>(source: &[Item], target: &mut [Item]) -> (Aabb, Aabb) {
+    debug_assert!(source.len() <= SMALL_NODE && source.len() == target.len());
+    let half = source.len() / 2;
+    let mut packed = [0u64; SMALL_NODE];
+    let packed = &mut packed[..source.len()];
+    for ((slot, it), position) in packed.iter_mut().zip(source).zip(0u64..) {
+        *slot = (ordered_bits(key_along::<AXIS>(it)) as u64) << 32 | position;
+    }
+    if half > 0 {
+        packed.select_nth_unstable(half);
+    }
+    for (slot, &p) in target.iter_mut().zip(packed.iter()) {
+        *slot = source[p as u32 as usize];
+    }
+    let (first, second) = target.split_at(half);
+    (bounds_of(first), bounds_of(second))
+}
