@@ -44,10 +44,12 @@ impl Grower {
     /// (a select instead of a branch the processor could not predict).
     #[inline(always)]
     fn grown_if(self, item: &Item, take: bool) -> Grower {
-        let pad = Vec4::splat(PAD[take as usize]);
+        // A select, not an addition of ±infinity: the `w` lanes hold index
+        // bits, often subnormal floats, which arithmetic slows to a crawl.
+        let mask = glam::BVec4A::splat(take);
         Grower {
-            min: self.min.min(item.lower + pad),
-            max: self.max.max(item.upper - pad),
+            min: self.min.min(Vec4::select(mask, item.lower, Vec4::INFINITY)),
+            max: self.max.max(Vec4::select(mask, item.upper, Vec4::NEG_INFINITY)),
         }
     }
 
@@ -79,10 +81,6 @@ pub(super) fn median_partition(
         _ => median_partition_along::<2>(source, target, bounds, scratch),
     }
 }
-
-/// Added to a box's lower corner (subtracted from its upper corner) to take
-/// it into a union (index 1) or leave the union unchanged (index 0).
-const PAD: [f32; 2] = [f32::INFINITY, 0.0];
 
 #[inline(always)]
 fn key_along<const AXIS: usize>(it: &Item) -> f32 {
@@ -185,13 +183,6 @@ fn median_partition_along<const AXIS: usize>(
 /// Up to this many items, a node is split by [`median_small`].
 pub(super) const SMALL_NODE: usize = 32;
 
-/// The key's bits, in an order that agrees with [`f32::total_cmp`].
-#[inline(always)]
-fn ordered_bits(key: f32) -> u32 {
-    let bits = key.to_bits();
-    if bits >> 31 == 1 { !bits } else { bits | 1 << 31 }
-}
-
 /// Like [`median_partition`], for at most [`SMALL_NODE`] items: each item's
 /// rank is counted against all others (ties broken by position), and the
 /// item is written straight to its rank. Quadratic, but without a branch to
@@ -208,16 +199,24 @@ pub(super) fn median_small(source: &[Item], target: &mut [Item], axis: usize) ->
 fn median_small_along<const AXIS: usize>(source: &[Item], target: &mut [Item]) -> (Aabb, Aabb) {
     debug_assert!(source.len() <= SMALL_NODE && source.len() == target.len());
     let half = source.len() / 2;
-    let mut keys = [0u32; SMALL_NODE];
+    let mut keys = [0f32; SMALL_NODE];
     let keys = &mut keys[..source.len()];
     for (key, it) in keys.iter_mut().zip(source) {
-        *key = ordered_bits(key_along::<AXIS>(it));
+        *key = key_along::<AXIS>(it);
     }
     let (mut left, mut right) = (Grower::EMPTY, Grower::EMPTY);
     for (i, (it, &key)) in source.iter().zip(keys.iter()).enumerate() {
+        // Equal keys are ordered by position; comparing floats (no NaN here)
+        // lets the compiler count four at a time.
         let (before, after) = keys.split_at(i);
-        let rank = before.iter().map(|&k| (k <= key) as usize).sum::<usize>()
-            + after.iter().map(|&k| (k < key) as usize).sum::<usize>();
+        let mut rank = 0u32;
+        for &k in before {
+            rank += (k <= key) as u32;
+        }
+        for &k in after {
+            rank += (k < key) as u32;
+        }
+        let rank = rank as usize;
         target[rank] = *it;
         left = left.grown_if(it, rank < half);
         right = right.grown_if(it, rank >= half);
