@@ -16,7 +16,7 @@ use rayon::prelude::*;
 /// per primitive and never chases an index. Two 16-byte lanes, so that an
 /// item moves in two vector stores and its corners enter box unions as they
 /// are.
-#[derive(Clone, Copy, Default)]
+#[derive(Clone, Copy, Debug, Default)]
 #[repr(C)]
 pub(super) struct Item {
     /// The lower corner, and in `w` the input index (its bits).
@@ -26,14 +26,14 @@ pub(super) struct Item {
 }
 
 impl Item {
-    fn new(bounds: Aabb, index: u32) -> Self {
+    pub(super) fn new(bounds: Aabb, index: u32) -> Self {
         Self {
             lower: bounds.min.extend(f32::from_bits(index)),
             upper: bounds.max.extend(0.0),
         }
     }
 
-    fn index(&self) -> u32 {
+    pub(super) fn index(&self) -> u32 {
         self.lower.w.to_bits()
     }
 

@@ -223,3 +223,116 @@ fn median_small_along<const AXIS: usize>(source: &[Item], target: &mut [Item]) -
     }
     (left.aabb(), right.aabb())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{Counts, SMALL_NODE, bounds_of, median_partition, median_small};
+    use crate::aabb::Aabb;
+    use crate::bvh::build::Item;
+    use crate::math::Vec3;
+    use proptest::prelude::*;
+
+    /// Coordinates with many exact duplicates, both zeros, and magnitudes
+    /// from subnormal to near the build's coordinate bound.
+    fn coordinate() -> impl Strategy<Value = f32> {
+        prop_oneof![
+            prop::sample::select(vec![0.0f32, -0.0, 1.0, -1.0, 0.5, 3.0]),
+            (-8i32..8).prop_map(|i| i as f32 * 0.25),
+            (-1e6f32..1e6),
+            (-1e-30f32..1e-30),
+            prop::sample::select(vec![f32::MIN_POSITIVE, 1e-40, -1e-40, 1e17, -1e17, 1e18, -1e18]),
+        ]
+    }
+
+    fn items(max_len: usize) -> impl Strategy<Value = Vec<Item>> {
+        prop::collection::vec(
+            (
+                coordinate(),
+                coordinate(),
+                coordinate(),
+                0.0f32..2.0,
+                0.0f32..2.0,
+                0.0f32..2.0,
+            ),
+            0..max_len,
+        )
+        .prop_map(|corners| {
+            corners
+                .into_iter()
+                .enumerate()
+                .map(|(index, (x, y, z, dx, dy, dz))| {
+                    let min = Vec3::new(x, y, z);
+                    // Zero-size boxes keep duplicate keys exact duplicates.
+                    let size = if index % 3 == 0 {
+                        Vec3::ZERO
+                    } else {
+                        Vec3::new(dx, dy, dz)
+                    };
+                    Item::new(Aabb::new(min, min + size), index as u32)
+                })
+                .collect()
+        })
+    }
+
+    /// Checks a median split of `source` into `target` against sorting the keys.
+    fn check_split(source: &[Item], target: &[Item], axis: usize, boxes: (Aabb, Aabb)) {
+        let half = source.len() / 2;
+        let mut indices: Vec<u32> = target.iter().map(Item::index).collect();
+        indices.sort_unstable();
+        let expected: Vec<u32> = (0..source.len() as u32).collect();
+        assert_eq!(indices, expected, "not a permutation");
+        let mut keys: Vec<f32> = source.iter().map(|it| it.key(axis)).collect();
+        keys.sort_by(f32::total_cmp);
+        let mut first: Vec<f32> = target[..half].iter().map(|it| it.key(axis)).collect();
+        first.sort_by(f32::total_cmp);
+        // Numeric equality: -0.0 and 0.0 are the same key, and may go either way.
+        assert!(
+            first.iter().zip(&keys[..half]).all(|(a, b)| a == b),
+            "first half {first:?} is not the smallest keys {:?}",
+            &keys[..half]
+        );
+        let second_min = target[half..]
+            .iter()
+            .map(|it| it.key(axis))
+            .fold(f32::INFINITY, f32::min);
+        assert!(first.last().is_none_or(|&a| a <= second_min));
+        let same = |a: Aabb, b: Aabb| a.min == b.min && a.max == b.max || a.is_empty() && b.is_empty();
+        assert!(same(boxes.0, bounds_of(&target[..half])), "left box");
+        assert!(same(boxes.1, bounds_of(&target[half..])), "right box");
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(300))]
+
+        #[test]
+        fn histogram_split_matches_sorting(source in items(2000), axis in 0usize..3) {
+            let mut target = vec![Item::default(); source.len()];
+            let bounds = bounds_of(&source);
+            let boxes = median_partition(&source, &mut target, axis, &bounds, &mut Counts::default());
+            check_split(&source, &target, axis, boxes);
+        }
+
+        #[test]
+        fn rank_split_matches_sorting(source in items(SMALL_NODE + 1), axis in 0usize..3) {
+            let mut target = vec![Item::default(); source.len()];
+            let boxes = median_small(&source, &mut target, axis);
+            check_split(&source, &target, axis, boxes);
+        }
+    }
+
+    #[test]
+    fn all_equal_keys_and_a_far_outlier() {
+        let point = |x: f32, index| Item::new(Aabb::new(Vec3::splat(x), Vec3::splat(x)), index);
+        for len in [2usize, 3, 100, 1001] {
+            let mut source: Vec<Item> = (0..len as u32).map(|i| point(1.0, i)).collect();
+            let bounds = bounds_of(&source);
+            let mut target = vec![Item::default(); len];
+            let boxes = median_partition(&source, &mut target, 0, &bounds, &mut Counts::default());
+            check_split(&source, &target, 0, boxes);
+            source[len / 2] = point(1e18, (len / 2) as u32);
+            let bounds = bounds_of(&source);
+            let boxes = median_partition(&source, &mut target, 0, &bounds, &mut Counts::default());
+            check_split(&source, &target, 0, boxes);
+        }
+    }
+}
