@@ -136,7 +136,7 @@ fn checked_bounds(items: &[Item]) -> Result<Aabb, BuildError> {
     {
         return Err(BuildError::NonFinite { index });
     }
-    let beyond = |it: &Item| !(it.min().abs().max(it.max().abs()).max_element() <= MAX_COORDINATE);
+    let beyond = |it: &Item| it.min().abs().max(it.max().abs()).max_element() > MAX_COORDINATE;
     let index = items.iter().position(beyond).unwrap_or(0);
     Err(BuildError::CoordinateTooLarge {
         index,
