@@ -181,7 +181,7 @@ fn median_partition_along<const AXIS: usize>(
 }
 
 /// Up to this many items, a node is split by [`median_small`].
-pub(super) const SMALL_NODE: usize = 32;
+pub(super) const SMALL_NODE: usize = 16;
 
 /// Like [`median_partition`], for at most [`SMALL_NODE`] items: each item's
 /// rank is counted against all others (ties broken by position), and the
