@@ -18,6 +18,9 @@ use crate::math::Vec4;
 /// a thousand, and the counts stay in the L1 cache.
 const MAX_BUCKETS: usize = 2048;
 
+/// Nodes up to this size keep each item's bucket between the two passes.
+const KEEP_BUCKETS: usize = 1 << 16;
+
 /// Reusable histogram space, one per thread of the build.
 #[derive(Default)]
 pub(super) struct Counts {
@@ -119,26 +122,44 @@ fn median_partition_along<const AXIS: usize>(
     };
     // Neighbouring items often fall in the same bucket; counting them in four
     // interleaved histograms keeps each increment from waiting for the last.
+    // Buckets are kept for the moving pass, except in the largest nodes, where
+    // the passes wait on memory and computing a bucket again is free.
     let Counts {
         counts,
         buckets: item_buckets,
     } = scratch;
+    let keep = len <= KEEP_BUCKETS;
+    item_buckets.clear();
+    if keep {
+        item_buckets.extend(source.iter().map(bucket));
+    }
     counts.clear();
     counts.resize(4 * buckets, 0);
-    item_buckets.clear();
-    item_buckets.extend(source.iter().map(bucket));
     let (lane0, rest) = counts.split_at_mut(buckets);
     let (lane1, rest) = rest.split_at_mut(buckets);
     let (lane2, lane3) = rest.split_at_mut(buckets);
-    let mut quads = item_buckets.chunks_exact(4);
-    for quad in &mut quads {
-        lane0[quad[0] as usize] += 1;
-        lane1[quad[1] as usize] += 1;
-        lane2[quad[2] as usize] += 1;
-        lane3[quad[3] as usize] += 1;
-    }
-    for &b in quads.remainder() {
-        lane0[b as usize] += 1;
+    let mut count = |b: [u16; 4]| {
+        lane0[b[0] as usize] += 1;
+        lane1[b[1] as usize] += 1;
+        lane2[b[2] as usize] += 1;
+        lane3[b[3] as usize] += 1;
+    };
+    if keep {
+        let mut quads = item_buckets.chunks_exact(4);
+        for quad in &mut quads {
+            count([quad[0], quad[1], quad[2], quad[3]]);
+        }
+        for &b in quads.remainder() {
+            lane0[b as usize] += 1;
+        }
+    } else {
+        let mut quads = source.chunks_exact(4);
+        for quad in &mut quads {
+            count(std::array::from_fn(|i| bucket(&quad[i])));
+        }
+        for it in quads.remainder() {
+            lane0[bucket(it) as usize] += 1;
+        }
     }
     // The median bucket: the one holding the item of rank `half`.
     let (mut median, mut below) = (0, 0);
@@ -151,12 +172,39 @@ fn median_partition_along<const AXIS: usize>(
         }
         below += count;
     }
-    // Items below the median bucket go first, those above last, the median
-    // bucket's in between. The slot is picked with masks, not branches: an
-    // item's side is as unpredictable as a coin toss.
+    let (mut left, mut right) = if keep {
+        scatter(source, target, item_buckets.iter().copied(), median, below, equal)
+    } else {
+        scatter(source, target, source.iter().map(bucket), median, below, equal)
+    };
+    let middle = &mut target[below..below + equal];
+    let rank = half - below;
+    if rank > 0 {
+        middle.select_nth_unstable_by(rank, |a, b| key_along::<AXIS>(a).total_cmp(&key_along::<AXIS>(b)));
+    }
+    for (i, it) in middle.iter().enumerate() {
+        left = left.grown_if(it, i < rank);
+        right = right.grown_if(it, i >= rank);
+    }
+    (left.aabb(), right.aabb())
+}
+
+/// Items below the bucket `median` go first in `target`, those above last,
+/// the median bucket's (`equal` of them, after `below` others) in between;
+/// returns the boxes of the first and last groups.
+fn scatter(
+    source: &[Item],
+    target: &mut [Item],
+    buckets: impl Iterator<Item = u16>,
+    median: u16,
+    below: usize,
+    equal: usize,
+) -> (Grower, Grower) {
+    // The slot is picked with masks, not branches: an item's side is as
+    // unpredictable as a coin toss.
     let (mut first, mut between, mut last) = (0usize, below, below + equal);
     let (mut left, mut right) = (Grower::EMPTY, Grower::EMPTY);
-    for (it, &b) in source.iter().zip(item_buckets.iter()) {
+    for (it, b) in source.iter().zip(buckets) {
         let (is_left, is_right) = (b < median, b > median);
         let is_middle = !is_left && !is_right;
         let mask = |take: bool| (take as usize).wrapping_neg();
@@ -168,16 +216,7 @@ fn median_partition_along<const AXIS: usize>(
         left = left.grown_if(it, is_left);
         right = right.grown_if(it, is_right);
     }
-    let middle = &mut target[below..below + equal];
-    let rank = half - below;
-    if rank > 0 {
-        middle.select_nth_unstable_by(rank, |a, b| key_along::<AXIS>(a).total_cmp(&key_along::<AXIS>(b)));
-    }
-    for (i, it) in middle.iter().enumerate() {
-        left = left.grown_if(it, i < rank);
-        right = right.grown_if(it, i >= rank);
-    }
-    (left.aabb(), right.aabb())
+    (left, right)
 }
 
 /// Up to this many items, a node is split by [`median_small`].
@@ -316,6 +355,29 @@ mod tests {
         fn rank_split_matches_sorting(source in items(SMALL_NODE + 1), axis in 0usize..3) {
             let mut target = vec![Item::default(); source.len()];
             let boxes = median_small(&source, &mut target, axis);
+            check_split(&source, &target, axis, boxes);
+        }
+    }
+
+    #[test]
+    fn large_nodes_compute_buckets_twice_and_split_the_same() {
+        let mut rng = crate::sample::Rng::new(3);
+        let len = super::KEEP_BUCKETS + 4321;
+        let source: Vec<Item> = (0..len as u32)
+            .map(|i| {
+                // Half the keys from a pool of 50 values, half spread out.
+                let x = if i % 2 == 0 {
+                    rng.below(50) as f32
+                } else {
+                    rng.below(1 << 20) as f32 * 1e-3
+                };
+                Item::new(Aabb::new(Vec3::new(x, 0.0, -x), Vec3::new(x + 1.0, 0.5, -x)), i)
+            })
+            .collect();
+        let bounds = bounds_of(&source);
+        for axis in 0..3 {
+            let mut target = vec![Item::default(); len];
+            let boxes = median_partition(&source, &mut target, axis, &bounds, &mut Counts::default());
             check_split(&source, &target, axis, boxes);
         }
     }
