@@ -112,6 +112,55 @@ fn large_meshes_use_the_parallel_build_and_stay_exact() {
 }
 
 #[test]
+fn parallel_build_gives_the_single_thread_tree_and_median_halves() {
+    // Above 32k primitives the top nodes are split before the subtrees are
+    // built in parallel; the tree must not depend on the number of threads.
+    let mesh = bumpy_sphere(60, 5);
+    let triangles = mesh.triangles();
+    let pool = |threads| rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+    let (one, two) = (pool(1), pool(2));
+    for split in [SplitMethod::Median, SplitMethod::BinnedSah] {
+        let config = BuildConfig {
+            split,
+            ..BuildConfig::default()
+        };
+        let single = one.install(|| AabbTree::build_set(triangles.clone(), &config).unwrap());
+        let parallel = two.install(|| AabbTree::build_set(triangles.clone(), &config).unwrap());
+        assert!(
+            single.nodes().map(|(_, n)| n).eq(parallel.nodes().map(|(_, n)| n)),
+            "{split:?}"
+        );
+        assert!((0..single.len()).all(|slot| single.input_index(slot) == parallel.input_index(slot)));
+        assert_eq!(single.depth(), parallel.depth());
+        if split == SplitMethod::Median {
+            // Every inner node halves its primitives: the left child holds len / 2.
+            let mut stack = vec![0usize];
+            while let Some(i) = stack.pop() {
+                let node = single.node(i);
+                if node.is_leaf() {
+                    continue;
+                }
+                let [left, right] = node.children().map(|c| span(&single, c as usize));
+                let len = left.len() + right.len();
+                assert_eq!(left.len(), len / 2, "node {i}");
+                assert_eq!(left.end, right.start);
+                stack.extend(node.children().map(|c| c as usize));
+            }
+        }
+    }
+}
+
+/// The primitive slots under node `i`.
+fn span<T: proxima::Bounded>(tree: &AabbTree<T>, i: usize) -> std::ops::Range<usize> {
+    let node = tree.node(i);
+    if node.is_leaf() {
+        return node.primitive_range();
+    }
+    let [left, right] = node.children().map(|c| span(tree, c as usize));
+    left.start..right.end
+}
+
+#[test]
 fn degenerate_inputs() {
     // Empty.
     let empty: AabbTree<proxima::Triangle> = AabbTree::build(Vec::new(), &BuildConfig::default()).unwrap();

@@ -3,29 +3,52 @@
 
 use super::AabbTree;
 use super::config::{BuildConfig, MAX_COORDINATE, SplitMethod};
+use super::median::{Counts, SMALL_NODE, median_partition, median_small};
 use super::node::{Node, NodePair};
 use crate::aabb::Aabb;
 use crate::error::BuildError;
-use crate::math::Vec3;
+use crate::math::{Vec3, Vec4};
 use crate::primitive::{Bounded, PrimitiveSet};
 use rayon::prelude::*;
 
 /// A primitive's box and input index, moved around during the build instead of
-/// the primitive itself: the partition step then touches 28 contiguous bytes
-/// per primitive and never chases an index.
-#[derive(Clone, Copy)]
+/// the primitive itself: the partition step then touches 32 contiguous bytes
+/// per primitive and never chases an index. Two 16-byte lanes, so that an
+/// item moves in two vector stores and its corners enter box unions as they
+/// are.
+#[derive(Clone, Copy, Debug, Default)]
 #[repr(C)]
-struct Item {
-    min: Vec3,
-    index: u32,
-    max: Vec3,
+pub(super) struct Item {
+    /// The lower corner, and in `w` the input index (its bits).
+    pub(super) lower: Vec4,
+    /// The upper corner; `w` is 0.
+    pub(super) upper: Vec4,
 }
 
 impl Item {
+    pub(super) fn new(bounds: Aabb, index: u32) -> Self {
+        Self {
+            lower: bounds.min.extend(f32::from_bits(index)),
+            upper: bounds.max.extend(0.0),
+        }
+    }
+
+    pub(super) fn index(&self) -> u32 {
+        self.lower.w.to_bits()
+    }
+
+    pub(super) fn min(&self) -> Vec3 {
+        self.lower.truncate()
+    }
+
+    pub(super) fn max(&self) -> Vec3 {
+        self.upper.truncate()
+    }
+
     /// Twice the box center along `axis` (the factor 2 does not change the order).
-    #[inline]
-    fn key(&self, axis: usize) -> f32 {
-        self.min[axis] + self.max[axis]
+    #[inline(always)]
+    pub(super) fn key(&self, axis: usize) -> f32 {
+        self.lower[axis] + self.upper[axis]
     }
 }
 
@@ -73,29 +96,15 @@ impl<T: Bounded + Copy + Send + Sync> AabbTree<T> {
         let mut items: Vec<Item> = primitives
             .par_iter()
             .enumerate()
-            .map(|(index, p)| {
-                let b = p.bounds();
-                Item {
-                    min: b.min,
-                    index: index as u32,
-                    max: b.max,
-                }
-            })
+            .map(|(index, p)| Item::new(p.bounds(), index as u32))
             .collect();
-        if let Some(index) = items.iter().position(|it| !(it.min.is_finite() && it.max.is_finite())) {
-            return Err(BuildError::NonFinite { index });
-        }
-        let beyond = |it: &Item| it.min.abs().max(it.max.abs()).max_element() > MAX_COORDINATE;
-        if let Some(index) = items.iter().position(beyond) {
-            return Err(BuildError::CoordinateTooLarge {
-                index,
-                bound: MAX_COORDINATE,
-            });
-        }
-        let (nodes, depth) = build_nodes(&mut items, config);
-        let indices: Vec<u32> = items.par_iter().map(|it| it.index).collect();
-        let ordered = indices.par_iter().map(|&i| primitives[i as usize]).collect();
-        let sources = indices.par_iter().map(|&i| sources[i as usize]).collect();
+        let bounds = checked_bounds(&items)?;
+        let (nodes, depth) = build_nodes(&mut items, bounds, config);
+        let indices: Vec<u32> = items.par_iter().map(Item::index).collect();
+        let (ordered, sources) = indices
+            .par_iter()
+            .map(|&i| (primitives[i as usize], sources[i as usize]))
+            .unzip();
         Ok(Self {
             nodes,
             primitives: ordered,
@@ -106,143 +115,274 @@ impl<T: Bounded + Copy + Send + Sync> AabbTree<T> {
     }
 }
 
+/// The box of all items, or the error for the first item with a non-finite
+/// coordinate (or, when all are finite, the first beyond [`MAX_COORDINATE`]).
+fn checked_bounds(items: &[Item]) -> Result<Aabb, BuildError> {
+    // One pass for the common case: `!(m <= bound)` also catches NaN and infinities.
+    let limit = Vec4::splat(MAX_COORDINATE);
+    let (mut low, mut high, mut beyond) = (Vec4::INFINITY, Vec4::NEG_INFINITY, false);
+    for it in items {
+        low = low.min(it.lower);
+        high = high.max(it.upper);
+        let magnitude = it.lower.abs().max(it.upper.abs()).truncate();
+        beyond |= !magnitude.cmple(limit.truncate()).all();
+    }
+    if !beyond {
+        return Ok(Aabb::new(low.truncate(), high.truncate()));
+    }
+    if let Some(index) = items
+        .iter()
+        .position(|it| !(it.min().is_finite() && it.max().is_finite()))
+    {
+        return Err(BuildError::NonFinite { index });
+    }
+    let beyond = |it: &Item| it.min().abs().max(it.max().abs()).max_element() > MAX_COORDINATE;
+    let index = items.iter().position(beyond).unwrap_or(0);
+    Err(BuildError::CoordinateTooLarge {
+        index,
+        bound: MAX_COORDINATE,
+    })
+}
+
 /// A built subtree: its root, and its other nodes as pairs numbered from 0
-/// (inner nodes refer to flat indices within `pairs`).
+/// (inner nodes refer to flat indices within the subtree's pairs).
 struct Subtree {
     root: Node,
-    pairs: Vec<NodePair>,
+    /// The pairs in layout order, as the pieces the threads built: each with
+    /// the amount to add to its inner nodes' child indices. Joining subtrees
+    /// only adjusts these amounts; the pairs are copied once, at the end.
+    pieces: Vec<(Vec<NodePair>, u32)>,
+    pair_count: usize,
     depth: u32,
 }
 
 /// Below this many primitives a subtree is built on one thread by a loop.
 const PARALLEL_THRESHOLD: usize = 32 * 1024;
 
-/// Builds the node array over `items`, reordering them into leaf order.
-/// Returns the nodes and the depth of the deepest leaf.
-fn build_nodes(items: &mut [Item], config: &BuildConfig) -> (Vec<NodePair>, u32) {
+/// The item arrays of a subtree: `main` ends up in leaf order; `scratch`, of
+/// the same length, receives the items of nodes split by moving them.
+struct Buffers<'a> {
+    main: &'a mut [Item],
+    scratch: &'a mut [Item],
+}
+
+impl Buffers<'_> {
+    /// The items `range` of the buffer they are in, and the same range of the other.
+    fn source_and_target(&mut self, range: std::ops::Range<usize>, in_scratch: bool) -> (&mut [Item], &mut [Item]) {
+        let (main, scratch) = (&mut self.main[range.clone()], &mut self.scratch[range]);
+        if in_scratch { (scratch, main) } else { (main, scratch) }
+    }
+}
+
+/// Builds the node array over `items`, whose boxes all lie in `bounds`,
+/// reordering them into leaf order. Returns the nodes and the depth of the
+/// deepest leaf.
+fn build_nodes(items: &mut [Item], bounds: Aabb, config: &BuildConfig) -> (Vec<NodePair>, u32) {
     if items.is_empty() {
         return (Vec::new(), 0);
     }
-    let tree = build_subtree(items, 0, 0, config);
+    // Filled in parallel: touching 32 bytes per item of fresh memory is
+    // mostly page faults, which the threads then share.
+    let mut scratch: Vec<Item> = (0..items.len()).into_par_iter().map(|_| Item::default()).collect();
+    let buffers = Buffers {
+        main: items,
+        scratch: &mut scratch,
+    };
+    let tree = build_subtree(buffers, false, bounds, 0, 0, config);
     // Pair 0 holds the root and a padding node; the rest follow, shifted by one pair.
-    let mut nodes = Vec::with_capacity(tree.pairs.len() + 1);
+    let mut nodes = Vec::with_capacity(tree.pair_count + 1);
     nodes.push(NodePair([tree.root.shifted(2), PADDING]));
-    nodes.extend(tree.pairs.iter().map(|pair| NodePair(pair.0.map(|n| n.shifted(2)))));
+    for (pairs, shift) in &tree.pieces {
+        let shift = shift + 2;
+        nodes.extend(pairs.iter().map(|pair| NodePair(pair.0.map(|n| n.shifted(shift)))));
+    }
     (nodes, tree.depth)
 }
 
-/// Builds the subtree over `items`, which start at `offset` in the whole item
-/// array, with its root at `depth`.
-fn build_subtree(items: &mut [Item], offset: usize, depth: u32, config: &BuildConfig) -> Subtree {
-    if items.len() < PARALLEL_THRESHOLD {
-        return build_sequential(items, offset, depth, config);
+/// A node's split: the size of the first part, both parts' boxes, and whether
+/// the items moved to the other buffer.
+struct Split {
+    cut: usize,
+    left: Aabb,
+    right: Aabb,
+    moved: bool,
+}
+
+/// Builds the subtree over the items of `buffers` (in `scratch` when
+/// `in_scratch`), which start at `offset` in the whole item array, with its
+/// root at `depth`; `bounds` is the box of the items.
+fn build_subtree(
+    mut buffers: Buffers,
+    in_scratch: bool,
+    bounds: Aabb,
+    offset: usize,
+    depth: u32,
+    config: &BuildConfig,
+) -> Subtree {
+    let len = buffers.main.len();
+    if len < PARALLEL_THRESHOLD {
+        return build_sequential(buffers, in_scratch, bounds, offset, depth, config);
     }
-    let bounds = bounds_of(items);
-    let Some(cut) = split(items, &bounds, depth, config) else {
-        return build_sequential(items, offset, depth, config);
+    let mut counts = Counts::default();
+    let (source, target) = buffers.source_and_target(0..len, in_scratch);
+    let Some(split) = split(source, target, &bounds, depth, config, &mut counts) else {
+        return build_sequential(buffers, in_scratch, bounds, offset, depth, config);
     };
-    let (left_items, right_items) = items.split_at_mut(cut);
+    let cut = split.cut;
+    let (left_main, right_main) = buffers.main.split_at_mut(cut);
+    let (left_scratch, right_scratch) = buffers.scratch.split_at_mut(cut);
+    let children_in_scratch = in_scratch ^ split.moved;
     let (left, right) = rayon::join(
-        || build_subtree(left_items, offset, depth + 1, config),
-        || build_subtree(right_items, offset + cut, depth + 1, config),
+        || {
+            let buffers = Buffers {
+                main: left_main,
+                scratch: left_scratch,
+            };
+            build_subtree(buffers, children_in_scratch, split.left, offset, depth + 1, config)
+        },
+        || {
+            let buffers = Buffers {
+                main: right_main,
+                scratch: right_scratch,
+            };
+            build_subtree(
+                buffers,
+                children_in_scratch,
+                split.right,
+                offset + cut,
+                depth + 1,
+                config,
+            )
+        },
     );
     // Layout: the children pair, then the left subtree's pairs, then the right's.
     let left_shift = 2;
-    let right_shift = 2 + 2 * left.pairs.len() as u32;
-    let mut pairs = Vec::with_capacity(1 + left.pairs.len() + right.pairs.len());
-    pairs.push(NodePair([
-        left.root.shifted(left_shift),
-        right.root.shifted(right_shift),
-    ]));
-    pairs.extend(left.pairs.iter().map(|p| NodePair(p.0.map(|n| n.shifted(left_shift)))));
-    pairs.extend(
+    let right_shift = 2 + 2 * left.pair_count as u32;
+    let children = NodePair([left.root.shifted(left_shift), right.root.shifted(right_shift)]);
+    let mut pieces = Vec::with_capacity(1 + left.pieces.len() + right.pieces.len());
+    pieces.push((vec![children], 0));
+    pieces.extend(
+        left.pieces
+            .into_iter()
+            .map(|(pairs, shift)| (pairs, shift + left_shift)),
+    );
+    pieces.extend(
         right
-            .pairs
-            .iter()
-            .map(|p| NodePair(p.0.map(|n| n.shifted(right_shift)))),
+            .pieces
+            .into_iter()
+            .map(|(pairs, shift)| (pairs, shift + right_shift)),
     );
     Subtree {
         root: Node::inner(widen(bounds), 0),
-        pairs,
+        pieces,
+        pair_count: 1 + left.pair_count + right.pair_count,
         depth: left.depth.max(right.depth),
     }
 }
 
-/// The box of all items.
-fn bounds_of(items: &[Item]) -> Aabb {
-    items
-        .iter()
-        .fold(Aabb::EMPTY, |b, it| b.merge(&Aabb::new(it.min, it.max)))
-}
-
-/// Decides whether the node over `items` is split and, if so, reorders the
-/// items and returns the size of the first part.
-fn split(items: &mut [Item], bounds: &Aabb, depth: u32, config: &BuildConfig) -> Option<usize> {
-    if items.len() <= config.min_size as usize || depth >= config.max_depth {
+/// Decides whether the node over `source` (whose items' boxes make `bounds`)
+/// is split and, if so, splits it, in place or into `target`.
+fn split(
+    source: &mut [Item],
+    target: &mut [Item],
+    bounds: &Aabb,
+    depth: u32,
+    config: &BuildConfig,
+    counts: &mut Counts,
+) -> Option<Split> {
+    if source.len() <= config.min_size as usize || depth >= config.max_depth {
         return None;
     }
-    Some(match config.split {
-        SplitMethod::Median => median_split(items, bounds),
-        SplitMethod::BinnedSah => sah_split(items).unwrap_or_else(|| median_split(items, bounds)),
+    if config.split == SplitMethod::BinnedSah
+        && let Some(split) = sah_split(source)
+    {
+        return Some(split);
+    }
+    let axis = bounds.largest_axis();
+    let cut = source.len() / 2;
+    Some(if source.len() <= SMALL_NODE {
+        let (left, right) = median_small(source, target, axis);
+        Split {
+            cut,
+            left,
+            right,
+            moved: true,
+        }
+    } else {
+        let (left, right) = median_partition(source, target, axis, bounds, counts);
+        Split {
+            cut,
+            left,
+            right,
+            moved: true,
+        }
     })
 }
 
 /// Builds a subtree with an explicit work list, no recursion.
-fn build_sequential(items: &mut [Item], offset: usize, depth: u32, config: &BuildConfig) -> Subtree {
-    // Pair 0 holds the root (and a padding node) while building.
-    let mut pairs = Vec::with_capacity(items.len().div_ceil(config.min_size as usize) + 1);
-    pairs.push(NodePair([PLACEHOLDER, PADDING]));
-    let mut work = vec![(0usize, 0usize, items.len(), depth)];
+fn build_sequential(
+    mut buffers: Buffers,
+    in_scratch: bool,
+    bounds: Aabb,
+    offset: usize,
+    depth: u32,
+    config: &BuildConfig,
+) -> Subtree {
+    let len = buffers.main.len();
+    let mut pairs: Vec<NodePair> = Vec::with_capacity(len.div_ceil(config.min_size as usize));
+    let mut root = PLACEHOLDER;
+    let mut work = vec![(ROOT, 0usize, len, depth, bounds, in_scratch)];
     let mut max_depth = depth;
-    while let Some((node, begin, end, depth)) = work.pop() {
-        let range = &mut items[begin..end];
-        let bounds = bounds_of(range);
+    let mut counts = Counts::default();
+    while let Some((node, begin, end, depth, bounds, in_scratch)) = work.pop() {
         max_depth = max_depth.max(depth);
-        let Some(cut) = split(range, &bounds, depth, config) else {
-            pairs[node >> 1].0[node & 1] = Node::leaf(widen(bounds), (offset + begin) as u32, range.len() as u32);
-            continue;
+        let (source, target) = buffers.source_and_target(begin..end, in_scratch);
+        let made = match split(source, target, &bounds, depth, config, &mut counts) {
+            None => {
+                if in_scratch {
+                    target.copy_from_slice(source);
+                }
+                Node::leaf(widen(bounds), (offset + begin) as u32, (end - begin) as u32)
+            }
+            Some(split) => {
+                let first_child = 2 * pairs.len();
+                pairs.push(NodePair([PLACEHOLDER, PLACEHOLDER]));
+                let cut = begin + split.cut;
+                let children_in_scratch = in_scratch ^ split.moved;
+                // Left child is popped first, so its subtree is laid out next to it.
+                work.push((first_child + 1, cut, end, depth + 1, split.right, children_in_scratch));
+                work.push((first_child, begin, cut, depth + 1, split.left, children_in_scratch));
+                Node::inner(widen(bounds), first_child as u32)
+            }
         };
-        let first_child = 2 * pairs.len();
-        pairs[node >> 1].0[node & 1] = Node::inner(widen(bounds), first_child as u32);
-        pairs.push(NodePair([PLACEHOLDER, PLACEHOLDER]));
-        // Left child is popped first, so its subtree is laid out next to it.
-        work.push((first_child + 1, begin + cut, end, depth + 1));
-        work.push((first_child, begin, begin + cut, depth + 1));
+        if node == ROOT {
+            root = made;
+        } else {
+            pairs[node >> 1].0[node & 1] = made;
+        }
     }
-    // Drop pair 0: inner nodes' child indices move down by one pair.
-    let root = pairs[0].0[0].shifted_down(2);
-    let pairs = pairs[1..]
-        .iter()
-        .map(|p| NodePair(p.0.map(|n| n.shifted_down(2))))
-        .collect();
     Subtree {
         root,
-        pairs,
+        pair_count: pairs.len(),
+        pieces: vec![(pairs, 0)],
         depth: max_depth,
     }
 }
 
-/// Splits `range` into two equal halves along the largest extent of `bounds`;
-/// returns the size of the first half.
-fn median_split(range: &mut [Item], bounds: &Aabb) -> usize {
-    let half = range.len() / 2;
-    let axis = bounds.largest_axis();
-    // Selection puts the `half` smallest keys first: the same two halves a
-    // full sort would give, in linear time per level.
-    range.select_nth_unstable_by(half, |a, b| a.key(axis).total_cmp(&b.key(axis)));
-    half
-}
+/// The work list's name for the subtree's root, which has no slot in its pairs.
+const ROOT: usize = usize::MAX;
 
 const BINS: usize = 16;
 
-/// Binned SAH split of `range`; returns the size of the first part, or `None`
-/// when the centroids cannot be separated (all equal on every axis).
-fn sah_split(range: &mut [Item]) -> Option<usize> {
+/// Binned SAH split of `range` in place, or `None` when the centroids cannot
+/// be separated (all equal on every axis). The parts' boxes are the unions of
+/// their bins' boxes.
+fn sah_split(range: &mut [Item]) -> Option<Split> {
     // Keys are doubled centroids, so the bounds below are of doubled centroids.
     let mut low = Vec3::splat(f32::INFINITY);
     let mut high = Vec3::splat(f32::NEG_INFINITY);
     for it in range.iter() {
-        let c = it.min + it.max;
+        let c = it.min() + it.max();
         low = low.min(c);
         high = high.max(c);
     }
@@ -253,7 +393,7 @@ fn sah_split(range: &mut [Item]) -> Option<usize> {
     let mut counts = [[0usize; BINS]; 3];
     let mut boxes = [[Aabb::EMPTY; BINS]; 3];
     for it in range.iter() {
-        let b = Aabb::new(it.min, it.max);
+        let b = Aabb::new(it.min(), it.max());
         for axis in 0..3 {
             let k = bin(it, axis);
             counts[axis][k] += 1;
@@ -300,7 +440,13 @@ fn sah_split(range: &mut [Item]) -> Option<usize> {
             range.swap(i, j);
         }
     }
-    (i > 0 && i < range.len()).then_some(i)
+    let union = |bins: &[Aabb]| bins.iter().fold(Aabb::EMPTY, |acc, b| acc.merge(b));
+    (i > 0 && i < range.len()).then(|| Split {
+        cut: i,
+        left: union(&boxes[axis][..cut]),
+        right: union(&boxes[axis][cut..]),
+        moved: false,
+    })
 }
 
 const PLACEHOLDER: Node = Node::empty_leaf();

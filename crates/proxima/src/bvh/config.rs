@@ -70,7 +70,7 @@ impl BuildConfig {
 
     /// Binned SAH with leaves of up to 4 primitives: about 10-25% fewer nodes
     /// and primitives visited per closest-point query than [`fast_build`](Self::fast_build),
-    /// for a build about twice as slow. For trees that answer many queries.
+    /// for a build about three times as slow. For trees that answer many queries.
     pub fn fast_queries() -> Self {
         Self {
             split: SplitMethod::BinnedSah,

@@ -1,10 +1,10 @@
 //! The AABB tree (bounding volume hierarchy of axis-aligned boxes).
 //!
-//! One file per operation: [`build`](AabbTree::build) in `build.rs`, the
-//! closest-primitive search in `closest.rs`, k-nearest in `knn.rs`, view
-//! frustum queries in `frustum.rs`, batches over many points in `batch.rs`,
-//! first hit and any hit along a ray in `ray.rs`, statistics and invariants in
-//! `validate.rs`.
+//! One file per operation: [`build`](AabbTree::build) in `build.rs` (its median
+//! split in `median.rs`), the closest-primitive search in `closest.rs`,
+//! k-nearest in `knn.rs`, view frustum queries in `frustum.rs`, batches over
+//! many points in `batch.rs`, first hit and any hit along a ray in `ray.rs`,
+//! statistics and invariants in `validate.rs`.
 
 mod batch;
 mod build;
@@ -12,6 +12,7 @@ mod closest;
 mod config;
 mod frustum;
 mod knn;
+mod median;
 mod node;
 mod ray;
 mod traverse;

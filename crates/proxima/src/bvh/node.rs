@@ -99,19 +99,6 @@ impl Node {
         }
     }
 
-    /// This node with its child index moved down by `by` (leaves unchanged).
-    #[inline]
-    pub(crate) fn shifted_down(self, by: u32) -> Self {
-        if self.count == 0 {
-            Self {
-                first: self.first - by,
-                ..self
-            }
-        } else {
-            self
-        }
-    }
-
     pub(crate) fn inner(bounds: Aabb, first_child: u32) -> Self {
         Self {
             min: bounds.min,

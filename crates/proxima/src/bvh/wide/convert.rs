@@ -53,9 +53,16 @@ impl<'a> Packer<'a> {
             .downcast_ref::<AabbTree<Triangle>>()
             .map(AabbTree::primitives)
             .filter(|_| cfg!(target_arch = "x86_64"));
+        // Reserved exactly: growing by doubling would copy tens of megabytes.
+        let packets = triangles.map_or(0, |_| {
+            tree.nodes()
+                .filter(|(_, n)| n.is_leaf())
+                .map(|(_, n)| n.primitive_range().len().div_ceil(4))
+                .sum()
+        });
         Self {
             triangles,
-            packets: Vec::new(),
+            packets: Vec::with_capacity(packets),
         }
     }
 
