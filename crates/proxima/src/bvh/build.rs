@@ -106,7 +106,7 @@ impl<T: Bounded + Copy + Send + Sync> AabbTree<T> {
             .map(|&i| (primitives[i as usize], sources[i as usize]))
             .unzip();
         Ok(Self {
-            nodes,
+            nodes: nodes.into(),
             primitives: ordered,
             indices,
             sources,

@@ -36,6 +36,7 @@ pub(crate) use traverse::{Counter, PairedNode, nearest_first};
 pub(crate) use validate::check_structure;
 
 use crate::math::Vec3;
+use crate::memory::HugePageArray;
 
 /// A bounding volume hierarchy of axis-aligned boxes over primitives of type `T`.
 ///
@@ -46,7 +47,7 @@ use crate::math::Vec3;
 #[derive(Clone, Debug)]
 pub struct AabbTree<T> {
     /// Node pairs; see [`Node`] for the indexing.
-    nodes: Vec<NodePair>,
+    nodes: HugePageArray<NodePair>,
     /// Primitives in leaf order.
     primitives: Vec<T>,
     /// `indices[i]`: position in the build input of `primitives[i]`.

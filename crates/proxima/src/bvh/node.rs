@@ -10,7 +10,7 @@ use crate::math::{Vec3, Vec3A};
 /// even index), in one 64-byte cache line, and the traversal reads them
 /// together. A leaf owns the primitives
 /// `first..first + count` of the tree's primitive array (kept in leaf order).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 #[repr(C, align(32))]
 pub struct Node {
     /// Smallest corner of the node's box.
@@ -29,7 +29,7 @@ const _: () = assert!(std::mem::size_of::<Node>() == 32);
 /// pairs so that the traversal, which always reads both children of a node,
 /// touches exactly one line per step. Flat node index `i` lives at
 /// `pairs[i / 2][i % 2]`; the root is node 0 and node 1 is padding.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 #[repr(C, align(64))]
 pub(crate) struct NodePair(pub(crate) [Node; 2]);
 
