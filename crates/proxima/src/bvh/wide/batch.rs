@@ -27,10 +27,11 @@ impl<T: ClosestPoint + Sync> WideTree<T> {
 
     /// [`closest_batch`](Self::closest_batch) with explicit options.
     ///
-    /// Without `seed_radius`, each thread interleaves the walks of
-    /// [`interleave`](BatchOptions::interleave) queries: it advances each by
-    /// one node or leaf in turn, so the cache misses of one overlap the work
-    /// of the others. The answers are those of [`closest`](Self::closest), query by query.
+    /// Without `seed_radius`, each thread takes chunks of the (sorted)
+    /// queries and, with [`interleave`](BatchOptions::interleave) above 1,
+    /// interleaves that many walks: it advances each by one node or leaf in
+    /// turn, so that the cache misses of one overlap the work of the others.
+    /// Either way the answers are those of [`closest`](Self::closest), query by query.
     pub fn closest_batch_with(&self, points: &[Vec3], options: BatchOptions) -> Vec<Option<ClosestHit>> {
         if options.seed_radius {
             return answer_batch(
