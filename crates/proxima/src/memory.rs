@@ -105,6 +105,95 @@ impl<T: Pod> HugePageArray<T> {
     }
 }
 
+/// A [`HugePageArray`] filled in place, element by element: for arrays whose
+/// final size is known (or bounded) in advance, this avoids building a `Vec`
+/// first and copying it, which on a large tree costs as much again as the
+/// filling itself (page faults on both copies).
+pub(crate) struct HugePageVec<T: Pod> {
+    storage: Storage<T>,
+    /// Elements the mapping holds (unused for a `Vec`).
+    capacity: usize,
+}
+
+impl<T: Pod> HugePageVec<T> {
+    /// Room for `capacity` elements, mapped on huge pages when that is at
+    /// least 8 MiB. Untouched capacity costs address space only.
+    pub(crate) fn with_capacity(capacity: usize) -> Self {
+        #[cfg(target_os = "linux")]
+        if capacity.saturating_mul(std::mem::size_of::<T>()) >= MAPPED_FROM
+            && huge_pages()
+            && let Some((map, offset)) = Self::map(capacity)
+        {
+            return Self {
+                storage: Storage::Mapped { map, offset, len: 0 },
+                capacity,
+            };
+        }
+        Self {
+            storage: Storage::Heap(Vec::with_capacity(capacity)),
+            capacity,
+        }
+    }
+
+    /// An anonymous mapping for `capacity` elements advised `MADV_HUGEPAGE`,
+    /// and the offset of its first 2 MiB boundary.
+    #[cfg(target_os = "linux")]
+    fn map(capacity: usize) -> Option<(memmap2::MmapMut, usize)> {
+        let bytes = capacity.checked_mul(std::mem::size_of::<T>())?;
+        let map = memmap2::MmapMut::map_anon(bytes.checked_add(HUGE_PAGE)?).ok()?;
+        map.advise(memmap2::Advice::HugePage).ok()?;
+        let start = map.as_ptr() as usize;
+        Some((map, start.next_multiple_of(HUGE_PAGE) - start))
+    }
+
+    /// Number of elements.
+    pub(crate) fn len(&self) -> usize {
+        match &self.storage {
+            Storage::Heap(values) => values.len(),
+            #[cfg(target_os = "linux")]
+            Storage::Mapped { len, .. } => *len,
+        }
+    }
+
+    /// Appends `value`. Past the capacity of a mapping, the elements move to
+    /// a `Vec` (correct, just without huge pages).
+    pub(crate) fn push(&mut self, value: T) {
+        #[cfg(target_os = "linux")]
+        if let Storage::Mapped { map, offset, len } = &mut self.storage {
+            if *len < self.capacity {
+                let size = std::mem::size_of::<T>();
+                let at = *offset + *len * size;
+                map[at..at + size].copy_from_slice(bytemuck::bytes_of(&value));
+                *len += 1;
+                return;
+            }
+            let mut values = self.as_mut_slice().to_vec();
+            values.push(value);
+            self.storage = Storage::Heap(values);
+            return;
+        }
+        if let Storage::Heap(values) = &mut self.storage {
+            values.push(value);
+        }
+    }
+
+    /// The elements, to change in place.
+    pub(crate) fn as_mut_slice(&mut self) -> &mut [T] {
+        match &mut self.storage {
+            Storage::Heap(values) => values,
+            #[cfg(target_os = "linux")]
+            Storage::Mapped { map, offset, len } => {
+                bytemuck::cast_slice_mut(&mut map[*offset..*offset + *len * std::mem::size_of::<T>()])
+            }
+        }
+    }
+
+    /// The finished array, without a copy.
+    pub(crate) fn finish(self) -> HugePageArray<T> {
+        HugePageArray { storage: self.storage }
+    }
+}
+
 impl<T: Pod> Deref for HugePageArray<T> {
     type Target = [T];
 
@@ -182,5 +271,32 @@ mod tests {
         let copy = array.clone();
         assert!(copy[..] == values[..]);
         assert_ne!(copy.as_ptr(), array.as_ptr());
+    }
+
+    #[test]
+    fn arrays_filled_in_place_read_back_mapped_or_not() {
+        // Large and small capacities; filled exactly, partly, and past the
+        // capacity (which moves to the heap); then changed in place.
+        let big = (12 << 20) / 16;
+        for (capacity, count) in [(big, big), (big, 1000), (big, big + 5), (100, 100), (100, 250), (0, 3)] {
+            let mut array = HugePageVec::with_capacity(capacity);
+            let values: Vec<[u32; 4]> = (0..count as u32).map(|i| [i, !i, i * 7, i ^ 0x55]).collect();
+            for &v in &values {
+                array.push(v);
+            }
+            assert_eq!(array.len(), count);
+            array.as_mut_slice()[count / 2][0] = 1234;
+            let mut expected = values.clone();
+            expected[count / 2][0] = 1234;
+            let array = array.finish();
+            assert!(array[..] == expected[..], "capacity {capacity}, {count} pushed");
+            if cfg!(target_os = "linux") {
+                assert_eq!(
+                    array.is_mapped(),
+                    capacity == big && count <= big,
+                    "capacity {capacity}, {count} pushed"
+                );
+            }
+        }
     }
 }

@@ -5,6 +5,7 @@ use super::{WideNode, WideTree};
 use crate::bvh::AabbTree;
 use crate::bvh::config::BuildConfig;
 use crate::error::BuildError;
+use crate::memory::HugePageVec;
 use crate::primitive::{Bounded, PrimitiveSet, Triangle};
 use std::any::Any;
 use std::ops::Range;
@@ -44,7 +45,7 @@ fn collapse<T>(tree: &AabbTree<T>, index: usize) -> ([usize; 4], usize) {
 /// known to repeat glam's bit for bit).
 struct Packer<'a> {
     triangles: Option<&'a [Triangle]>,
-    packets: Vec<TrianglePacket>,
+    packets: HugePageVec<TrianglePacket>,
 }
 
 impl<'a> Packer<'a> {
@@ -53,7 +54,8 @@ impl<'a> Packer<'a> {
             .downcast_ref::<AabbTree<Triangle>>()
             .map(AabbTree::primitives)
             .filter(|_| cfg!(target_arch = "x86_64"));
-        // Reserved exactly: growing by doubling would copy tens of megabytes.
+        // Reserved exactly, in place on huge pages: growing by doubling, or
+        // copying into the mapping afterwards, would copy tens of megabytes.
         let packets = triangles.map_or(0, |_| {
             tree.nodes()
                 .filter(|(_, n)| n.is_leaf())
@@ -62,7 +64,7 @@ impl<'a> Packer<'a> {
         });
         Self {
             triangles,
-            packets: Vec::with_capacity(packets),
+            packets: HugePageVec::with_capacity(packets),
         }
     }
 
@@ -88,7 +90,9 @@ impl<T: 'static> WideTree<T> {
     /// For [`Triangle`]s (on x86-64) the leaves' triangles are also copied into
     /// packets of four, tested at once with the same results as one by one.
     pub fn from_tree(tree: AabbTree<T>) -> Self {
-        let mut nodes = Vec::new();
+        // Each wide node stands for a distinct inner binary node, so there
+        // are at most as many as those: (nodes + 1) / 2 of a full binary tree.
+        let mut nodes = HugePageVec::with_capacity(tree.node_count().div_ceil(2));
         let mut depth = 0;
         let mut packer = Packer::new(&tree);
         if let Some(root) = tree.root() {
@@ -96,7 +100,7 @@ impl<T: 'static> WideTree<T> {
             if root.is_leaf() {
                 let range = root.primitive_range();
                 let first = packer.leaf(range.clone());
-                nodes[0].set_child(0, root.bounds(), first, Some(range.len() as u32));
+                nodes.as_mut_slice()[0].set_child(0, root.bounds(), first, Some(range.len() as u32));
             } else {
                 // (wide node to fill, binary node it stands for, its depth)
                 let mut work = vec![(0usize, 0usize, 0u32)];
@@ -108,21 +112,21 @@ impl<T: 'static> WideTree<T> {
                         if node.is_leaf() {
                             let range = node.primitive_range();
                             let first = packer.leaf(range.clone());
-                            nodes[wide].set_child(lane, node.bounds(), first, Some(range.len() as u32));
+                            nodes.as_mut_slice()[wide].set_child(lane, node.bounds(), first, Some(range.len() as u32));
                         } else {
                             let index = nodes.len();
                             nodes.push(WideNode::EMPTY);
-                            nodes[wide].set_child(lane, node.bounds(), index as u32, None);
+                            nodes.as_mut_slice()[wide].set_child(lane, node.bounds(), index as u32, None);
                             work.push((index, child, d + 1));
                         }
                     }
                 }
             }
         }
-        let packets = packer.packets.into();
+        let packets = packer.packets.finish();
         Self {
             tree,
-            nodes: nodes.into(),
+            nodes: nodes.finish(),
             packets,
             depth,
         }
