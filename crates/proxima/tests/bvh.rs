@@ -5,7 +5,7 @@
 mod common;
 
 use common::{bumpy_sphere, queries, random_soup, shared_meshes};
-use proxima::bvh::{BatchOptions, SplitMethod};
+use proxima::bvh::SplitMethod;
 use proxima::{AabbTree, BuildConfig, ClosestPoint, LinearSearch, Mesh, PrimitiveSet, Vec3};
 
 fn configs() -> Vec<BuildConfig> {
@@ -46,16 +46,9 @@ fn check<T: ClosestPoint + Copy + Send + Sync + std::fmt::Debug>(
     for (i, &p) in points.iter().enumerate() {
         assert_eq!(batch[i], linear.closest(p));
     }
-    // Every combination of Morton order and radius seeding gives the same answers.
-    for reorder in [false, true] {
-        for (seed_radius, interleave) in [(false, 1), (true, 1), (false, 2), (false, 8), (false, 16), (true, 8)] {
-            let options = BatchOptions {
-                reorder,
-                seed_radius,
-                interleave,
-            };
-            assert_eq!(tree.closest_batch_with(points, options), batch, "{options:?}");
-        }
+    // Every batch configuration gives the same answers.
+    for options in common::batch_options() {
+        assert_eq!(tree.closest_batch_with(points, options), batch, "{options:?}");
     }
     if let Some(&k) = ks.iter().max() {
         let batch = tree.k_nearest_batch(points, k);

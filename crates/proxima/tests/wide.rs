@@ -5,7 +5,7 @@
 mod common;
 
 use common::{bumpy_sphere, queries, random_soup, shared_meshes};
-use proxima::bvh::{BatchOptions, SplitMethod, WideChild, WideTree};
+use proxima::bvh::{SplitMethod, WideChild, WideTree};
 use proxima::{AabbTree, BuildConfig, ClosestPoint, LinearSearch, Mesh, Point, PrimitiveSet, Triangle, Vec3};
 
 fn configs() -> Vec<BuildConfig> {
@@ -80,16 +80,9 @@ fn check<T: ClosestPoint + Copy + Send + Sync + std::fmt::Debug + 'static>(
     for (i, &p) in points.iter().enumerate() {
         assert_eq!(batch[i], linear.closest(p));
     }
-    // Every combination of Morton order and radius seeding gives the same answers.
-    for reorder in [false, true] {
-        for (seed_radius, interleave) in [(false, 1), (true, 1), (false, 2), (false, 8), (false, 16), (true, 8)] {
-            let options = BatchOptions {
-                reorder,
-                seed_radius,
-                interleave,
-            };
-            assert_eq!(wide.closest_batch_with(points, options), batch, "{options:?}");
-        }
+    // Every batch configuration gives the same answers.
+    for options in common::batch_options() {
+        assert_eq!(wide.closest_batch_with(points, options), batch, "{options:?}");
     }
     if let Some(&k) = ks.iter().max() {
         let batch = wide.k_nearest_batch(points, k);

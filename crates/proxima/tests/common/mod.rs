@@ -72,6 +72,22 @@ pub fn bumpy_sphere(frequency: u32, seed: u64) -> Mesh {
 
 /// Query points of every kind: far away, near the surface, uniform in the box,
 /// exactly on vertices, on edge midpoints, at the center (inside closed meshes).
+/// Every batch configuration worth checking: input and Morton order, with
+/// and without radius seeding, one to sixteen interleaved walks.
+pub fn batch_options() -> Vec<proxima::bvh::BatchOptions> {
+    let mut out = Vec::new();
+    for reorder in [false, true] {
+        for (seed_radius, interleave) in [(false, 1), (true, 1), (false, 2), (false, 8), (false, 16), (true, 8)] {
+            out.push(proxima::bvh::BatchOptions {
+                reorder,
+                seed_radius,
+                interleave,
+            });
+        }
+    }
+    out
+}
+
 pub fn queries(mesh: &Mesh, n: usize, seed: u64) -> Vec<Vec3> {
     let mut out = proxima::sample::near_surface(mesh, n, 0.01, seed);
     out.extend(proxima::sample::uniform_in_box(mesh, n, seed + 1));
