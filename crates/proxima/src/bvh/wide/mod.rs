@@ -26,6 +26,8 @@
 //! radius has shrunk. Every child within reach is prefetched as soon as its
 //! node is read, so that the cache misses of a step overlap.
 
+#[cfg(target_arch = "x86_64")]
+mod avx2;
 mod batch;
 mod closest;
 mod convert;
@@ -46,6 +48,16 @@ use wide::f32x4;
 
 /// Marks a leaf lane in [`WideNode::counts`]; the low bits are the number of primitives.
 const LEAF: u32 = 1 << 31;
+
+/// For an inner lane, [`WideNode::counts`] holds 1 + the index of the first
+/// triangle packet of that wide node's own leaf lanes (0: none), so that a
+/// walk can prefetch the packets together with the node
+/// ([`PREFETCHED_PACKETS`](traverse::PREFETCHED_PACKETS) of them). This gives
+/// the packet's index, or `usize::MAX` (which no slice holds) for none.
+#[inline(always)]
+fn packet_hint(count: u32) -> usize {
+    (count as usize).wrapping_sub(1)
+}
 
 /// One node of a [`WideTree`]: the boxes of up to four children in structure
 /// of arrays form, and for each child either the index of a wide node or a
@@ -73,7 +85,8 @@ pub struct WideNode {
     /// Inner child: index of its wide node. Leaf child: its first primitive
     /// slot, or for a tree of triangles its first triangle packet.
     children: [u32; 4],
-    /// 0 for an inner child; `LEAF | count` for a leaf child.
+    /// `LEAF | count` for a leaf child; for an inner child, 1 + the index of
+    /// the first triangle packet of that node's leaf lanes, or 0.
     counts: [u32; 4],
 }
 
@@ -129,6 +142,12 @@ impl WideNode {
         };
     }
 
+    /// Records in inner lane `lane` the first packet of its node's leaf lanes.
+    pub(crate) fn set_packet_hint(&mut self, lane: usize, packet: u32) {
+        assert!(self.counts[lane] == 0 && packet < LEAF - 1);
+        self.counts[lane] = packet + 1;
+    }
+
     /// Squared distances from the query (splatted per axis) to the four child
     /// boxes, 0 inside; an empty lane gives `+inf`. Same formula as
     /// [`Node::distance_squared`](super::Node::distance_squared), up to the
@@ -175,6 +194,8 @@ pub struct WideTree<T> {
     packets: HugePageArray<TrianglePacket>,
     /// Depth of the deepest wide node (the root has depth 0).
     depth: u32,
+    /// Present when leaves are tested two packets at a time with AVX2.
+    avx2: Option<traverse::Avx2>,
 }
 
 impl<T> WideTree<T> {
@@ -198,7 +219,7 @@ impl<T> WideTree<T> {
         let n = &self.nodes[node];
         let (child, count) = (n.children[lane] as usize, n.counts[lane]);
         match count {
-            0 => WideChild::Inner(child),
+            _ if count & LEAF == 0 => WideChild::Inner(child),
             LEAF => WideChild::Empty,
             _ => {
                 let first = match self.packets.get(child) {
@@ -214,6 +235,20 @@ impl<T> WideTree<T> {
     /// [`Triangle`](crate::Triangle)s on x86-64).
     pub fn has_triangle_packets(&self) -> bool {
         !self.packets.is_empty()
+    }
+
+    /// Whether leaf triangles are tested eight at a time with AVX2 (trees of
+    /// triangles, on x86-64 CPUs that have it); otherwise four at a time.
+    /// The answers are the same either way.
+    pub fn uses_avx2(&self) -> bool {
+        self.avx2.is_some() && self.has_triangle_packets()
+    }
+
+    /// Turns the AVX2 leaf test off, or back on where the CPU has AVX2 (it
+    /// is on by default), to compare the two; answers are identical. The
+    /// leaves stay as they were made (see [`from_tree_portable`](Self::from_tree_portable)).
+    pub fn set_avx2(&mut self, enabled: bool) {
+        self.avx2 = if enabled { traverse::detect_avx2() } else { None };
     }
 
     /// Bytes of the wide nodes and triangle packets, on top of the binary

@@ -229,7 +229,7 @@ impl TrianglePacket {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::math::Vec3;
     use crate::primitive::ClosestPoint;
@@ -245,7 +245,7 @@ mod tests {
 
     /// Triangles of every shape: ordinary, thin across the sliver bound
     /// (sin² of the angle at `a` from 1e-7 to 1e-1), degenerate, tiny, huge.
-    fn triangles(rng: &mut Rng, n: usize) -> Vec<Triangle> {
+    pub(crate) fn triangles(rng: &mut Rng, n: usize) -> Vec<Triangle> {
         (0..n)
             .map(|i| {
                 let a = vec(rng, 1.0);

@@ -183,12 +183,12 @@ impl<T: RayIntersect> WideTree<T> {
         let slabs = WideSlabs::new(&RaySlabs::new(ray.origin(), direction, root.min, root.max));
         let slices = self.slices();
         let (primitives, packets) = (slices.primitives, slices.packets);
-        // (child, count, entry): a wide node (count 0) or a leaf (LEAF | n).
+        // (child, count, entry): a wide node (LEAF bit clear) or a leaf (LEAF | n).
         let mut stack = [(0u32, 0u32, 0f32); 3 * (MAX_DEPTH as usize + 1)];
         let mut top = 0usize;
         let (mut child, mut count) = (0u32, 0u32);
         loop {
-            if count == 0 {
+            if count & LEAF == 0 {
                 let node = &slices.nodes[child as usize];
                 counter.nodes(1);
                 let (enter, mask) = slabs.entries(node, t_min, visitor.t_hi());
