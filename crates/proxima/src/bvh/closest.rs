@@ -13,6 +13,8 @@ use std::collections::BinaryHeap;
 pub(crate) struct Best<'a> {
     indices: &'a [u32],
     pub(crate) slot: usize,
+    /// The input index of `slot`, or [`UNKNOWN`] until a tie needs it.
+    index: u32,
     pub(crate) point: Vec3A,
     pub(crate) distance_squared: f32,
     bound: f32,
@@ -24,6 +26,7 @@ impl<'a> Best<'a> {
         Self {
             indices,
             slot: 0,
+            index: UNKNOWN,
             point: Vec3A::ZERO,
             distance_squared: max_distance_squared,
             bound: max_distance_squared * PRUNE_SLACK,
@@ -31,11 +34,23 @@ impl<'a> Best<'a> {
         }
     }
 
+    /// The input index of the best so far (read from the index array only
+    /// when a tie first needs it).
+    #[inline(always)]
+    fn index(&self) -> u32 {
+        if self.index == UNKNOWN {
+            self.indices[self.slot]
+        } else {
+            self.index
+        }
+    }
+
     #[inline(always)]
     pub(crate) fn offer(&mut self, slot: usize, q: Vec3A, d2: f32) {
         let better = d2 < self.distance_squared
-            || (d2 == self.distance_squared && (!self.found || self.indices[slot] < self.indices[self.slot]));
+            || (d2 == self.distance_squared && (!self.found || self.indices[slot] < self.index()));
         if better {
+            self.index = UNKNOWN;
             self.slot = slot;
             self.point = q;
             self.distance_squared = d2;
@@ -44,6 +59,26 @@ impl<'a> Best<'a> {
         }
     }
 }
+
+impl Best<'_> {
+    /// [`offer`](Self::offer) for a primitive whose input index is known.
+    #[inline(always)]
+    pub(crate) fn offer_indexed(&mut self, slot: usize, index: u32, q: Vec3A, d2: f32) {
+        let better =
+            d2 < self.distance_squared || (d2 == self.distance_squared && (!self.found || index < self.index()));
+        if better {
+            self.index = index;
+            self.slot = slot;
+            self.point = q;
+            self.distance_squared = d2;
+            self.bound = d2 * PRUNE_SLACK;
+            self.found = true;
+        }
+    }
+}
+
+/// No input index is this large: there are fewer than 2^32 primitives.
+const UNKNOWN: u32 = u32::MAX;
 
 impl<T: ClosestPoint> DistanceVisitor<T> for Best<'_> {
     #[inline(always)]

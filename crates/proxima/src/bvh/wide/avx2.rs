@@ -272,7 +272,10 @@ mod tests {
         let tris = super::super::packet::tests::triangles(&mut rng, 4000);
         let mut checked = 0;
         for chunk in tris.chunks(8) {
-            let (lo, hi) = (TrianglePacket::new(&chunk[..4], 0), TrianglePacket::new(&chunk[4..], 4));
+            let (lo, hi) = (
+                TrianglePacket::new(&chunk[..4], &[0, 1, 2, 3], 0),
+                TrianglePacket::new(&chunk[4..], &[4, 5, 6, 7], 4),
+            );
             for j in 0..40 {
                 let s = [1e-20, 1.0, 3.0, 1e18][j % 4];
                 let p = Vec3A::new(rng.range(-s, s), rng.range(-s, s), rng.range(-s, s));

@@ -10,8 +10,8 @@ use crate::primitive::ClosestPoint;
 
 impl<T: ClosestPoint> LaneVisitor<T> for Best<'_> {
     #[inline(always)]
-    fn offer(&mut self, slot: usize, q: Vec3A, d2: f32) {
-        Best::offer(self, slot, q, d2);
+    fn offer(&mut self, slot: usize, index: u32, q: Vec3A, d2: f32) {
+        Best::offer_indexed(self, slot, index, q, d2);
     }
 }
 

@@ -78,6 +78,7 @@ const WIDE_LEAF_AVX2: usize = 8;
 /// known to repeat glam's bit for bit).
 struct Packer<'a> {
     triangles: Option<&'a [Triangle]>,
+    indices: &'a [u32],
     packets: HugePageVec<TrianglePacket>,
 }
 
@@ -97,6 +98,7 @@ impl<'a> Packer<'a> {
         });
         Self {
             triangles,
+            indices: &tree.indices,
             packets: HugePageVec::with_capacity(packets),
         }
     }
@@ -109,8 +111,11 @@ impl<'a> Packer<'a> {
         let index = self.packets.len() as u32;
         for start in range.clone().step_by(4) {
             let end = (start + 4).min(range.end);
-            self.packets
-                .push(TrianglePacket::new(&triangles[start..end], start as u32));
+            self.packets.push(TrianglePacket::new(
+                &triangles[start..end],
+                &self.indices[start..end],
+                start as u32,
+            ));
         }
         index
     }

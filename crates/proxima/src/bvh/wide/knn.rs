@@ -25,13 +25,13 @@ impl WideKnnScratch {
 impl<T: ClosestPoint> LaneVisitor<T> for KBest<'_> {
     /// As `KBest`'s `visit` does with the point it computes.
     #[inline(always)]
-    fn offer(&mut self, slot: usize, q: Vec3A, d2: f32) {
+    fn offer(&mut self, slot: usize, index: u32, q: Vec3A, d2: f32) {
         if d2 <= self.bound {
             KBest::offer(
                 self,
                 Candidate {
                     distance_squared: d2,
-                    index: self.indices[slot],
+                    index,
                     slot: slot as u32,
                     point: q,
                 },

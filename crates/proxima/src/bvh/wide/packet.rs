@@ -25,8 +25,10 @@ use wide::f32x4;
 const SCALAR_SIN2: f32 = 4e-4;
 
 /// Up to four triangles of one leaf in structure of arrays form, with the
-/// leaf-order slot of the first. Lanes past the leaf's end repeat a real
-/// triangle and are masked out.
+/// leaf-order slot of the first and each lane's input index (so that a tie
+/// in distance, common where triangles share a vertex, is broken without a
+/// cache miss on the tree's index array). Lanes past the leaf's end repeat
+/// a real triangle and are masked out.
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 #[repr(C, align(16))]
 pub(crate) struct TrianglePacket {
@@ -37,12 +39,14 @@ pub(crate) struct TrianglePacket {
     /// Lanes answered by the scalar routine (slivers, degenerate triangles).
     pub(crate) slow: u32,
     _pad: u32,
+    /// Input index of each lane's triangle.
+    pub(crate) index: [u32; 4],
     pub(crate) a: [[f32; 4]; 3],
     pub(crate) b: [[f32; 4]; 3],
     pub(crate) c: [[f32; 4]; 3],
 }
 
-const _: () = assert!(std::mem::size_of::<TrianglePacket>() == 160);
+const _: () = assert!(std::mem::size_of::<TrianglePacket>() == 176);
 
 /// Three `f32x4`: one 3D vector per lane.
 #[derive(Clone, Copy)]
@@ -137,14 +141,16 @@ impl V3 {
 }
 
 impl TrianglePacket {
-    /// Packs `triangles` (1 to 4), the first of which sits at slot `first`.
-    pub(crate) fn new(triangles: &[Triangle], first: u32) -> Self {
-        assert!((1..=4).contains(&triangles.len()));
+    /// Packs `triangles` (1 to 4), the first of which sits at slot `first`,
+    /// with their input indices `indices`.
+    pub(crate) fn new(triangles: &[Triangle], indices: &[u32], first: u32) -> Self {
+        assert!((1..=4).contains(&triangles.len()) && indices.len() == triangles.len());
         let mut packet = Self {
             first,
             fast: 0,
             slow: 0,
             _pad: 0,
+            index: std::array::from_fn(|lane| indices[lane.min(indices.len() - 1)]),
             a: [[0.0; 4]; 3],
             b: [[0.0; 4]; 3],
             c: [[0.0; 4]; 3],
@@ -276,7 +282,7 @@ pub(crate) mod tests {
         for (k, chunk) in tris.chunks(4).enumerate() {
             // Leaves of 1 to 4 triangles.
             let chunk = &chunk[..1 + k % 4];
-            let packet = TrianglePacket::new(chunk, 0);
+            let packet = TrianglePacket::new(chunk, &[0, 1, 2, 3][..chunk.len()], 0);
             assert_eq!(packet.fast | packet.slow, (1 << chunk.len()) - 1);
             assert_eq!(packet.fast & packet.slow, 0);
             slow += packet.slow.count_ones();

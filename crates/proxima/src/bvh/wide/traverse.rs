@@ -28,8 +28,9 @@ pub(crate) enum Avx2 {}
 /// triangles at a time).
 pub(crate) trait LaneVisitor<T>: DistanceVisitor<T> {
     /// Considers the point `q` at squared distance `d2` of the primitive at
-    /// leaf-order slot `slot`, exactly as `visit` would have computed them.
-    fn offer(&mut self, slot: usize, q: Vec3A, d2: f32);
+    /// leaf-order slot `slot`, of input index `index`, exactly as `visit`
+    /// would have computed them.
+    fn offer(&mut self, slot: usize, index: u32, q: Vec3A, d2: f32);
 }
 
 /// A subtree waiting on the stack: a wide node (`count & LEAF == 0`) or a
@@ -63,6 +64,16 @@ pub(crate) fn prefetch<T>(x: &T) {
     safe_arch::prefetch_t0(x);
     #[cfg(not(all(target_arch = "x86_64", target_feature = "sse")))]
     let _ = x;
+}
+
+/// Asks for every cache line of a triangle packet (176 bytes at a 16-byte
+/// boundary: three or four lines).
+#[inline(always)]
+fn prefetch_packet(packet: &super::packet::TrianglePacket) {
+    prefetch(packet);
+    prefetch(&packet.a[2]);
+    prefetch(&packet.b[2]);
+    prefetch(&packet.c[2]);
 }
 
 /// The arrays a walk reads, taken once per query: the node and packet
@@ -123,15 +134,11 @@ impl<T> Slices<'_, T> {
                 // after the node itself.
                 let packets = self.packets.get(super::packet_hint(k)..).unwrap_or(&[]);
                 for packet in &packets[..packets.len().min(PREFETCHED_PACKETS)] {
-                    prefetch(packet);
-                    prefetch(&packet.b);
-                    prefetch(&packet.c);
+                    prefetch_packet(packet);
                 }
             } else if !self.packets.is_empty() {
                 if let Some(packet) = self.packets.get(c) {
-                    prefetch(packet);
-                    prefetch(&packet.b);
-                    prefetch(&packet.c);
+                    prefetch_packet(packet);
                 }
             } else if k != LEAF {
                 prefetch(&primitives[c]);
@@ -271,6 +278,7 @@ impl<T> Slices<'_, T> {
                 self.offer_lanes(
                     lo.first,
                     bits,
+                    |lane| if lane < 4 { lo.index[lane] } else { hi.index[lane - 4] },
                     |lane| (Vec3A::from_array(point.lane(lane)), super::avx2::lane_of(d2, lane)),
                     visitor,
                 );
@@ -294,6 +302,7 @@ impl<T> Slices<'_, T> {
         self.offer_lanes(
             packet.first,
             bits,
+            |lane| packet.index[lane],
             |lane| (point.lane(lane), d2.as_array()[lane]),
             visitor,
         );
@@ -307,6 +316,7 @@ impl<T> Slices<'_, T> {
         &self,
         first: u32,
         mut bits: u32,
+        index: impl Fn(usize) -> u32,
         lane: impl Fn(usize) -> (Vec3A, f32),
         visitor: &mut V,
     ) {
@@ -314,7 +324,7 @@ impl<T> Slices<'_, T> {
             let l = bits.trailing_zeros() as usize;
             bits &= bits - 1;
             let (point, d2) = lane(l);
-            visitor.offer(first as usize + l, point, d2);
+            visitor.offer(first as usize + l, index(l), point, d2);
         }
     }
 
