@@ -204,3 +204,57 @@ impl<T: Bounded + Copy + Send + Sync + 'static> WideTree<T> {
         AabbTree::build_set(set, config).map(Self::from_tree)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Vec3;
+    use crate::bvh::wide::{LEAF, packet_hint};
+
+    /// Every inner lane points to the first packet of its node's own leaf
+    /// lanes (the one a walk prefetches with the node), or to none when that
+    /// node has no leaf lane; with and without AVX2's merged leaves.
+    #[test]
+    fn inner_lanes_point_to_their_nodes_first_packet() {
+        let mut rng = crate::sample::Rng::new(11);
+        let mut v = || Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
+        let triangles: Vec<Triangle> = (0..3000)
+            .map(|_| {
+                let a = v();
+                Triangle::new(a, a + v() * 0.05, a + v() * 0.05)
+            })
+            .collect();
+        for config in [
+            BuildConfig::default(),
+            BuildConfig {
+                min_size: 1,
+                ..Default::default()
+            },
+        ] {
+            let tree = AabbTree::build(triangles.clone(), &config).unwrap();
+            for wide in [WideTree::from_tree(tree.clone()), WideTree::from_tree_portable(tree)] {
+                assert!(wide.has_triangle_packets());
+                let mut inner_lanes = 0;
+                for node in wide.nodes.iter() {
+                    for lane in 0..4 {
+                        let (child, count) = (node.children[lane] as usize, node.counts[lane]);
+                        if count & LEAF != 0 {
+                            continue;
+                        }
+                        inner_lanes += 1;
+                        let target = &wide.nodes[child];
+                        let first = (0..4)
+                            .filter(|&l| target.counts[l] & LEAF != 0 && target.counts[l] != LEAF)
+                            .map(|l| target.children[l] as usize)
+                            .min();
+                        match first {
+                            Some(first) => assert_eq!(packet_hint(count), first),
+                            None => assert_eq!(count, 0),
+                        }
+                    }
+                }
+                assert!(inner_lanes > 100);
+            }
+        }
+    }
+}
