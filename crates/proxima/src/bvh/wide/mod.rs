@@ -17,14 +17,18 @@
 //! branch-free `f32x4` closest-point routine that repeats the scalar one
 //! operation for operation, so each lane's point and distance are bit for bit
 //! [`Triangle::closest_point`](crate::Triangle)'s; slivers, which the scalar
-//! routine answers in `f64`, are marked when packing and left to it.
+//! routine answers in `f64`, are marked when packing and left to it. On CPUs
+//! with AVX2 (detected at run time, `avx2.rs`) the leaves hold up to eight
+//! triangles and their two packets are tested at once on 256-bit lanes, with
+//! the same bits.
 //!
 //! The traversal ([`WideTree::closest`]) is depth-first with a fixed stack:
 //! at each wide node one `f32x4` computation gives the four box distances,
 //! the children within the radius are visited nearest first, the farther ones
 //! wait on the stack with their distances and are dropped when popped if the
 //! radius has shrunk. Every child within reach is prefetched as soon as its
-//! node is read, so that the cache misses of a step overlap.
+//! node is read, so that the cache misses of a step overlap; an inner child's
+//! leaf packets are prefetched with it, a level ahead.
 
 #[cfg(target_arch = "x86_64")]
 mod avx2;

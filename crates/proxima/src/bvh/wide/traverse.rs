@@ -25,7 +25,7 @@ pub(crate) fn detect_avx2() -> Option<Avx2> {
 pub(crate) enum Avx2 {}
 
 /// A [`DistanceVisitor`] that also takes candidates computed elsewhere (four
-/// triangles at a time).
+/// or eight triangles at a time).
 pub(crate) trait LaneVisitor<T>: DistanceVisitor<T> {
     /// Considers the point `q` at squared distance `d2` of the primitive at
     /// leaf-order slot `slot`, of input index `index`, exactly as `visit`
