@@ -105,7 +105,7 @@ impl Sphere {
     }
 
     /// A tighter sphere than [`from_points`](Self::from_points): starting from
-    /// Ritter's, [`REFINE_PASSES`] passes each shrink the best radius so far
+    /// Ritter's, four passes each shrink the best radius so far
     /// by 5% and grow the sphere again over the points (in alternating
     /// order), keeping the smallest (Ericson, *Real-Time Collision Detection*,
     /// 4.3.4, made deterministic). Never larger than Ritter's. `None` for no points.

@@ -66,7 +66,7 @@ impl<T: Bounded + Copy + Send + Sync> AabbTree<T> {
     /// Builds a tree over `primitives`; the source of each is its input index.
     ///
     /// Fails when the configuration is invalid, a primitive has a non-finite
-    /// coordinate or one beyond [`MAX_COORDINATE`](super::MAX_COORDINATE), or there are 2^32 or more primitives. Large builds use all
+    /// coordinate or one beyond [`MAX_COORDINATE`], or there are 2^32 or more primitives. Large builds use all
     /// threads of rayon's current pool; run it inside a one-thread pool for a
     /// single-thread build (the tree is the same either way).
     pub fn build(primitives: Vec<T>, config: &BuildConfig) -> Result<Self, BuildError> {

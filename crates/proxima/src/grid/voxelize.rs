@@ -76,7 +76,7 @@ enum Storage {
     Sparse(Vec<Cell>),
 }
 
-/// Voxelizes `triangles` over `bounds` (see the [module documentation](self)).
+/// Voxelizes `triangles` over `bounds` (see the module documentation).
 ///
 /// Errors: resolution 0 ([`GridError::Resolution`]); a box that is empty, not
 /// finite or of zero size (invalid cell size); a non-finite triangle; more

@@ -8,7 +8,7 @@
 //!
 //! - **Three vertices**: exactly the [`Triangle`], degenerate ones included.
 //!   Every method delegates to the triangle's routine, so answers are bit for
-//!   bit those of [`Triangle`] ([`ClosestPoint`], [`BoxOverlap`],
+//!   bit those of [`Triangle`] ([`ClosestPoint`], [`BoxOverlap`](super::BoxOverlap),
 //!   [`WatertightRay::intersect`], grid cells).
 //! - **Four or more vertices**: accepted by [`ConvexPolygon::new`] only when,
 //!   checked in `f64` against the stored `f32` normal `n` (Newell's normal of
@@ -46,7 +46,7 @@
 //!   that come out exactly zero or not finite (a query on an edge's line, or
 //!   coordinates whose products underflow or overflow) redo the whole
 //!   computation in `f64`.
-//! - [`BoxOverlap`]: the separating axis test with the box normals, the
+//! - [`BoxOverlap`](super::BoxOverlap): the separating axis test with the box normals, the
 //!   polygon normal (Newell's, in `f64`) and every boundary edge × box axis,
 //!   in `f64` (see `polygon_aabb.rs`). For coplanar vertices this is exact
 //!   (the complete axis set of a planar convex polygon). For `t > 0` it is

@@ -30,7 +30,7 @@ impl<T: BoundingPoints> SphereTree<T> {
 
     /// Checks the tree's invariants: every node reachable once; every vertex
     /// of every primitive inside its leaf's sphere and every ancestor's (up
-    /// to [`CHECK_ULPS`] ulps of the sphere's largest coordinate, measured in
+    /// to 2 ulps of the sphere's largest coordinate, measured in
     /// `f64`); the leaves cover the primitive array exactly once; the recorded
     /// depth is right; `indices` is a permutation. Returns a description of
     /// the first violation.
