@@ -104,3 +104,17 @@ pub fn near_surface(mesh: &Mesh, n: usize, sigma_fraction: f32, seed: u64) -> Ve
         })
         .collect()
 }
+
+/// `n` small random triangles (edges up to 0.1) in the cube [-1, 1]³: the
+/// soup the crate's unit tests build trees over.
+#[cfg(test)]
+pub(crate) fn small_triangles(n: usize, seed: u64) -> Vec<crate::Triangle> {
+    let mut rng = Rng::new(seed);
+    let mut v = || Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
+    (0..n)
+        .map(|_| {
+            let a = v();
+            crate::Triangle::new(a, a + v() * 0.05, a + v() * 0.05)
+        })
+        .collect()
+}

@@ -45,35 +45,33 @@ impl<'a> Best<'a> {
         }
     }
 
+    /// Considers the point `q` at squared distance `d2` of the primitive at
+    /// `slot`; its input index is read only if it ties with the best.
     #[inline(always)]
     pub(crate) fn offer(&mut self, slot: usize, q: Vec3A, d2: f32) {
-        let better = d2 < self.distance_squared
-            || (d2 == self.distance_squared && (!self.found || self.indices[slot] < self.index()));
-        if better {
-            self.index = UNKNOWN;
-            self.slot = slot;
-            self.point = q;
-            self.distance_squared = d2;
-            self.bound = d2 * PRUNE_SLACK;
-            self.found = true;
+        if d2 < self.distance_squared
+            || (d2 == self.distance_squared && (!self.found || self.indices[slot] < self.index()))
+        {
+            self.take(slot, UNKNOWN, q, d2);
         }
     }
-}
 
-impl Best<'_> {
     /// [`offer`](Self::offer) for a primitive whose input index is known.
     #[inline(always)]
     pub(crate) fn offer_indexed(&mut self, slot: usize, index: u32, q: Vec3A, d2: f32) {
-        let better =
-            d2 < self.distance_squared || (d2 == self.distance_squared && (!self.found || index < self.index()));
-        if better {
-            self.index = index;
-            self.slot = slot;
-            self.point = q;
-            self.distance_squared = d2;
-            self.bound = d2 * PRUNE_SLACK;
-            self.found = true;
+        if d2 < self.distance_squared || (d2 == self.distance_squared && (!self.found || index < self.index())) {
+            self.take(slot, index, q, d2);
         }
+    }
+
+    #[inline(always)]
+    fn take(&mut self, slot: usize, index: u32, q: Vec3A, d2: f32) {
+        self.index = index;
+        self.slot = slot;
+        self.point = q;
+        self.distance_squared = d2;
+        self.bound = d2 * PRUNE_SLACK;
+        self.found = true;
     }
 }
 

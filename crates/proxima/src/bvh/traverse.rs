@@ -177,20 +177,15 @@ fn nearest_first_with<N: PairedNode, T, V: DistanceVisitor<T>, C: Counter, const
 mod tests {
     use super::*;
     use crate::bvh::closest::Best;
-    use crate::{BuildConfig, Triangle, Vec3};
+    use crate::{BuildConfig, Vec3};
 
     /// The small stack and the full one make the same walk (real trees are
     /// too shallow to reach the full one, so it is tested directly).
     #[test]
     fn small_and_full_stacks_walk_alike() {
-        let mut rng = crate::sample::Rng::new(9);
+        let triangles = crate::sample::small_triangles(3000, 9);
+        let mut rng = crate::sample::Rng::new(109);
         let mut v = || Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
-        let triangles: Vec<Triangle> = (0..3000)
-            .map(|_| {
-                let a = v();
-                Triangle::new(a, a + v() * 0.05, a + v() * 0.05)
-            })
-            .collect();
         let tree = AabbTree::build(triangles, &BuildConfig::default()).unwrap();
         assert!(tree.depth() < SHALLOW as u32);
         for _ in 0..500 {

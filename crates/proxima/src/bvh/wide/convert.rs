@@ -208,7 +208,6 @@ impl<T: Bounded + Copy + Send + Sync + 'static> WideTree<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::Vec3;
     use crate::bvh::wide::{LEAF, packet_hint};
 
     /// Every inner lane points to the first packet of its node's own leaf
@@ -216,14 +215,7 @@ mod tests {
     /// node has no leaf lane; with and without AVX2's merged leaves.
     #[test]
     fn inner_lanes_point_to_their_nodes_first_packet() {
-        let mut rng = crate::sample::Rng::new(11);
-        let mut v = || Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
-        let triangles: Vec<Triangle> = (0..3000)
-            .map(|_| {
-                let a = v();
-                Triangle::new(a, a + v() * 0.05, a + v() * 0.05)
-            })
-            .collect();
+        let triangles = crate::sample::small_triangles(3000, 11);
         for config in [
             BuildConfig::default(),
             BuildConfig {
