@@ -1,6 +1,8 @@
 //! Queries over many points at once on the wide tree, on all cores.
 
-use super::traverse::Walk;
+#[cfg(target_arch = "x86_64")]
+use super::avx2::Avx2Task;
+use super::traverse::{Avx2, Walk};
 use super::{WideKnnScratch, WideTree};
 use crate::aabb::Aabb;
 use crate::bvh::batch::{Seed, answer_batch, morton_order, unpermute};
@@ -71,9 +73,29 @@ impl<T: ClosestPoint + Sync> WideTree<T> {
     /// The closest primitive to each of `points`, into `out`, with `K` walks
     /// advanced in turn.
     fn closest_interleaved<const K: usize>(&self, points: &[Vec3], out: &mut [Option<ClosestHit>]) {
+        #[cfg(target_arch = "x86_64")]
+        if let Some(avx2) = self.avx2 {
+            return avx2.run(Interleaved::<T, K> {
+                tree: self,
+                points,
+                out,
+            });
+        }
+        self.closest_interleaved_with::<K>(points, out, None);
+    }
+
+    /// [`closest_interleaved`](Self::closest_interleaved), with leaves tested
+    /// on eight lanes when `avx2` is given.
+    #[inline(always)]
+    fn closest_interleaved_with<const K: usize>(
+        &self,
+        points: &[Vec3],
+        out: &mut [Option<ClosestHit>],
+        avx2: Option<Avx2>,
+    ) {
         let fresh = || Best::new(&self.tree.indices, f32::INFINITY);
         let slices = self.slices();
-        let mut walks: [Walk<Best<'_>>; K] = std::array::from_fn(|_| Walk::new(&slices, Vec3A::ZERO, fresh()));
+        let mut walks: [Walk<Best<'_>>; K] = std::array::from_fn(|_| Walk::new(&slices, Vec3A::ZERO, avx2, fresh()));
         // The query each walk answers, if any.
         let mut serving = [usize::MAX; K];
         let mut next = 0;
@@ -89,7 +111,7 @@ impl<T: ClosestPoint + Sync> WideTree<T> {
                     if next == points.len() {
                         continue;
                     }
-                    walk.restart(&slices, Vec3A::from(points[next]), fresh());
+                    walk.restart(&slices, Vec3A::from(points[next]), avx2, fresh());
                     (*query, next, busy) = (next, next + 1, busy + 1);
                 }
                 if !slices.step(walk) {
@@ -115,5 +137,23 @@ impl<T: ClosestPoint + Sync> WideTree<T> {
             self.k_nearest_into(p, k, scratch, &mut out);
             out
         })
+    }
+}
+
+/// [`WideTree::closest_interleaved_with`] as a task compiled for AVX2.
+#[cfg(target_arch = "x86_64")]
+struct Interleaved<'a, T, const K: usize> {
+    tree: &'a WideTree<T>,
+    points: &'a [Vec3],
+    out: &'a mut [Option<ClosestHit>],
+}
+
+#[cfg(target_arch = "x86_64")]
+impl<T: ClosestPoint + Sync, const K: usize> Avx2Task for Interleaved<'_, T, K> {
+    type Output = ();
+    #[inline(always)]
+    fn call(self, avx2: Avx2) {
+        self.tree
+            .closest_interleaved_with::<K>(self.points, self.out, Some(avx2));
     }
 }

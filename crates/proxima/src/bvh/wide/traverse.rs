@@ -446,13 +446,13 @@ pub(crate) struct Walk<V> {
 impl<V> Walk<V> {
     /// A walk for `p` from the root (none for an empty tree).
     #[inline(always)]
-    pub(crate) fn new<T>(tree: &Slices<'_, T>, p: Vec3A, visitor: V) -> Self {
+    pub(crate) fn new<T>(tree: &Slices<'_, T>, p: Vec3A, avx2: Option<Avx2>, visitor: V) -> Self {
         if let Some(root) = tree.nodes.first() {
             prefetch(&root.min_x);
             prefetch(&root.max_y);
         }
         Self {
-            query: Query::new(p, None),
+            query: Query::new(p, avx2),
             visitor,
             stack: Stack::EMPTY,
             next: (!tree.nodes.is_empty()).then_some((0, 0)),
@@ -461,12 +461,12 @@ impl<V> Walk<V> {
 
     /// Starts over for `p` with `visitor`, reusing the stack's memory.
     #[inline(always)]
-    pub(crate) fn restart<T>(&mut self, tree: &Slices<'_, T>, p: Vec3A, visitor: V) {
+    pub(crate) fn restart<T>(&mut self, tree: &Slices<'_, T>, p: Vec3A, avx2: Option<Avx2>, visitor: V) {
         if let Some(root) = tree.nodes.first() {
             prefetch(&root.min_x);
             prefetch(&root.max_y);
         }
-        self.query = Query::new(p, None);
+        self.query = Query::new(p, avx2);
         self.visitor = visitor;
         self.stack.top = 0;
         self.next = (!tree.nodes.is_empty()).then_some((0, 0));
