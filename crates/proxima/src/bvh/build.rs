@@ -8,6 +8,7 @@ use super::node::{Node, NodePair};
 use crate::aabb::Aabb;
 use crate::error::BuildError;
 use crate::math::{Vec3, Vec4};
+use crate::memory::{HugePageArray, HugePageVec};
 use crate::primitive::{Bounded, PrimitiveSet};
 use rayon::prelude::*;
 
@@ -106,7 +107,7 @@ impl<T: Bounded + Copy + Send + Sync> AabbTree<T> {
             .map(|&i| (primitives[i as usize], sources[i as usize]))
             .unzip();
         Ok(Self {
-            nodes: nodes.into(),
+            nodes,
             primitives: ordered,
             indices,
             sources,
@@ -177,9 +178,9 @@ impl Buffers<'_> {
 /// Builds the node array over `items`, whose boxes all lie in `bounds`,
 /// reordering them into leaf order. Returns the nodes and the depth of the
 /// deepest leaf.
-fn build_nodes(items: &mut [Item], bounds: Aabb, config: &BuildConfig) -> (Vec<NodePair>, u32) {
+fn build_nodes(items: &mut [Item], bounds: Aabb, config: &BuildConfig) -> (HugePageArray<NodePair>, u32) {
     if items.is_empty() {
-        return (Vec::new(), 0);
+        return (HugePageArray::default(), 0);
     }
     // Filled in parallel: touching 32 bytes per item of fresh memory is
     // mostly page faults, which the threads then share.
@@ -189,14 +190,18 @@ fn build_nodes(items: &mut [Item], bounds: Aabb, config: &BuildConfig) -> (Vec<N
         scratch: &mut scratch,
     };
     let tree = build_subtree(buffers, false, bounds, 0, 0, config);
-    // Pair 0 holds the root and a padding node; the rest follow, shifted by one pair.
-    let mut nodes = Vec::with_capacity(tree.pair_count + 1);
+    // Pair 0 holds the root and a padding node; the rest follow, shifted by
+    // one pair. Written straight to their final array (on huge pages when
+    // large), not to a `Vec` copied there afterwards.
+    let mut nodes = HugePageVec::with_capacity(tree.pair_count + 1);
     nodes.push(NodePair([tree.root.shifted(2), PADDING]));
     for (pairs, shift) in &tree.pieces {
         let shift = shift + 2;
-        nodes.extend(pairs.iter().map(|pair| NodePair(pair.0.map(|n| n.shifted(shift)))));
+        for pair in pairs {
+            nodes.push(NodePair(pair.0.map(|n| n.shifted(shift))));
+        }
     }
-    (nodes, tree.depth)
+    (nodes.finish(), tree.depth)
 }
 
 /// A node's split: the size of the first part, both parts' boxes, and whether

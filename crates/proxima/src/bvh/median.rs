@@ -13,6 +13,7 @@
 use super::build::Item;
 use crate::aabb::Aabb;
 use crate::math::Vec4;
+use wide::{f32x4, i32x4};
 
 /// Most buckets of a histogram: with ~1M items, the median bucket holds about
 /// a thousand, and the counts stay in the L1 cache.
@@ -30,6 +31,15 @@ pub(super) struct Counts {
     buckets: Vec<u16>,
 }
 
+/// Growing a box by an item or not, without a branch or a select (for
+/// [`Grower::clamped`]): a lane of -inf lets `max(lower, clamp)` through
+/// unchanged, while +inf turns it into +inf, which no minimum notices (and
+/// `min(upper, -clamp)` does the same for the upper corner). Indexed by
+/// whether the item is taken. In the moving pass, against selecting with
+/// masks made from booleans: 1.12–1.32x (ico1m) and 1.07–1.15x (dragon)
+/// for the whole build, in three A/B runs.
+const CLAMPS: [Vec4; 2] = [Vec4::INFINITY, Vec4::NEG_INFINITY];
+
 /// A box grown item by item, in 16-byte lanes (`w` means nothing).
 #[derive(Clone, Copy)]
 struct Grower {
@@ -43,8 +53,7 @@ impl Grower {
         max: Vec4::NEG_INFINITY,
     };
 
-    /// The box grown to hold `item`'s box when `take`, unchanged otherwise
-    /// (a select instead of a branch the processor could not predict).
+    /// The box grown to hold `item`'s box when `take`, unchanged otherwise.
     #[inline(always)]
     fn grown_if(self, item: &Item, take: bool) -> Grower {
         // A select, not an addition of ±infinity: the `w` lanes hold index
@@ -53,6 +62,17 @@ impl Grower {
         Grower {
             min: self.min.min(Vec4::select(mask, item.lower, Vec4::INFINITY)),
             max: self.max.max(Vec4::select(mask, item.upper, Vec4::NEG_INFINITY)),
+        }
+    }
+
+    /// The box grown to hold `item`'s box clamped: by -inf, which
+    /// changes nothing, or by +inf, which leaves the box as it was (see
+    /// [`CLAMPS`]).
+    #[inline(always)]
+    fn clamped(self, item: &Item, clamp: Vec4) -> Grower {
+        Grower {
+            min: self.min.min(item.lower.max(clamp)),
+            max: self.max.max(item.upper.min(-clamp)),
         }
     }
 
@@ -200,21 +220,20 @@ fn scatter(
     below: usize,
     equal: usize,
 ) -> (Grower, Grower) {
-    // The slot is picked with masks, not branches: an item's side is as
-    // unpredictable as a coin toss.
-    let (mut first, mut between, mut last) = (0usize, below, below + equal);
+    // An item's side is as unpredictable as a coin toss, so nothing here
+    // branches on it: the side indexes the next free slots and the clamps.
+    // Side 0 is left, 1 the median bucket, 2 right.
+    const TO_LEFT: [Vec4; 3] = [CLAMPS[1], CLAMPS[0], CLAMPS[0]];
+    const TO_RIGHT: [Vec4; 3] = [CLAMPS[0], CLAMPS[0], CLAMPS[1]];
+    let mut next = [0usize, below, below + equal];
     let (mut left, mut right) = (Grower::EMPTY, Grower::EMPTY);
     for (it, b) in source.iter().zip(buckets) {
-        let (is_left, is_right) = (b < median, b > median);
-        let is_middle = !is_left && !is_right;
-        let mask = |take: bool| (take as usize).wrapping_neg();
-        let slot = (first & mask(is_left)) | (last & mask(is_right)) | (between & mask(is_middle));
+        let side = (b >= median) as usize + (b > median) as usize;
+        let slot = next[side];
         target[slot] = *it;
-        first += is_left as usize;
-        last += is_right as usize;
-        between += is_middle as usize;
-        left = left.grown_if(it, is_left);
-        right = right.grown_if(it, is_right);
+        next[side] = slot + 1;
+        left = left.clamped(it, TO_LEFT[side]);
+        right = right.clamped(it, TO_RIGHT[side]);
     }
     (left, right)
 }
@@ -225,8 +244,12 @@ pub(super) const SMALL_NODE: usize = 16;
 /// Like [`median_partition`], for at most [`SMALL_NODE`] items: each item's
 /// rank is counted against all others (ties broken by position), and the
 /// item is written straight to its rank. Quadratic, but without a branch to
-/// mispredict, and the comparisons run several per instruction; the result
-/// is sorted, which costs nothing more.
+/// mispredict: the keys sit in vector lanes padded to 8 or 16, and each item
+/// is compared with all lanes at once, so every rank is ready at the end
+/// without a sum across lanes. The result is sorted, so the halves' boxes are
+/// plain unions afterwards. Against counting each item's rank in a loop over
+/// the others: 2.0–2.4x per node of 7, 8, 15 and 16 items (in-cache
+/// microbenchmark, one run).
 pub(super) fn median_small(source: &[Item], target: &mut [Item], axis: usize) -> (Aabb, Aabb) {
     match axis {
         0 => median_small_along::<0>(source, target),
@@ -237,30 +260,48 @@ pub(super) fn median_small(source: &[Item], target: &mut [Item], axis: usize) ->
 
 fn median_small_along<const AXIS: usize>(source: &[Item], target: &mut [Item]) -> (Aabb, Aabb) {
     debug_assert!(source.len() <= SMALL_NODE && source.len() == target.len());
-    let half = source.len() / 2;
-    let mut keys = [0f32; SMALL_NODE];
-    let keys = &mut keys[..source.len()];
-    for (key, it) in keys.iter_mut().zip(source) {
-        *key = key_along::<AXIS>(it);
+    if source.len() <= SMALL_NODE / 2 {
+        ranked::<AXIS, { SMALL_NODE / 8 }>(source, target)
+    } else {
+        ranked::<AXIS, { SMALL_NODE / 4 }>(source, target)
     }
-    let (mut left, mut right) = (Grower::EMPTY, Grower::EMPTY);
-    for (i, (it, &key)) in source.iter().zip(keys.iter()).enumerate() {
-        // Equal keys are ordered by position; comparing floats (no NaN here)
-        // lets the compiler count four at a time.
-        let (before, after) = keys.split_at(i);
-        let mut rank = 0u32;
-        for &k in before {
-            rank += (k <= key) as u32;
-        }
-        for &k in after {
-            rank += (k < key) as u32;
-        }
-        let rank = rank as usize;
-        target[rank] = *it;
-        left = left.grown_if(it, rank < half);
-        right = right.grown_if(it, rank >= half);
+}
+
+/// [`median_small`] over `4 * V` lanes, which must hold all items.
+#[inline(always)]
+fn ranked<const AXIS: usize, const V: usize>(source: &[Item], target: &mut [Item]) -> (Aabb, Aabb) {
+    let n = source.len();
+    debug_assert!(n <= 4 * V);
+    // Lane `l` holds item `l`'s key; lanes past the items hold +infinity,
+    // which no finite key equals or exceeds.
+    let mut keys = [[f32::INFINITY; 4]; V];
+    for (l, it) in source.iter().enumerate() {
+        keys[l / 4][l % 4] = key_along::<AXIS>(it);
     }
-    (left.aabb(), right.aabb())
+    let keys: [f32x4; V] = keys.map(f32x4::from);
+    let lanes: [i32x4; V] = std::array::from_fn(|c| {
+        let l = 4 * c as i32;
+        i32x4::new([l, l + 1, l + 2, l + 3])
+    });
+    // Every item's rank at once, lane by lane: item `j` is counted below
+    // item `l` when its key is smaller, or equal and `j` comes first.
+    let mut ranks = [i32x4::ZERO; V];
+    for (j, it) in source.iter().enumerate() {
+        let key = f32x4::splat(key_along::<AXIS>(it));
+        let position = i32x4::splat(j as i32);
+        for ((rank, k), lane) in ranks.iter_mut().zip(&keys).zip(&lanes) {
+            let later: f32x4 = bytemuck::cast(lane.simd_gt(position));
+            let below = key.simd_lt(*k) | (key.simd_eq(*k) & later);
+            *rank -= bytemuck::cast::<f32x4, i32x4>(below);
+        }
+    }
+    let ranks = ranks.map(i32x4::to_array);
+    for (it, &rank) in source.iter().zip(ranks.as_flattened()) {
+        target[rank as usize] = *it;
+    }
+    // The result is sorted, so each half's box is a plain union.
+    let half = n / 2;
+    (bounds_of(&target[..half]), bounds_of(&target[half..]))
 }
 
 #[cfg(test)]
