@@ -102,9 +102,18 @@ impl<T: Bounded + Copy + Send + Sync> AabbTree<T> {
         let bounds = checked_bounds(&items)?;
         let (nodes, depth) = build_nodes(&mut items, bounds, config);
         let indices: Vec<u32> = items.par_iter().map(Item::index).collect();
+        // A random gather: the primitive a few slots ahead is asked for
+        // early, so that the misses overlap (gather 1.1-1.15x faster with 32
+        // ahead than with none on ico1m; 16 and 64 about the same, 8 less).
         let (ordered, sources) = indices
             .par_iter()
-            .map(|&i| (primitives[i as usize], sources[i as usize]))
+            .enumerate()
+            .map(|(k, &i)| {
+                if let Some(&next) = indices.get(k + GATHER_AHEAD) {
+                    super::wide::prefetch(&primitives[next as usize]);
+                }
+                (primitives[i as usize], sources[i as usize])
+            })
             .unzip();
         Ok(Self {
             nodes,
@@ -156,6 +165,9 @@ struct Subtree {
     pair_count: usize,
     depth: u32,
 }
+
+/// How many slots ahead the final gather of primitives prefetches.
+const GATHER_AHEAD: usize = 32;
 
 /// Below this many primitives a subtree is built on one thread by a loop.
 const PARALLEL_THRESHOLD: usize = 32 * 1024;
