@@ -32,6 +32,14 @@ pub fn load_named(name: &str) -> Result<Mesh, String> {
 
 /// parry3d's triangle mesh (with its BVH) over the faces of `mesh`.
 pub fn parry_trimesh(mesh: &Mesh) -> TriMesh {
+    let (vertices, indices) = parry_input(mesh);
+    TriMesh::new(vertices, indices).expect("parry3d accepts the mesh")
+}
+
+/// The vertices and triangles that [`TriMesh::new`] takes, from the faces of
+/// `mesh` (polygons fanned): parry3d's input, made apart so that build
+/// timings can leave it out, as they leave out copying ours.
+pub fn parry_input(mesh: &Mesh) -> (Vec<parry3d::math::Vector>, Vec<[u32; 3]>) {
     let vertices: Vec<parry3d::math::Vector> = mesh
         .positions()
         .iter()
@@ -43,7 +51,7 @@ pub fn parry_trimesh(mesh: &Mesh) -> TriMesh {
             indices.push([face[0], w[0], w[1]]);
         }
     }
-    TriMesh::new(vertices, indices).expect("parry3d accepts the mesh")
+    (vertices, indices)
 }
 
 /// parry3d's distance from `p` to the surface of `trimesh` (not solid).
