@@ -8,48 +8,128 @@ use super::node::{Node, NodePair};
 use crate::aabb::Aabb;
 use crate::error::BuildError;
 use crate::math::{Vec3, Vec4};
-use crate::memory::{HugePageArray, HugePageVec};
+use crate::memory::HugePageVec;
 use crate::primitive::{Bounded, PrimitiveSet};
 use rayon::prelude::*;
 
-/// A primitive's box and input index, moved around during the build instead of
-/// the primitive itself: the partition step then touches 32 contiguous bytes
-/// per primitive and never chases an index. Two 16-byte lanes, so that an
-/// item moves in two vector stores and its corners enter box unions as they
-/// are.
+/// A primitive's centre and input index, moved around by the median split
+/// instead of the primitive itself: the partition step then touches 16
+/// contiguous bytes per primitive and never chases an index. The split needs
+/// only centres (its key, its axis, its histogram's range); node boxes are
+/// computed afterwards, from the leaves up ([`refit`]). Against moving
+/// 32-byte boxes: see `ARCHITECTURE.md`.
 #[derive(Clone, Copy, Debug, Default)]
 #[repr(C)]
-pub(super) struct Item {
-    /// The lower corner, and in `w` the input index (its bits).
-    pub(super) lower: Vec4,
-    /// The upper corner; `w` is 0.
-    pub(super) upper: Vec4,
+pub(super) struct CentreItem {
+    /// Twice the centre of the primitive's box (the factor 2 does not change
+    /// the order), and in `w` the input index (its bits).
+    pub(super) centre: Vec4,
 }
 
-impl Item {
+const _: () = assert!(std::mem::size_of::<CentreItem>() == 16);
+
+impl CentreItem {
     pub(super) fn new(bounds: Aabb, index: u32) -> Self {
+        Self {
+            centre: (bounds.min + bounds.max).extend(f32::from_bits(index)),
+        }
+    }
+
+    /// Twice the box centre along `axis`.
+    #[cfg(test)]
+    pub(super) fn key(&self, axis: usize) -> f32 {
+        self.centre[axis]
+    }
+}
+
+/// A primitive's box and input index, for the binned SAH split, which weighs
+/// the boxes of its bins. Two 16-byte lanes, so that an item moves in two
+/// vector stores and its corners enter box unions as they are.
+#[derive(Clone, Copy, Debug, Default)]
+#[repr(C)]
+pub(super) struct BoxItem {
+    /// The lower corner, and in `w` the input index (its bits).
+    lower: Vec4,
+    /// The upper corner; `w` is 0.
+    upper: Vec4,
+}
+
+impl BoxItem {
+    fn new(bounds: Aabb, index: u32) -> Self {
         Self {
             lower: bounds.min.extend(f32::from_bits(index)),
             upper: bounds.max.extend(0.0),
         }
     }
 
-    pub(super) fn index(&self) -> u32 {
-        self.lower.w.to_bits()
-    }
-
-    pub(super) fn min(&self) -> Vec3 {
+    fn min(&self) -> Vec3 {
         self.lower.truncate()
     }
 
-    pub(super) fn max(&self) -> Vec3 {
+    fn max(&self) -> Vec3 {
         self.upper.truncate()
     }
 
     /// Twice the box center along `axis` (the factor 2 does not change the order).
     #[inline(always)]
-    pub(super) fn key(&self, axis: usize) -> f32 {
+    fn key(&self, axis: usize) -> f32 {
         self.lower[axis] + self.upper[axis]
+    }
+}
+
+/// What the build needs of the items it moves: the input index, and how a
+/// node of them is split.
+pub(super) trait BuildItem: Copy + Default + Send + Sync {
+    /// The primitive's input index.
+    fn index(&self) -> u32;
+
+    /// Splits a node that is to be split (it has more items than the
+    /// minimum leaf size and is not at the maximum depth), in place or
+    /// into `target`. `bounds` is what the parent's split returned for this
+    /// node.
+    fn split(source: &mut [Self], target: &mut [Self], bounds: &Aabb, counts: &mut Counts) -> Split;
+}
+
+impl BuildItem for CentreItem {
+    #[inline(always)]
+    fn index(&self) -> u32 {
+        self.centre.w.to_bits()
+    }
+
+    /// The median split along the largest extent of the node's centres
+    /// (`bounds`), as PBRT chooses the axis; the halves' bounds are those
+    /// of their centres.
+    fn split(source: &mut [Self], target: &mut [Self], bounds: &Aabb, counts: &mut Counts) -> Split {
+        let axis = bounds.largest_axis();
+        let (left, right) = if source.len() <= SMALL_NODE {
+            median_small(source, target, axis)
+        } else {
+            median_partition(source, target, axis, bounds, counts)
+        };
+        Split {
+            cut: source.len() / 2,
+            left,
+            right,
+            moved: true,
+        }
+    }
+}
+
+impl BuildItem for BoxItem {
+    #[inline(always)]
+    fn index(&self) -> u32 {
+        self.lower.w.to_bits()
+    }
+
+    /// The binned SAH split; when all centres coincide, every order is the
+    /// median order, and the node is cut in halves as it lies.
+    fn split(source: &mut [Self], _: &mut [Self], _: &Aabb, _: &mut Counts) -> Split {
+        sah_split(source).unwrap_or(Split {
+            cut: source.len() / 2,
+            left: Aabb::EMPTY,
+            right: Aabb::EMPTY,
+            moved: false,
+        })
     }
 }
 
@@ -94,18 +174,28 @@ impl<T: Bounded + Copy + Send + Sync> AabbTree<T> {
                 sources: sources.len(),
             });
         }
-        let mut items: Vec<Item> = primitives
-            .par_iter()
-            .enumerate()
-            .map(|(index, p)| Item::new(p.bounds(), index as u32))
-            .collect();
-        let bounds = checked_bounds(&items)?;
-        let (nodes, depth) = build_nodes(&mut items, bounds, config);
-        let indices: Vec<u32> = items.par_iter().map(Item::index).collect();
+        let (mut nodes, depth, indices) = match config.split {
+            SplitMethod::Median => {
+                let items = centre_items(&primitives);
+                let Some(bounds) = centre_bounds(&items) else {
+                    return Err(input_error(primitives.iter().map(Bounded::bounds)));
+                };
+                build_nodes(items, bounds, config)
+            }
+            SplitMethod::BinnedSah => {
+                let items: Vec<BoxItem> = primitives
+                    .par_iter()
+                    .enumerate()
+                    .map(|(index, p)| BoxItem::new(p.bounds(), index as u32))
+                    .collect();
+                check_boxes(&items)?;
+                build_nodes(items, Aabb::EMPTY, config)
+            }
+        };
         // A random gather: the primitive a few slots ahead is asked for
         // early, so that the misses overlap (gather 1.1-1.15x faster with 32
         // ahead than with none on ico1m; 16 and 64 about the same, 8 less).
-        let (ordered, sources) = indices
+        let (ordered, sources): (Vec<T>, Vec<u32>) = indices
             .par_iter()
             .enumerate()
             .map(|(k, &i)| {
@@ -115,8 +205,9 @@ impl<T: Bounded + Copy + Send + Sync> AabbTree<T> {
                 (primitives[i as usize], sources[i as usize])
             })
             .unzip();
+        refit(nodes.as_mut_slice(), &ordered);
         Ok(Self {
-            nodes,
+            nodes: nodes.finish(),
             primitives: ordered,
             indices,
             sources,
@@ -125,33 +216,106 @@ impl<T: Bounded + Copy + Send + Sync> AabbTree<T> {
     }
 }
 
-/// The box of all items, or the error for the first item with a non-finite
-/// coordinate (or, when all are finite, the first beyond [`MAX_COORDINATE`]).
-fn checked_bounds(items: &[Item]) -> Result<Aabb, BuildError> {
+/// The centre items of `primitives`. A primitive with a coordinate that is
+/// not finite, or beyond [`MAX_COORDINATE`], gets a NaN centre, which
+/// [`centre_bounds`] then rejects: the centre alone could hide either (the
+/// centre of -1e30 and 1e30 is 0).
+fn centre_items<T: Bounded + Sync>(primitives: &[T]) -> Vec<CentreItem> {
+    let limit = Vec3::splat(MAX_COORDINATE);
+    let invalid = Aabb::new(Vec3::NAN, Vec3::NAN);
+    primitives
+        .par_iter()
+        .enumerate()
+        .map(|(index, p)| {
+            let b = p.bounds();
+            // `!(m <= limit)` also catches NaN and infinities.
+            let valid = b.min.abs().max(b.max.abs()).cmple(limit).all();
+            CentreItem::new(if valid { b } else { invalid }, index as u32)
+        })
+        .collect()
+}
+
+/// The bounds of all items' centres, or `None` if one of them is invalid
+/// (see [`centre_items`]).
+fn centre_bounds(items: &[CentreItem]) -> Option<Aabb> {
+    let (low, high, valid) = items
+        .par_chunks(1 << 16)
+        .map(|chunk| {
+            let (mut low, mut high, mut valid) = (Vec4::INFINITY, Vec4::NEG_INFINITY, true);
+            for it in chunk {
+                low = low.min(it.centre);
+                high = high.max(it.centre);
+                valid &= !it.centre.truncate().is_nan();
+            }
+            (low, high, valid)
+        })
+        .reduce(
+            || (Vec4::INFINITY, Vec4::NEG_INFINITY, true),
+            |a, b| (a.0.min(b.0), a.1.max(b.1), a.2 && b.2),
+        );
+    valid.then(|| Aabb::new(low.truncate(), high.truncate()))
+}
+
+/// Checks every item's box: the error of [`input_error`] if one is invalid.
+fn check_boxes(items: &[BoxItem]) -> Result<(), BuildError> {
     // One pass for the common case: `!(m <= bound)` also catches NaN and infinities.
     let limit = Vec4::splat(MAX_COORDINATE);
-    let (mut low, mut high, mut beyond) = (Vec4::INFINITY, Vec4::NEG_INFINITY, false);
-    for it in items {
-        low = low.min(it.lower);
-        high = high.max(it.upper);
+    let beyond = items.iter().any(|it| {
         let magnitude = it.lower.abs().max(it.upper.abs()).truncate();
-        beyond |= !magnitude.cmple(limit.truncate()).all();
+        !magnitude.cmple(limit.truncate()).all()
+    });
+    if beyond {
+        return Err(input_error(items.iter().map(|it| Aabb::new(it.min(), it.max()))));
     }
-    if !beyond {
-        return Ok(Aabb::new(low.truncate(), high.truncate()));
+    Ok(())
+}
+
+/// The error for the first box with a non-finite coordinate or, when all
+/// are finite, the first beyond [`MAX_COORDINATE`] (for input already known
+/// to hold one or the other).
+fn input_error(boxes: impl Iterator<Item = Aabb> + Clone) -> BuildError {
+    let finite = |b: &Aabb| b.min.is_finite() && b.max.is_finite();
+    if let Some(index) = boxes.clone().position(|b| !finite(&b)) {
+        return BuildError::NonFinite { index };
     }
-    if let Some(index) = items
-        .iter()
-        .position(|it| !(it.min().is_finite() && it.max().is_finite()))
-    {
-        return Err(BuildError::NonFinite { index });
-    }
-    let beyond = |it: &Item| it.min().abs().max(it.max().abs()).max_element() > MAX_COORDINATE;
-    let index = items.iter().position(beyond).unwrap_or(0);
-    Err(BuildError::CoordinateTooLarge {
-        index,
+    let beyond = |b: Aabb| b.min.abs().max(b.max.abs()).max_element() > MAX_COORDINATE;
+    BuildError::CoordinateTooLarge {
+        index: boxes.clone().position(beyond).unwrap_or(0),
         bound: MAX_COORDINATE,
-    })
+    }
+}
+
+/// Sets every node's box, from the leaves up: a leaf's is the box of its
+/// primitives, widened ([`widen`]); an inner node's, the union of its
+/// children's. The union of widened boxes holds every point the widening
+/// was meant to cover, so parents need no widening of their own.
+///
+/// Children always come after their parent in the array, so one pass
+/// backwards meets every child before its parent. Node 1 is padding.
+fn refit<T: Bounded + Sync>(pairs: &mut [NodePair], primitives: &[T]) {
+    let set = |node: &mut Node, b: Aabb| {
+        node.min = b.min;
+        node.max = b.max;
+    };
+    // Leaves first, in parallel: they read every primitive once.
+    pairs.par_iter_mut().enumerate().for_each(|(p, pair)| {
+        for (k, node) in pair.0.iter_mut().enumerate() {
+            if node.is_leaf() && 2 * p + k != 1 {
+                let b = primitives[node.primitive_range()]
+                    .iter()
+                    .fold(Aabb::EMPTY, |acc, q| acc.merge(&q.bounds()));
+                set(node, widen(b));
+            }
+        }
+    });
+    for i in (0..2 * pairs.len()).rev() {
+        let node = pairs[i / 2].0[i % 2];
+        if i == 1 || node.is_leaf() {
+            continue;
+        }
+        let [left, right] = pairs[node.children()[0] as usize / 2].0;
+        set(&mut pairs[i / 2].0[i % 2], left.bounds().merge(&right.bounds()));
+    }
 }
 
 /// A built subtree: its root, and its other nodes as pairs numbered from 0
@@ -174,31 +338,36 @@ const PARALLEL_THRESHOLD: usize = 32 * 1024;
 
 /// The item arrays of a subtree: `main` ends up in leaf order; `scratch`, of
 /// the same length, receives the items of nodes split by moving them.
-struct Buffers<'a> {
-    main: &'a mut [Item],
-    scratch: &'a mut [Item],
+struct Buffers<'a, I> {
+    main: &'a mut [I],
+    scratch: &'a mut [I],
 }
 
-impl Buffers<'_> {
+impl<I> Buffers<'_, I> {
     /// The items `range` of the buffer they are in, and the same range of the other.
-    fn source_and_target(&mut self, range: std::ops::Range<usize>, in_scratch: bool) -> (&mut [Item], &mut [Item]) {
+    fn source_and_target(&mut self, range: std::ops::Range<usize>, in_scratch: bool) -> (&mut [I], &mut [I]) {
         let (main, scratch) = (&mut self.main[range.clone()], &mut self.scratch[range]);
         if in_scratch { (scratch, main) } else { (main, scratch) }
     }
 }
 
-/// Builds the node array over `items`, whose boxes all lie in `bounds`,
-/// reordering them into leaf order. Returns the nodes and the depth of the
-/// deepest leaf.
-fn build_nodes(items: &mut [Item], bounds: Aabb, config: &BuildConfig) -> (HugePageArray<NodePair>, u32) {
+/// Builds the node array over `items` (`bounds` being what the root's split
+/// takes, see [`BuildItem::split`]), without their boxes, which [`refit`]
+/// sets. Returns the nodes, the depth of the deepest leaf, and the input
+/// indices of the items in leaf order.
+fn build_nodes<I: BuildItem>(
+    mut items: Vec<I>,
+    bounds: Aabb,
+    config: &BuildConfig,
+) -> (HugePageVec<NodePair>, u32, Vec<u32>) {
     if items.is_empty() {
-        return (HugePageArray::default(), 0);
+        return (HugePageVec::with_capacity(0), 0, Vec::new());
     }
-    // Filled in parallel: touching 32 bytes per item of fresh memory is
-    // mostly page faults, which the threads then share.
-    let mut scratch: Vec<Item> = (0..items.len()).into_par_iter().map(|_| Item::default()).collect();
+    // Filled in parallel: touching every byte of fresh memory is mostly
+    // page faults, which the threads then share.
+    let mut scratch: Vec<I> = (0..items.len()).into_par_iter().map(|_| I::default()).collect();
     let buffers = Buffers {
-        main: items,
+        main: &mut items,
         scratch: &mut scratch,
     };
     let tree = build_subtree(buffers, false, bounds, 0, 0, config);
@@ -213,12 +382,14 @@ fn build_nodes(items: &mut [Item], bounds: Aabb, config: &BuildConfig) -> (HugeP
             nodes.push(NodePair(pair.0.map(|n| n.shifted(shift))));
         }
     }
-    (nodes.finish(), tree.depth)
+    drop(scratch);
+    let indices = items.par_iter().map(I::index).collect();
+    (nodes, tree.depth, indices)
 }
 
-/// A node's split: the size of the first part, both parts' boxes, and whether
-/// the items moved to the other buffer.
-struct Split {
+/// A node's split: the size of the first part, what each part's own split
+/// takes ([`BuildItem::split`]), and whether the items moved to the other buffer.
+pub(super) struct Split {
     cut: usize,
     left: Aabb,
     right: Aabb,
@@ -228,8 +399,8 @@ struct Split {
 /// Builds the subtree over the items of `buffers` (in `scratch` when
 /// `in_scratch`), which start at `offset` in the whole item array, with its
 /// root at `depth`; `bounds` is the box of the items.
-fn build_subtree(
-    mut buffers: Buffers,
+fn build_subtree<I: BuildItem>(
+    mut buffers: Buffers<I>,
     in_scratch: bool,
     bounds: Aabb,
     offset: usize,
@@ -290,18 +461,18 @@ fn build_subtree(
             .map(|(pairs, shift)| (pairs, shift + right_shift)),
     );
     Subtree {
-        root: Node::inner(widen(bounds), 0),
+        root: Node::inner(Aabb::EMPTY, 0),
         pieces,
         pair_count: 1 + left.pair_count + right.pair_count,
         depth: left.depth.max(right.depth),
     }
 }
 
-/// Decides whether the node over `source` (whose items' boxes make `bounds`)
-/// is split and, if so, splits it, in place or into `target`.
-fn split(
-    source: &mut [Item],
-    target: &mut [Item],
+/// Decides whether the node over `source` is split and, if so, splits it,
+/// in place or into `target`.
+fn split<I: BuildItem>(
+    source: &mut [I],
+    target: &mut [I],
     bounds: &Aabb,
     depth: u32,
     config: &BuildConfig,
@@ -310,35 +481,12 @@ fn split(
     if source.len() <= config.min_size as usize || depth >= config.max_depth {
         return None;
     }
-    if config.split == SplitMethod::BinnedSah
-        && let Some(split) = sah_split(source)
-    {
-        return Some(split);
-    }
-    let axis = bounds.largest_axis();
-    let cut = source.len() / 2;
-    Some(if source.len() <= SMALL_NODE {
-        let (left, right) = median_small(source, target, axis);
-        Split {
-            cut,
-            left,
-            right,
-            moved: true,
-        }
-    } else {
-        let (left, right) = median_partition(source, target, axis, bounds, counts);
-        Split {
-            cut,
-            left,
-            right,
-            moved: true,
-        }
-    })
+    Some(I::split(source, target, bounds, counts))
 }
 
 /// Builds a subtree with an explicit work list, no recursion.
-fn build_sequential(
-    mut buffers: Buffers,
+fn build_sequential<I: BuildItem>(
+    mut buffers: Buffers<I>,
     in_scratch: bool,
     bounds: Aabb,
     offset: usize,
@@ -359,7 +507,7 @@ fn build_sequential(
                 if in_scratch {
                     target.copy_from_slice(source);
                 }
-                Node::leaf(widen(bounds), (offset + begin) as u32, (end - begin) as u32)
+                Node::leaf(Aabb::EMPTY, (offset + begin) as u32, (end - begin) as u32)
             }
             Some(split) => {
                 let first_child = 2 * pairs.len();
@@ -369,7 +517,7 @@ fn build_sequential(
                 // Left child is popped first, so its subtree is laid out next to it.
                 work.push((first_child + 1, cut, end, depth + 1, split.right, children_in_scratch));
                 work.push((first_child, begin, cut, depth + 1, split.left, children_in_scratch));
-                Node::inner(widen(bounds), first_child as u32)
+                Node::inner(Aabb::EMPTY, first_child as u32)
             }
         };
         if node == ROOT {
@@ -394,7 +542,7 @@ const BINS: usize = 16;
 /// Binned SAH split of `range` in place, or `None` when the centroids cannot
 /// be separated (all equal on every axis). The parts' boxes are the unions of
 /// their bins' boxes.
-fn sah_split(range: &mut [Item]) -> Option<Split> {
+fn sah_split(range: &mut [BoxItem]) -> Option<Split> {
     // Keys are doubled centroids, so the bounds below are of doubled centroids.
     let mut low = Vec3::splat(f32::INFINITY);
     let mut high = Vec3::splat(f32::NEG_INFINITY);
@@ -405,7 +553,7 @@ fn sah_split(range: &mut [Item]) -> Option<Split> {
     }
     let extent = high - low;
     let scale = Vec3::select(extent.cmpgt(Vec3::ZERO), Vec3::splat(BINS as f32) / extent, Vec3::ZERO);
-    let bin = |it: &Item, axis: usize| (((it.key(axis) - low[axis]) * scale[axis]) as usize).min(BINS - 1);
+    let bin = |it: &BoxItem, axis: usize| (((it.key(axis) - low[axis]) * scale[axis]) as usize).min(BINS - 1);
     // One pass bins all three axes.
     let mut counts = [[0usize; BINS]; 3];
     let mut boxes = [[Aabb::EMPTY; BINS]; 3];

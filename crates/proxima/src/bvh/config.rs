@@ -19,8 +19,9 @@ pub const MAX_COORDINATE: f32 = (1u64 << 60) as f32;
 /// How a node's primitives are divided between its two children.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum SplitMethod {
-    /// The classic split: order the primitives along the largest extent of the
-    /// node's box by their centroid, and cut them into two equal halves.
+    /// The classic split: order the primitives by their centroid along the
+    /// axis where the node's centroids spread most, and cut them into two
+    /// equal halves.
     #[default]
     Median,
     /// Binned surface area heuristic: centroids are sorted into 16 bins along

@@ -1,16 +1,16 @@
 //! The median split of the build: a histogram selection that moves a node's
-//! items into the other buffer, in halves, and computes both halves' boxes
-//! on the way.
+//! items into the other buffer, in halves, and computes the bounds of both
+//! halves' centres on the way (the next split's axis and histogram range).
 //!
 //! A comparison selection (introselect) walks a node's items several times,
-//! and the boxes of the two children need one more pass each. Here one pass
+//! and the bounds of the two children need one more pass each. Here one pass
 //! counts the keys into buckets spread evenly over the node's extent, and a
 //! second pass moves every item to its final half (or, for the one bucket that
-//! holds the median, to the middle) while growing the halves' boxes. Only the
+//! holds the median, to the middle) while growing the halves' bounds. Only the
 //! median bucket, a small fraction of the node, is left to a comparison
 //! selection.
 
-use super::build::Item;
+use super::build::CentreItem as Item;
 use crate::aabb::Aabb;
 use crate::math::Vec4;
 use wide::{f32x4, i32x4};
@@ -31,16 +31,17 @@ pub(super) struct Counts {
     buckets: Vec<u16>,
 }
 
-/// Growing a box by an item or not, without a branch or a select (for
-/// [`Grower::clamped`]): a lane of -inf lets `max(lower, clamp)` through
+/// Growing bounds by an item or not, without a branch or a select (for
+/// [`Grower::clamped`]): a lane of -inf lets `max(centre, clamp)` through
 /// unchanged, while +inf turns it into +inf, which no minimum notices (and
-/// `min(upper, -clamp)` does the same for the upper corner). Indexed by
+/// `min(centre, -clamp)` does the same for the upper corner). Indexed by
 /// whether the item is taken. In the moving pass, against selecting with
 /// masks made from booleans: 1.12–1.32x (ico1m) and 1.07–1.15x (dragon)
 /// for the whole build, in three A/B runs.
 const CLAMPS: [Vec4; 2] = [Vec4::INFINITY, Vec4::NEG_INFINITY];
 
-/// A box grown item by item, in 16-byte lanes (`w` means nothing).
+/// Bounds of item centres grown item by item, in 16-byte lanes (`w` means
+/// nothing: it holds index bits, which min and max carry along unharmed).
 #[derive(Clone, Copy)]
 struct Grower {
     min: Vec4,
@@ -53,26 +54,23 @@ impl Grower {
         max: Vec4::NEG_INFINITY,
     };
 
-    /// The box grown to hold `item`'s box when `take`, unchanged otherwise.
+    /// The bounds grown to hold `item`'s centre.
     #[inline(always)]
-    fn grown_if(self, item: &Item, take: bool) -> Grower {
-        // A select, not an addition of ±infinity: the `w` lanes hold index
-        // bits, often subnormal floats, which arithmetic slows to a crawl.
-        let mask = glam::BVec4A::splat(take);
+    fn grown(self, item: &Item) -> Grower {
         Grower {
-            min: self.min.min(Vec4::select(mask, item.lower, Vec4::INFINITY)),
-            max: self.max.max(Vec4::select(mask, item.upper, Vec4::NEG_INFINITY)),
+            min: self.min.min(item.centre),
+            max: self.max.max(item.centre),
         }
     }
 
-    /// The box grown to hold `item`'s box clamped: by -inf, which
-    /// changes nothing, or by +inf, which leaves the box as it was (see
-    /// [`CLAMPS`]).
+    /// The bounds grown to hold `item`'s centre clamped: by -inf, which
+    /// changes nothing, or by +inf, which leaves the bounds as they were
+    /// (see [`CLAMPS`]).
     #[inline(always)]
     fn clamped(self, item: &Item, clamp: Vec4) -> Grower {
         Grower {
-            min: self.min.min(item.lower.max(clamp)),
-            max: self.max.max(item.upper.min(-clamp)),
+            min: self.min.min(item.centre.max(clamp)),
+            max: self.max.max(item.centre.min(-clamp)),
         }
     }
 
@@ -81,15 +79,15 @@ impl Grower {
     }
 }
 
-/// The box of `items`' boxes.
+/// The bounds of `items`' centres.
 pub(super) fn bounds_of(items: &[Item]) -> Aabb {
-    items.iter().fold(Grower::EMPTY, |b, it| b.grown_if(it, true)).aabb()
+    items.iter().fold(Grower::EMPTY, |b, it| b.grown(it)).aabb()
 }
 
 /// Moves `source` into `target` (of the same length) so that the first
 /// `source.len() / 2` items of `target` are those with the smallest keys along
-/// `axis` (ties go either way), and returns the boxes of the two halves.
-/// `bounds` must hold every item's box.
+/// `axis` (ties go either way), and returns the bounds of the two halves'
+/// centres. `bounds` must hold every item's centre.
 pub(super) fn median_partition(
     source: &[Item],
     target: &mut [Item],
@@ -107,7 +105,7 @@ pub(super) fn median_partition(
 
 #[inline(always)]
 fn key_along<const AXIS: usize>(it: &Item) -> f32 {
-    it.lower[AXIS] + it.upper[AXIS]
+    it.centre[AXIS]
 }
 
 fn median_partition_along<const AXIS: usize>(
@@ -123,11 +121,10 @@ fn median_partition_along<const AXIS: usize>(
         target.copy_from_slice(source);
         return (Aabb::EMPTY, bounds_of(target));
     }
-    // Keys are doubled centers, so they lie in the doubled extent. The bucket
-    // is a non-decreasing function of the key (a rounded product clamped into
-    // range): a lower bucket never holds a larger key.
-    let low = 2.0 * bounds.min[AXIS];
-    let high = 2.0 * bounds.max[AXIS];
+    // The bucket is a non-decreasing function of the key (a rounded product
+    // clamped into range): a lower bucket never holds a larger key.
+    let low = bounds.min[AXIS];
+    let high = bounds.max[AXIS];
     let buckets = (len / 4).clamp(2, MAX_BUCKETS);
     let top = (buckets - 1) as u32;
     let scale = top as f32 / (high - low);
@@ -202,16 +199,15 @@ fn median_partition_along<const AXIS: usize>(
     if rank > 0 {
         middle.select_nth_unstable_by(rank, |a, b| key_along::<AXIS>(a).total_cmp(&key_along::<AXIS>(b)));
     }
-    for (i, it) in middle.iter().enumerate() {
-        left = left.grown_if(it, i < rank);
-        right = right.grown_if(it, i >= rank);
-    }
+    let (lower, upper) = middle.split_at(rank);
+    left = lower.iter().fold(left, |b, it| b.grown(it));
+    right = upper.iter().fold(right, |b, it| b.grown(it));
     (left.aabb(), right.aabb())
 }
 
 /// Items below the bucket `median` go first in `target`, those above last,
 /// the median bucket's (`equal` of them, after `below` others) in between;
-/// returns the boxes of the first and last groups.
+/// returns the bounds of the first and last groups' centres.
 fn scatter(
     source: &[Item],
     target: &mut [Item],
@@ -246,8 +242,8 @@ pub(super) const SMALL_NODE: usize = 16;
 /// item is written straight to its rank. Quadratic, but without a branch to
 /// mispredict: the keys sit in vector lanes padded to 8 or 16, and each item
 /// is compared with all lanes at once, so every rank is ready at the end
-/// without a sum across lanes. The result is sorted, so the halves' boxes are
-/// plain unions afterwards. Against counting each item's rank in a loop over
+/// without a sum across lanes. The result is sorted, so the halves' bounds
+/// are plain unions afterwards. Against counting each item's rank in a loop over
 /// the others: 2.0–2.4x per node of 7, 8, 15 and 16 items (in-cache
 /// microbenchmark, one run).
 pub(super) fn median_small(source: &[Item], target: &mut [Item], axis: usize) -> (Aabb, Aabb) {
@@ -299,7 +295,7 @@ fn ranked<const AXIS: usize, const V: usize>(source: &[Item], target: &mut [Item
     for (it, &rank) in source.iter().zip(ranks.as_flattened()) {
         target[rank as usize] = *it;
     }
-    // The result is sorted, so each half's box is a plain union.
+    // The result is sorted, so each half's bounds are a plain union.
     let half = n / 2;
     (bounds_of(&target[..half]), bounds_of(&target[half..]))
 }
@@ -308,7 +304,7 @@ fn ranked<const AXIS: usize, const V: usize>(source: &[Item], target: &mut [Item
 mod tests {
     use super::{Counts, SMALL_NODE, bounds_of, median_partition, median_small};
     use crate::aabb::Aabb;
-    use crate::bvh::build::Item;
+    use crate::bvh::build::{BuildItem, CentreItem as Item};
     use crate::math::Vec3;
     use proptest::prelude::*;
 
@@ -376,9 +372,20 @@ mod tests {
             .map(|it| it.key(axis))
             .fold(f32::INFINITY, f32::min);
         assert!(first.last().is_none_or(|&a| a <= second_min));
+        // The bounds of each half's centres, from the keys along each axis.
+        let expected = |items: &[Item]| {
+            let (mut min, mut max) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+            for it in items {
+                for a in 0..3 {
+                    min[a] = min[a].min(it.key(a));
+                    max[a] = max[a].max(it.key(a));
+                }
+            }
+            Aabb::new(Vec3::from(min), Vec3::from(max))
+        };
         let same = |a: Aabb, b: Aabb| a.min == b.min && a.max == b.max || a.is_empty() && b.is_empty();
-        assert!(same(boxes.0, bounds_of(&target[..half])), "left box");
-        assert!(same(boxes.1, bounds_of(&target[half..])), "right box");
+        assert!(same(boxes.0, expected(&target[..half])), "left bounds");
+        assert!(same(boxes.1, expected(&target[half..])), "right bounds");
     }
 
     proptest! {
