@@ -308,3 +308,55 @@ fn real_meshes_match_brute_force() {
         }
     }
 }
+
+/// Leaves whose box lies near the edge of the search radius skip the
+/// triangle pairs none of whose boxes is within reach. Far from the origin,
+/// where a computed closest point can lie several ulps outside its
+/// triangle's box, and with many exact ties (a grid of equal triangles),
+/// the answers must still be brute force's, bit for bit.
+#[test]
+fn skipping_triangle_pairs_by_their_boxes_is_exact() {
+    for (scale, offset) in [(1.0f32, 0.0f32), (1e-2, 1e3), (1e-3, 3e5), (10.0, -1e6)] {
+        let soup = random_soup(3000, 41);
+        let positions: Vec<Vec3> = soup
+            .positions()
+            .iter()
+            .map(|&p| p * scale + Vec3::splat(offset))
+            .collect();
+        let faces: Vec<[u32; 3]> = soup.faces().map(|f| [f[0], f[1], f[2]]).collect();
+        let mesh = Mesh::from_triangles(positions, &faces).unwrap();
+        let points = queries(&mesh, 300, 43);
+        let wide = WideTree::build_set(mesh.triangles(), &BuildConfig::default()).unwrap();
+        let linear = LinearSearch::new(mesh.triangles());
+        for &p in &points {
+            assert_eq!(
+                wide.closest(p),
+                linear.closest(p),
+                "at {p}, scale {scale}, offset {offset}"
+            );
+        }
+    }
+    // A grid of unit right triangles, two per square, queried above and
+    // between them: many triangles at exactly the same distance.
+    let n = 40u32;
+    let positions: Vec<Vec3> = (0..=n)
+        .flat_map(|j| (0..=n).map(move |i| Vec3::new(i as f32, j as f32, 0.0)))
+        .collect();
+    let faces: Vec<[u32; 3]> = (0..n)
+        .flat_map(|j| {
+            (0..n).flat_map(move |i| {
+                let v = j * (n + 1) + i;
+                [[v, v + 1, v + n + 1], [v + 1, v + n + 2, v + n + 1]]
+            })
+        })
+        .collect();
+    let mesh = Mesh::from_triangles(positions, &faces).unwrap();
+    let wide = WideTree::build_set(mesh.triangles(), &BuildConfig::default()).unwrap();
+    let linear = LinearSearch::new(mesh.triangles());
+    for j in 0..2 * n {
+        for i in 0..2 * n {
+            let p = Vec3::new(i as f32 * 0.5, j as f32 * 0.5, [0.0, 0.25, 3.0][((i + j) % 3) as usize]);
+            assert_eq!(wide.closest(p), linear.closest(p), "at {p}");
+        }
+    }
+}

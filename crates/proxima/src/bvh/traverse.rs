@@ -25,6 +25,8 @@ pub struct QueryStats {
 pub(crate) trait Counter {
     fn nodes(&mut self, n: u64);
     fn primitives(&mut self, n: u64);
+    /// Takes back `n` primitives counted with their leaf but skipped.
+    fn skip_primitives(&mut self, n: u64);
 }
 
 impl Counter for () {
@@ -32,6 +34,8 @@ impl Counter for () {
     fn nodes(&mut self, _: u64) {}
     #[inline(always)]
     fn primitives(&mut self, _: u64) {}
+    #[inline(always)]
+    fn skip_primitives(&mut self, _: u64) {}
 }
 
 impl Counter for QueryStats {
@@ -42,6 +46,10 @@ impl Counter for QueryStats {
     #[inline(always)]
     fn primitives(&mut self, n: u64) {
         self.primitives_tested += n;
+    }
+    #[inline(always)]
+    fn skip_primitives(&mut self, n: u64) {
+        self.primitives_tested -= n;
     }
 }
 

@@ -18,8 +18,8 @@ use super::packet::TrianglePacket;
 use crate::primitive::closest_triangle::FAST_REACH2;
 use core::arch::x86_64::{
     __m128, __m256, _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LE_OQ, _mm256_add_ps, _mm256_and_ps, _mm256_blendv_ps, _mm256_cmp_ps,
-    _mm256_div_ps, _mm256_movemask_ps, _mm256_mul_ps, _mm256_set_m128, _mm256_set1_ps, _mm256_setzero_ps,
-    _mm256_sub_ps,
+    _mm256_div_ps, _mm256_max_ps, _mm256_min_ps, _mm256_movemask_ps, _mm256_mul_ps, _mm256_set_m128, _mm256_set1_ps,
+    _mm256_setzero_ps, _mm256_sub_ps,
 };
 
 /// Proof that the running CPU supports AVX2: made only by [`Avx2::detect`].
@@ -68,6 +68,13 @@ impl Avx2 {
         }
         // SAFETY: `self` exists, so `detect` saw AVX2 on this CPU.
         unsafe { splat(x, y, z) }
+    }
+
+    /// [`box_beyond`] for the pair of packets `(lo, hi)`.
+    #[inline(always)]
+    pub(crate) fn box_beyond(self, lo: &TrianglePacket, hi: &TrianglePacket, p: &V8, threshold: f32) -> u32 {
+        // SAFETY: `self` exists, so `detect` saw AVX2 on this CPU.
+        unsafe { box_beyond(lo, hi, p, threshold) }
     }
 
     /// Lanes where `d2 <= bound`, as bits.
@@ -251,6 +258,28 @@ fn closest_pair(lo: &TrianglePacket, hi: &TrianglePacket, p: &V8) -> (V8, __m256
         _mm256_set1_ps(FAST_REACH2 / 4.0),
     )) as u32;
     (q, dot(d, d), far)
+}
+
+/// The lanes (bits 0–3 of `lo`, 4–7 of `hi`) whose triangle's box lies
+/// farther than `threshold` from `p`, in squared distance: about a quarter
+/// of the work of [`closest_pair`], and enough to skip a pair none of whose
+/// triangles can be within reach.
+#[target_feature(enable = "avx2")]
+#[inline]
+fn box_beyond(lo: &TrianglePacket, hi: &TrianglePacket, p: &V8, threshold: f32) -> u32 {
+    let zero = _mm256_setzero_ps();
+    let (a, b, c) = (load(&lo.a, &hi.a), load(&lo.b, &hi.b), load(&lo.c, &hi.c));
+    let axis = |a: __m256, b: __m256, c: __m256, p: __m256| {
+        let low = _mm256_min_ps(_mm256_min_ps(a, b), c);
+        let high = _mm256_max_ps(_mm256_max_ps(a, b), c);
+        let d = _mm256_max_ps(_mm256_max_ps(_mm256_sub_ps(low, p), _mm256_sub_ps(p, high)), zero);
+        _mm256_mul_ps(d, d)
+    };
+    let d2 = _mm256_add_ps(
+        _mm256_add_ps(axis(a.x, b.x, c.x, p.x), axis(a.y, b.y, c.y, p.y)),
+        axis(a.z, b.z, c.z, p.z),
+    );
+    _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_GT_OQ>(d2, _mm256_set1_ps(threshold))) as u32
 }
 
 #[cfg(test)]

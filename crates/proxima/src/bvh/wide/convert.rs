@@ -188,12 +188,17 @@ impl<T: 'static> WideTree<T> {
             }
         }
         let packets = packer.packets.finish();
+        let cull_slack = tree.root().map_or(0.0, |root| {
+            let b = root.bounds();
+            16.0 * f32::EPSILON * b.min.abs().max(b.max.abs()).max_element()
+        });
         Self {
             tree,
             nodes: nodes.finish(),
             packets,
             depth,
             avx2,
+            cull_slack,
         }
     }
 }

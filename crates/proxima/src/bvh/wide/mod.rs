@@ -200,6 +200,13 @@ pub struct WideTree<T> {
     depth: u32,
     /// Present when leaves are tested two packets at a time with AVX2.
     avx2: Option<traverse::Avx2>,
+    /// How far outside its triangle's box a computed closest point may lie:
+    /// 16 ulps of the largest coordinate of the tree (twice the slack of
+    /// the node boxes' widening). A pair of triangle packets is skipped only
+    /// when every triangle's box lies farther than the search radius plus
+    /// this, and than that times `1 + 1e-4` in squared distance, which
+    /// covers the rounding that grows with the distance itself.
+    cull_slack: f32,
 }
 
 impl<T> WideTree<T> {

@@ -53,6 +53,18 @@ const SHALLOW: u32 = 16;
 /// it writes all three pushable lanes, whether or not it pushes them.
 const SLACK: usize = 3;
 
+/// A leaf's triangle pairs are first checked against the search radius by
+/// their triangles' boxes ([`Avx2::box_beyond`]) only when the leaf's own
+/// box lies farther than this fraction of the radius (in squared distance):
+/// leaves nearer than that mostly hold triangles within reach, and the
+/// check would be wasted. Counted over 20,000 queries per set (dragon and
+/// ico1m, near and uniform): at 0.9, 32–97% of pairs are checked and
+/// 18–52% skipped, against 92–99% and 26–52% when every leaf is checked.
+/// The check costs about a quarter of the pair's test. Measured in-cache
+/// (the same queries four times, 40 alternating rounds, median ratio):
+/// 1.01–1.03x on three rows, 1.07x on ico1m uniform.
+const CULL_FROM: f32 = 0.9;
+
 /// The stack of trees less deep than [`SHALLOW`].
 const SMALL_STACK: usize = 3 * SHALLOW as usize + SLACK;
 
@@ -90,6 +102,8 @@ pub(crate) struct Slices<'a, T> {
     pub(crate) nodes: &'a [super::WideNode],
     pub(crate) packets: &'a [super::packet::TrianglePacket],
     pub(crate) primitives: &'a [T],
+    /// [`WideTree::cull_slack`].
+    cull_slack: f32,
 }
 
 impl<T> WideTree<T> {
@@ -100,6 +114,7 @@ impl<T> WideTree<T> {
             nodes: &self.nodes,
             packets: &self.packets,
             primitives: self.tree.primitives(),
+            cull_slack: self.cull_slack,
         }
     }
 }
@@ -218,12 +233,12 @@ impl<const N: usize> Stack<N> {
 
     /// The next pending subtree still within `bound`, dropping those beyond it.
     #[inline(always)]
-    fn pop_within(&mut self, bound: f32) -> Option<(u32, u32)> {
+    fn pop_within(&mut self, bound: f32) -> Option<(u32, u32, f32)> {
         while self.top > 0 {
             self.top -= 1;
             let next = self.entries[self.top];
             if next.distance_squared <= bound {
-                return Some((next.child, next.count));
+                return Some((next.child, next.count, next.distance_squared));
             }
         }
         None
@@ -247,7 +262,7 @@ impl<T> Slices<'_, T> {
         visitor: &V,
         stack: &mut Stack<N>,
         counter: &mut C,
-    ) -> Option<(u32, u32)> {
+    ) -> Option<(u32, u32, f32)> {
         let node = &self.nodes[index as usize];
         counter.nodes(1);
         let d2 = node.distances_squared(q.px, q.py, q.pz);
@@ -287,7 +302,7 @@ impl<T> Slices<'_, T> {
         }
         stack.top += n - 1;
         let nearest = (keys[0] & 3) as usize;
-        Some((node.children[nearest], node.counts[nearest]))
+        Some((node.children[nearest], node.counts[nearest], d[nearest]))
     }
 
     /// Tests the primitives of a leaf lane (`count == LEAF | n`), four
@@ -297,6 +312,7 @@ impl<T> Slices<'_, T> {
         &self,
         child: u32,
         count: u32,
+        distance_squared: f32,
         q: &Query,
         visitor: &mut V,
         counter: &mut C,
@@ -318,6 +334,20 @@ impl<T> Slices<'_, T> {
             for pair in &mut pairs {
                 let (lo, hi) = (&pair[0], &pair[1]);
                 debug_assert_eq!(hi.first, lo.first + 4);
+                if distance_squared > visitor.bound() * CULL_FROM {
+                    // Skipped when no triangle's box is within reach: the
+                    // reach allows for a computed closest point lying a
+                    // little outside its triangle's box and for the rounding
+                    // of both distances (see `WideTree::cull_slack`), so
+                    // every triangle skipped would have failed `within`.
+                    let reach = visitor.bound().sqrt() + self.cull_slack;
+                    let live = lo.fast | lo.slow | (hi.fast | hi.slow) << 4;
+                    if live & !avx2.box_beyond(lo, hi, &pv8, reach * reach * (1.0 + 1e-4)) == 0 {
+                        // Not tested, so not counted as tested either.
+                        counter.skip_primitives(u64::from(live.count_ones()));
+                        continue;
+                    }
+                }
                 let (point, d2, far) = avx2.closest_pair(lo, hi, &pv8);
                 let fast = lo.fast | hi.fast << 4;
                 let bits = avx2.within(d2, visitor.bound()) & fast & !far;
@@ -464,12 +494,12 @@ impl<T> Slices<'_, T> {
         let q = Query::new(p, avx2);
         let mut stack = Stack::<N>::EMPTY;
         // The root, entered unconditionally: its lanes are tested below.
-        let mut next = Some((0u32, 0u32));
-        while let Some((child, count)) = next {
+        let mut next = Some((0u32, 0u32, 0.0));
+        while let Some((child, count, distance_squared)) = next {
             next = if count & LEAF == 0 {
                 self.enter_node(child, &q, visitor, &mut stack, counter)
             } else {
-                self.visit_leaf(child, count, &q, visitor, counter);
+                self.visit_leaf(child, count, distance_squared, &q, visitor, counter);
                 None
             }
             .or_else(|| stack.pop_within(visitor.bound()));
@@ -486,7 +516,7 @@ pub(crate) struct Walk<V> {
     query: Query,
     pub(crate) visitor: V,
     stack: Stack,
-    next: Option<(u32, u32)>,
+    next: Option<(u32, u32, f32)>,
 }
 
 impl<V> Walk<V> {
@@ -501,7 +531,7 @@ impl<V> Walk<V> {
             query: Query::new(p, avx2),
             visitor,
             stack: Stack::EMPTY,
-            next: (!tree.nodes.is_empty()).then_some((0, 0)),
+            next: (!tree.nodes.is_empty()).then_some((0, 0, 0.0)),
         }
     }
 
@@ -515,7 +545,7 @@ impl<V> Walk<V> {
         self.query = Query::new(p, avx2);
         self.visitor = visitor;
         self.stack.top = 0;
-        self.next = (!tree.nodes.is_empty()).then_some((0, 0));
+        self.next = (!tree.nodes.is_empty()).then_some((0, 0, 0.0));
     }
 }
 
@@ -526,13 +556,13 @@ impl<T> Slices<'_, T> {
     /// in cache.
     #[inline(always)]
     pub(crate) fn step<V: LaneVisitor<T>>(&self, walk: &mut Walk<V>) -> bool {
-        let Some((child, count)) = walk.next else {
+        let Some((child, count, distance_squared)) = walk.next else {
             return false;
         };
         walk.next = if count & LEAF == 0 {
             self.enter_node(child, &walk.query, &walk.visitor, &mut walk.stack, &mut ())
         } else {
-            self.visit_leaf(child, count, &walk.query, &mut walk.visitor, &mut ());
+            self.visit_leaf(child, count, distance_squared, &walk.query, &mut walk.visitor, &mut ());
             None
         }
         .or_else(|| walk.stack.pop_within(walk.visitor.bound()));
