@@ -298,9 +298,10 @@ fn refit<T: Bounded + Sync>(pairs: &mut [NodePair], primitives: &[T]) {
         node.max = b.max;
     };
     // Leaves first, in parallel: they read every primitive once.
-    pairs.par_iter_mut().enumerate().for_each(|(p, pair)| {
-        for (k, node) in pair.0.iter_mut().enumerate() {
-            if node.is_leaf() && 2 * p + k != 1 {
+    pairs.par_iter_mut().for_each(|pair| {
+        for node in &mut pair.0 {
+            // The padding node has no primitives: not a leaf.
+            if node.is_leaf() {
                 let b = primitives[node.primitive_range()]
                     .iter()
                     .fold(Aabb::EMPTY, |acc, q| acc.merge(&q.bounds()));
@@ -310,6 +311,7 @@ fn refit<T: Bounded + Sync>(pairs: &mut [NodePair], primitives: &[T]) {
     });
     for i in (0..2 * pairs.len()).rev() {
         let node = pairs[i / 2].0[i % 2];
+        // The padding node looks like an inner node whose children are 0 and 1.
         if i == 1 || node.is_leaf() {
             continue;
         }
