@@ -42,6 +42,15 @@ struct Pending {
     distance_squared: f32,
 }
 
+impl Pending {
+    /// The root, entered unconditionally: its lanes are tested when entered.
+    const ROOT: Self = Self {
+        child: 0,
+        count: 0,
+        distance_squared: 0.0,
+    };
+}
+
 /// Each wide node on the current path pushes at most three entries, and the
 /// wide tree is no deeper than the binary one; [`SLACK`] more.
 const STACK: usize = 3 * (MAX_DEPTH as usize + 1) + SLACK;
@@ -233,12 +242,12 @@ impl<const N: usize> Stack<N> {
 
     /// The next pending subtree still within `bound`, dropping those beyond it.
     #[inline(always)]
-    fn pop_within(&mut self, bound: f32) -> Option<(u32, u32, f32)> {
+    fn pop_within(&mut self, bound: f32) -> Option<Pending> {
         while self.top > 0 {
             self.top -= 1;
             let next = self.entries[self.top];
             if next.distance_squared <= bound {
-                return Some((next.child, next.count, next.distance_squared));
+                return Some(next);
             }
         }
         None
@@ -262,7 +271,7 @@ impl<T> Slices<'_, T> {
         visitor: &V,
         stack: &mut Stack<N>,
         counter: &mut C,
-    ) -> Option<(u32, u32, f32)> {
+    ) -> Option<Pending> {
         let node = &self.nodes[index as usize];
         counter.nodes(1);
         let d2 = node.distances_squared(q.px, q.py, q.pz);
@@ -302,17 +311,25 @@ impl<T> Slices<'_, T> {
         }
         stack.top += n - 1;
         let nearest = (keys[0] & 3) as usize;
-        Some((node.children[nearest], node.counts[nearest], d[nearest]))
+        Some(Pending {
+            child: node.children[nearest],
+            count: node.counts[nearest],
+            distance_squared: d[nearest],
+        })
     }
 
     /// Tests the primitives of a leaf lane (`count == LEAF | n`), four
-    /// triangles at a time where the tree has packets.
+    /// triangles at a time where the tree has packets; the leaf's box
+    /// distance decides whether its pairs are first checked by their
+    /// triangles' boxes ([`CULL_FROM`]).
     #[inline(always)]
     fn visit_leaf<V: LaneVisitor<T>, C: Counter>(
         &self,
-        child: u32,
-        count: u32,
-        distance_squared: f32,
+        Pending {
+            child,
+            count,
+            distance_squared,
+        }: Pending,
         q: &Query,
         visitor: &mut V,
         counter: &mut C,
@@ -493,13 +510,12 @@ impl<T> Slices<'_, T> {
         }
         let q = Query::new(p, avx2);
         let mut stack = Stack::<N>::EMPTY;
-        // The root, entered unconditionally: its lanes are tested below.
-        let mut next = Some((0u32, 0u32, 0.0));
-        while let Some((child, count, distance_squared)) = next {
-            next = if count & LEAF == 0 {
-                self.enter_node(child, &q, visitor, &mut stack, counter)
+        let mut next = Some(Pending::ROOT);
+        while let Some(pending) = next {
+            next = if pending.count & LEAF == 0 {
+                self.enter_node(pending.child, &q, visitor, &mut stack, counter)
             } else {
-                self.visit_leaf(child, count, distance_squared, &q, visitor, counter);
+                self.visit_leaf(pending, &q, visitor, counter);
                 None
             }
             .or_else(|| stack.pop_within(visitor.bound()));
@@ -516,7 +532,7 @@ pub(crate) struct Walk<V> {
     query: Query,
     pub(crate) visitor: V,
     stack: Stack,
-    next: Option<(u32, u32, f32)>,
+    next: Option<Pending>,
 }
 
 impl<V> Walk<V> {
@@ -531,7 +547,7 @@ impl<V> Walk<V> {
             query: Query::new(p, avx2),
             visitor,
             stack: Stack::EMPTY,
-            next: (!tree.nodes.is_empty()).then_some((0, 0, 0.0)),
+            next: (!tree.nodes.is_empty()).then_some(Pending::ROOT),
         }
     }
 
@@ -545,7 +561,7 @@ impl<V> Walk<V> {
         self.query = Query::new(p, avx2);
         self.visitor = visitor;
         self.stack.top = 0;
-        self.next = (!tree.nodes.is_empty()).then_some((0, 0, 0.0));
+        self.next = (!tree.nodes.is_empty()).then_some(Pending::ROOT);
     }
 }
 
@@ -556,13 +572,13 @@ impl<T> Slices<'_, T> {
     /// in cache.
     #[inline(always)]
     pub(crate) fn step<V: LaneVisitor<T>>(&self, walk: &mut Walk<V>) -> bool {
-        let Some((child, count, distance_squared)) = walk.next else {
+        let Some(pending) = walk.next else {
             return false;
         };
-        walk.next = if count & LEAF == 0 {
-            self.enter_node(child, &walk.query, &walk.visitor, &mut walk.stack, &mut ())
+        walk.next = if pending.count & LEAF == 0 {
+            self.enter_node(pending.child, &walk.query, &walk.visitor, &mut walk.stack, &mut ())
         } else {
-            self.visit_leaf(child, count, distance_squared, &walk.query, &mut walk.visitor, &mut ());
+            self.visit_leaf(pending, &walk.query, &mut walk.visitor, &mut ());
             None
         }
         .or_else(|| walk.stack.pop_within(walk.visitor.bound()));
