@@ -29,21 +29,14 @@ impl<T: ClosestPoint + Sync> WideTree<T> {
 
     /// [`closest_batch`](Self::closest_batch) with explicit options.
     ///
-    /// Without `seed_radius`, each thread takes chunks of the (sorted)
-    /// queries and, with [`interleave`](BatchOptions::interleave) above 1,
-    /// interleaves that many walks: it advances each by one node or leaf in
-    /// turn, so that the cache misses of one overlap the work of the others.
-    /// Either way the answers are those of [`closest`](Self::closest), query by query.
+    /// Each thread takes chunks of the (sorted) queries. Within a chunk it
+    /// answers one query after the other, each seeded with the previous
+    /// answer ([`seed_radius`](BatchOptions::seed_radius)), or with
+    /// [`interleave`](BatchOptions::interleave) above 1 it interleaves that
+    /// many walks: it advances each by one node or leaf in turn, so that the
+    /// cache misses of one overlap the work of the others. Either way the
+    /// answers are those of [`closest`](Self::closest), query by query.
     pub fn closest_batch_with(&self, points: &[Vec3], options: BatchOptions) -> Vec<Option<ClosestHit>> {
-        if options.seed_radius {
-            return answer_batch(
-                points,
-                &self.root_bounds(),
-                options.reorder,
-                Seed::default,
-                |seed, p| seed.closest(p, true, |p, r| self.closest_within(p, r)),
-            );
-        }
         let order = options.reorder.then(|| morton_order(points, &self.root_bounds()));
         let sorted: Vec<Vec3> = match &order {
             Some(order) => order.iter().map(|&i| points[i as usize]).collect(),
@@ -55,8 +48,9 @@ impl<T: ClosestPoint + Sync> WideTree<T> {
             .zip(sorted.par_chunks(CHUNK))
             .for_each(|(out, points)| match options.interleave {
                 0 | 1 => {
+                    let mut seed = Seed::default();
                     for (answer, &p) in out.iter_mut().zip(points) {
-                        *answer = self.closest(p);
+                        *answer = seed.closest(p, options.seed_radius, |p, r| self.closest_within(p, r));
                     }
                 }
                 2..4 => self.closest_interleaved::<2>(points, out),
