@@ -5,7 +5,7 @@ use super::avx2::Avx2Task;
 use super::traverse::{Avx2, Walk};
 use super::{WideKnnScratch, WideTree};
 use crate::aabb::Aabb;
-use crate::bvh::batch::{Seed, answer_batch, morton_order, unpermute};
+use crate::bvh::batch::{Seed, answer_batch, morton_order, unpermute_copied};
 use crate::bvh::closest::Best;
 use crate::bvh::{BatchOptions, ClosestHit};
 use crate::math::{Vec3, Vec3A};
@@ -59,7 +59,7 @@ impl<T: ClosestPoint + Sync> WideTree<T> {
                 _ => self.closest_interleaved::<16>(points, out),
             });
         match &order {
-            Some(order) => unpermute(order, answers),
+            Some(order) => unpermute_copied(order, &answers),
             None => answers,
         }
     }
