@@ -170,7 +170,10 @@ pub(crate) fn unpermute<R>(order: &[u32], answers: Vec<R>) -> Vec<R> {
 }
 
 /// [`unpermute`] for plain values: one scatter into a copy, with no
-/// temporary slots.
+/// temporary slots. Putting the answers of any type in place by following
+/// the permutation's cycles, which would have served both, measured 0.3–0.5
+/// ms slower on 20,000 answers, of about 1.5 ms that a one-thread batch
+/// spends outside its queries.
 pub(crate) fn unpermute_copied<R: Copy>(order: &[u32], answers: &[R]) -> Vec<R> {
     let mut out = answers.to_vec();
     for (&i, &answer) in order.iter().zip(answers) {
