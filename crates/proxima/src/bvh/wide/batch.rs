@@ -5,16 +5,11 @@ use super::avx2::Avx2Task;
 use super::traverse::{Avx2, Walk};
 use super::{WideKnnScratch, WideTree};
 use crate::aabb::Aabb;
-use crate::bvh::batch::{Seed, answer_batch, morton_order, unpermute_copied};
+use crate::bvh::batch::{Seed, answer_batch, closest_in_chunks};
 use crate::bvh::closest::Best;
 use crate::bvh::{BatchOptions, ClosestHit};
 use crate::math::{Vec3, Vec3A};
 use crate::primitive::ClosestPoint;
-use rayon::prelude::*;
-
-/// Queries per parallel task: large enough that the interleaved walks stay
-/// busy, small enough to share work between threads.
-const CHUNK: usize = 1024;
 
 impl<T: ClosestPoint + Sync> WideTree<T> {
     fn root_bounds(&self) -> Aabb {
@@ -37,31 +32,18 @@ impl<T: ClosestPoint + Sync> WideTree<T> {
     /// cache misses of one overlap the work of the others. Either way the
     /// answers are those of [`closest`](Self::closest), query by query.
     pub fn closest_batch_with(&self, points: &[Vec3], options: BatchOptions) -> Vec<Option<ClosestHit>> {
-        let order = options.reorder.then(|| morton_order(points, &self.root_bounds()));
-        let sorted: Vec<Vec3> = match &order {
-            Some(order) => order.iter().map(|&i| points[i as usize]).collect(),
-            None => points.to_vec(),
-        };
-        let mut answers = vec![None; points.len()];
-        answers
-            .par_chunks_mut(CHUNK)
-            .zip(sorted.par_chunks(CHUNK))
-            .for_each(|(out, points)| match options.interleave {
-                0 | 1 => {
-                    let mut seed = Seed::default();
-                    for (answer, &p) in out.iter_mut().zip(points) {
-                        *answer = seed.closest(p, options.seed_radius, |p, r| self.closest_within(p, r));
-                    }
-                }
+        closest_in_chunks(
+            points,
+            &self.root_bounds(),
+            options.reorder,
+            |points, out| match options.interleave {
+                0 | 1 => Seed::closest_each(points, out, options.seed_radius, |p, r| self.closest_within(p, r)),
                 2..4 => self.closest_interleaved::<2>(points, out),
                 4..8 => self.closest_interleaved::<4>(points, out),
                 8..16 => self.closest_interleaved::<8>(points, out),
                 _ => self.closest_interleaved::<16>(points, out),
-            });
-        match &order {
-            Some(order) => unpermute_copied(order, &answers),
-            None => answers,
-        }
+            },
+        )
     }
 
     /// The closest primitive to each of `points`, into `out`, with `K` walks
