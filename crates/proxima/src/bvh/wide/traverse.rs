@@ -281,6 +281,20 @@ impl<T> Slices<'_, T> {
         }
         let d = d2.to_array();
         self.prefetch_children(node, mask);
+        // One child within reach: it is entered at once, with nothing to
+        // order or push. That is 40% of the node visits of a near-surface
+        // query in a batch (10.2 of 25.6 on the dragon, 10.4 of 26.3 on
+        // ico1m; uniform 28% and 15%). Against the branch-free path alone:
+        // 1.01–1.04x per one-thread batch and 1.01–1.02x per query on the
+        // dragon and ico1m (15 alternating rounds, median ratio).
+        if mask & (mask - 1) == 0 {
+            let lane = mask.trailing_zeros() as usize;
+            return Some(Pending {
+                child: node.children[lane],
+                count: node.counts[lane],
+                distance_squared: d[lane],
+            });
+        }
         // Nearest first without a branch: each lane's key is its distance's
         // bits (in the order of the distances, which are not negative), the
         // lane below them to break ties as the lane order does; lanes
