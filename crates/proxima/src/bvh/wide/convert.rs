@@ -97,14 +97,16 @@ impl<'a> Packer<'a> {
             .downcast_ref::<AabbTree<Triangle>>()
             .map(AabbTree::primitives)
             .filter(|_| cfg!(target_arch = "x86_64"));
-        // Reserved exactly, in place on huge pages: growing by doubling, or
-        // copying into the mapping afterwards, would copy tens of megabytes.
-        let packets = triangles.map_or(0, |_| {
-            tree.nodes()
-                .filter(|(_, n)| n.is_leaf())
-                .map(|(_, n)| n.primitive_range().len().div_ceil(4))
-                .sum()
-        });
+        // Reserved in place on huge pages: growing by doubling, or copying
+        // into the mapping afterwards, would copy tens of megabytes. A leaf
+        // of `k` triangles takes `ceil(k / 4)` packets, at most `1 + k / 4`,
+        // and a wide leaf merged from several binary leaves no more than
+        // they would: so one packet per binary leaf (half the nodes, the tree
+        // being full) and one per four triangles. Pages reserved beyond those
+        // written are never touched. Counting them exactly instead, in a pass
+        // over the nodes: the collapse took 1.01x (dragon) and 1.06x (ico1m)
+        // as long (median of 15 alternating rounds, one thread).
+        let packets = triangles.map_or(0, |t| tree.node_count().div_ceil(2) + t.len() / 4);
         Self {
             triangles,
             indices: &tree.indices,
