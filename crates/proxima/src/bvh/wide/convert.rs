@@ -15,8 +15,8 @@ use std::ops::Range;
 /// end), by node index, in one backward pass: children follow their parent
 /// in the node array. Walking down a subtree's two edges each time a node
 /// is considered instead made the whole collapse 1.19x (dragon) and 1.29x
-/// (ico1m) as long: 54 against 69 ms and 44 against 66 ms, one thread, best
-/// of 15 alternating rounds.
+/// (ico1m) as long (one thread, median ratio of 15 alternating rounds; best
+/// times 69 against 54 ms and 66 against 44 ms).
 fn subtree_ranges<T>(tree: &AabbTree<T>) -> Vec<Range<u32>> {
     // Index 1 is unused (the root has no sibling), so indices reach `node_count`.
     let mut ranges = vec![0..0; tree.node_count() + 1];
