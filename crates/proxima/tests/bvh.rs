@@ -192,13 +192,7 @@ fn non_finite_queries_answer_nothing() {
         assert_eq!(tree.closest_best_first(p), None);
         assert!(tree.k_nearest(p, 3).is_empty());
         // Between finite queries, whose answers seed the next search.
-        let mixed = [
-            Vec3::new(0.3, 0.2, 0.1),
-            p,
-            Vec3::new(0.35, 0.2, 0.1),
-            p,
-            Vec3::new(-2.0, 1.0, 0.0),
-        ];
+        let mixed = common::mixed_with(p);
         let expected: Vec<_> = mixed.iter().map(|&q| tree.closest(q)).collect();
         assert!(expected[0].is_some() && expected[1].is_none());
         for options in common::batch_options() {

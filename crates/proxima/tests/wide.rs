@@ -247,14 +247,9 @@ fn non_finite_queries_answer_nothing() {
         assert_eq!(wide.closest_batch(&[p]), vec![None]);
         // Between finite queries, whose answers seed the next search: the
         // bad point still answers nothing and does not disturb the others.
-        let mixed = [
-            Vec3::new(0.3, 0.2, 0.1),
-            p,
-            Vec3::new(0.35, 0.2, 0.1),
-            p,
-            Vec3::new(-2.0, 1.0, 0.0),
-        ];
+        let mixed = common::mixed_with(p);
         let expected: Vec<_> = mixed.iter().map(|&q| wide.closest(q)).collect();
+        assert!(expected[0].is_some() && expected[1].is_none());
         for options in common::batch_options() {
             assert_eq!(wide.closest_batch_with(&mixed, options), expected, "{options:?}");
         }

@@ -70,8 +70,18 @@ pub fn bumpy_sphere(frequency: u32, seed: u64) -> Mesh {
     proxima::mesh::generate::noisy_icosphere(frequency, seed)
 }
 
-/// Query points of every kind: far away, near the surface, uniform in the box,
-/// exactly on vertices, on edge midpoints, at the center (inside closed meshes).
+/// The non-finite point `bad` twice among finite queries (two close
+/// together, one far off), whose answers seed the next search in a batch.
+pub fn mixed_with(bad: Vec3) -> [Vec3; 5] {
+    [
+        Vec3::new(0.3, 0.2, 0.1),
+        bad,
+        Vec3::new(0.35, 0.2, 0.1),
+        bad,
+        Vec3::new(-2.0, 1.0, 0.0),
+    ]
+}
+
 /// Every batch configuration worth checking: input and Morton order, with
 /// and without radius seeding, one to sixteen interleaved walks.
 pub fn batch_options() -> Vec<proxima::bvh::BatchOptions> {
@@ -88,6 +98,8 @@ pub fn batch_options() -> Vec<proxima::bvh::BatchOptions> {
     out
 }
 
+/// Query points of every kind: far away, near the surface, uniform in the box,
+/// exactly on vertices, on edge midpoints, at the center (inside closed meshes).
 pub fn queries(mesh: &Mesh, n: usize, seed: u64) -> Vec<Vec3> {
     let mut out = proxima::sample::near_surface(mesh, n, 0.01, seed);
     out.extend(proxima::sample::uniform_in_box(mesh, n, seed + 1));
