@@ -2,9 +2,11 @@
 
 use super::packet::TrianglePacket;
 use super::{WideNode, WideTree};
+use crate::aabb::Aabb;
 use crate::bvh::AabbTree;
 use crate::bvh::config::BuildConfig;
 use crate::error::BuildError;
+use crate::math::Vec3;
 use crate::memory::{HugePageArray, HugePageVec};
 use crate::primitive::{Bounded, PrimitiveSet, Triangle};
 use std::any::Any;
@@ -44,13 +46,35 @@ fn wide_leaf<T>(tree: &AabbTree<T>, ranges: &[Range<u32>], index: usize, max_lea
     (tree.node(index).is_leaf() || range.len() <= max_leaf).then_some(range)
 }
 
+/// How likely a point query is to enter box `b`: the volume of `b` grown by
+/// `grow` on every side. A point lies within distance `r` of a box when it
+/// lies in the box grown by `r` (rounded corners aside), so for queries
+/// spread through space that volume is the chance of entering it; `grow`
+/// keeps flat boxes, whose own volume is zero, ordered by their area.
+fn reach_volume(b: &Aabb, grow: f32) -> f32 {
+    let size = b.size() + Vec3::splat(2.0 * grow);
+    size.x * size.y * size.z
+}
+
 /// Up to four binary nodes that become the children of one wide node: the two
 /// children of binary node `index`, then, while there are fewer than four,
-/// the inner candidate of largest surface area is replaced by its two
-/// children. Large boxes are the ones a query most often enters, so opening
-/// them first saves the most node visits. Nodes that become wide leaves
-/// ([`wide_leaf`]) are not opened.
-fn collapse<T>(tree: &AabbTree<T>, ranges: &[Range<u32>], index: usize, max_leaf: usize) -> ([usize; 4], usize) {
+/// the inner candidate a query most likely enters ([`reach_volume`]) is
+/// replaced by its two children: opening those first saves the most node
+/// visits. Nodes that become wide leaves ([`wide_leaf`]) are not opened.
+///
+/// With `grow` a thousandth of the root box's diagonal, against the surface
+/// area (the measure for rays), over 20,000 queries per set: wide nodes
+/// visited per query 25.93 → 25.57 (dragon near), 72.89 → 70.34 (dragon
+/// uniform), 26.30 → 26.20 and 191.35 → 190.86 (ico1m), triangles tested
+/// the same or up to 0.4% fewer; 3.8% (dragon) and 1.1% (ico1m) fewer wide
+/// nodes; rays from outside and inside 0.1–0.6% fewer nodes.
+fn collapse<T>(
+    tree: &AabbTree<T>,
+    ranges: &[Range<u32>],
+    index: usize,
+    max_leaf: usize,
+    grow: f32,
+) -> ([usize; 4], usize) {
     let mut lanes = [0usize; 4];
     let [a, b] = tree.node(index).children();
     lanes[0] = a as usize;
@@ -61,10 +85,10 @@ fn collapse<T>(tree: &AabbTree<T>, ranges: &[Range<u32>], index: usize, max_leaf
             .iter()
             .enumerate()
             .filter(|&(_, &c)| wide_leaf(tree, ranges, c, max_leaf).is_none())
-            .map(|(lane, &c)| (lane, tree.node(c).bounds().surface_area()))
-            .fold(None, |best: Option<(usize, f32)>, (lane, area)| match best {
-                Some((_, a)) if a >= area => best,
-                _ => Some((lane, area)),
+            .map(|(lane, &c)| (lane, reach_volume(&tree.node(c).bounds(), grow)))
+            .fold(None, |best: Option<(usize, f32)>, (lane, volume)| match best {
+                Some((_, v)) if v >= volume => best,
+                _ => Some((lane, volume)),
             });
         let Some((lane, _)) = largest else { break };
         let [left, right] = tree.node(lanes[lane]).children();
@@ -225,10 +249,11 @@ impl<T: 'static> WideTree<T> {
                 // (wide node to fill, binary node it stands for, its depth,
                 // the parent's wide node and lane)
                 let ranges = subtree_ranges(&tree);
+                let grow = 1e-3 * root.bounds().diagonal();
                 let mut work = vec![(0usize, 0usize, 0u32, None)];
                 while let Some((wide, binary, d, parent)) = work.pop() {
                     depth = depth.max(d);
-                    let (lanes, n) = collapse(&tree, &ranges, binary, max_leaf);
+                    let (lanes, n) = collapse(&tree, &ranges, binary, max_leaf, grow);
                     let first_packet = packer.count as u32;
                     for (lane, &child) in lanes[..n].iter().enumerate() {
                         let node = tree.node(child);
@@ -307,6 +332,28 @@ mod tests {
                 assert_eq!(ranges[index], start as u32..end as u32, "node {index}");
                 assert_eq!(count, end - start);
             }
+        }
+    }
+
+    /// Fat boxes are ordered by volume, flat ones by area, and a box that
+    /// holds another measures at least as much.
+    #[test]
+    fn reach_volume_orders_fat_and_flat_boxes() {
+        let cube = |size: Vec3| Aabb::new(Vec3::ZERO, size);
+        let grow = 1e-3;
+        assert!(reach_volume(&cube(Vec3::splat(2.0)), grow) > reach_volume(&cube(Vec3::new(8.0, 8.0, 0.1)), grow));
+        assert!(
+            reach_volume(&cube(Vec3::new(3.0, 3.0, 0.0)), grow) > reach_volume(&cube(Vec3::new(2.0, 4.0, 0.0)), grow)
+        );
+        assert!(
+            reach_volume(&cube(Vec3::new(1.0, 0.0, 0.0)), grow) > reach_volume(&cube(Vec3::new(0.5, 0.0, 0.0)), grow)
+        );
+        assert!(reach_volume(&cube(Vec3::ZERO), grow) > 0.0);
+        let mut rng = crate::sample::Rng::new(5);
+        for _ in 0..1000 {
+            let outer = Vec3::new(rng.range(0.0, 2.0), rng.range(0.0, 2.0), rng.range(0.0, 2.0));
+            let inner = outer * Vec3::new(rng.range(0.0, 1.0), rng.range(0.0, 1.0), rng.range(0.0, 1.0));
+            assert!(reach_volume(&cube(outer), grow) >= reach_volume(&cube(inner), grow));
         }
     }
 
