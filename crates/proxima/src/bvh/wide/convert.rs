@@ -147,11 +147,8 @@ impl<'a> Packer<'a> {
         Self {
             triangles,
             indices: &tree.indices,
-            leaves: Vec::with_capacity(if triangles.is_some() {
-                tree.node_count().div_ceil(2)
-            } else {
-                0
-            }),
+            // At most one leaf per binary leaf.
+            leaves: Vec::with_capacity(triangles.map_or(0, |_| tree.node_count().div_ceil(2))),
             count: 0,
             packets,
         }
@@ -185,8 +182,8 @@ impl<'a> Packer<'a> {
             for (k, leaf) in leaves.iter().enumerate() {
                 if let Some(next) = leaves.get(k + PACK_AHEAD) {
                     let next = next.start as usize..next.end as usize;
-                    // Every other triangle, 72 bytes apart: all but about one
-                    // in nine of the leaf's lines (as measured).
+                    // Every other triangle (72 bytes apart) reaches all but
+                    // about one in nine of the leaf's lines; the variant measured.
                     for triangle in triangles[next.clone()].iter().step_by(2) {
                         super::traverse::prefetch(triangle);
                     }

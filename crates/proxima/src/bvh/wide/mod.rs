@@ -3,8 +3,9 @@
 //! [`WideTree`] is made from a built [`AabbTree`] by collapsing its binary
 //! nodes: each wide node takes up to four nodes of the binary tree as its
 //! children, opening first the inner child a point query most likely enters
-//! (the largest volume of its box grown a little), in the manner of a BVH4. The four child boxes are stored as structure of arrays, so
-//! one query computes the four box distances with one `f32x4` computation.
+//! (the largest volume of its box grown a little), in the manner of a BVH4.
+//! The four child boxes are stored as structure of arrays, so one query
+//! computes the four box distances with one `f32x4` computation.
 //!
 //! The boxes are the binary tree's own (widened) node boxes and the leaves are
 //! its leaves, over the same leaf-order primitive array; pruning uses the same
