@@ -20,7 +20,9 @@
 //!
 //! `--wide` also times the 4-wide tree ([`WideTree`], made from the same binary
 //! tree) per query, in the same interleaved rounds, and checks that its answers
-//! equal the binary tree's.
+//! equal the binary tree's. It also prints, for the wide tree per query and in
+//! a batch, the median over the rounds of each round's own ratio to parry3d:
+//! steadier than the ratio of best times when the load drifts between rounds.
 
 use parry3d::shape::TriMesh;
 use proxima::bvh::{BatchOptions, SplitMethod, WideTree};
@@ -41,6 +43,12 @@ fn timed<T>(f: impl FnOnce() -> T) -> (T, f64) {
 fn warm<T>(f: impl Fn() -> T) -> (T, f64) {
     std::hint::black_box(f());
     timed(f)
+}
+
+/// The median of `values` (sorted in place).
+fn median(values: &mut [f64]) -> f64 {
+    values.sort_by(f64::total_cmp);
+    values[values.len() / 2]
 }
 
 fn rate(n: usize, seconds: f64) -> f64 {
@@ -96,6 +104,7 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &
         );
     }
     let mut wide_rows = Vec::new();
+    let mut round_rows = Vec::new();
     println!(
         "build: proxima {t_build:.3} s on 1 thread ({:.2}x parry3d), {t_build_all:.3} s on all threads ({:.2}x); parry3d {t_parry_build:.3} s",
         t_parry_build / t_build,
@@ -120,7 +129,12 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &
         let (mut ours, mut theirs) = (Vec::new(), Vec::new());
         let (mut t_wide, mut t_wide_small) = (f64::INFINITY, f64::INFINITY);
         let (mut t_wide_batch, mut t_wide_morton, mut t_wide_all) = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
+        // Each round's own ratios to parry3d (per query, batch), whose median
+        // is steadier than the ratio of best times when the machine's load
+        // drifts.
+        let mut round_ratios = (Vec::new(), Vec::new());
         for _ in 0..5 {
+            let (mut round_wide, mut round_batch) = (f64::NAN, f64::NAN);
             let (o, t) = warm(|| {
                 points
                     .iter()
@@ -139,6 +153,7 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &
                 });
                 assert_eq!(w, ours, "wide and binary trees disagree");
                 t_wide = t_wide.min(t);
+                round_wide = t;
                 // Batches on one thread, in Morton order: one query after the
                 // other (the default), and 8 interleaved walks.
                 for (options, best) in [
@@ -154,6 +169,9 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &
                     let (b, t) = warm(|| one_thread.install(|| wide.closest_batch_with(&points, options)));
                     assert!(b.iter().zip(&ours).all(|(h, &d)| h.unwrap().distance == d));
                     *best = best.min(t);
+                    if round_batch.is_nan() {
+                        round_batch = t;
+                    }
                 }
                 t_wide_all = t_wide_all.min(warm(|| wide.closest_batch(&points)).1);
             }
@@ -169,6 +187,8 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &
             }
             let (o, t) = warm(|| points.iter().map(|&p| parry_distance(&trimesh, p)).collect::<Vec<_>>());
             (theirs, t_parry) = (o, t_parry.min(t));
+            round_ratios.0.push(t / round_wide);
+            round_ratios.1.push(t / round_batch);
         }
         let worst = ours
             .iter()
@@ -186,6 +206,11 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &
                 let s = wide.closest_with_stats(p).1;
                 (acc.0 + s.nodes_visited, acc.1 + s.primitives_tested)
             });
+            round_rows.push(format!(
+                "| {set} | {:.2}x | {:.2}x |",
+                median(&mut round_ratios.0),
+                median(&mut round_ratios.1)
+            ));
             wide_rows.push(format!(
                 "| {set} | {:.1} | {:.1} | {:.1} | {:.0} | {:.0} | {:.0} | {:.2}x | {:.2}x | {:.2}x | {:.0} | {:.2}x | {:.2}x | {:.2}x |",
                 nodes as f64 / n as f64,
@@ -221,6 +246,12 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &
         );
         println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
         for row in wide_rows {
+            println!("{row}");
+        }
+        println!("\nwide tree against parry3d, median over the 5 rounds of each round's own ratio:");
+        println!("| query set | wide/parry | wide batch/parry |");
+        println!("|---|---|---|");
+        for row in round_rows {
             println!("{row}");
         }
     }
