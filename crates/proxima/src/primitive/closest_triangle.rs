@@ -20,6 +20,22 @@ pub(crate) const FAST_EDGE2: f32 = (1u64 << 60) as f32;
 /// infinity and returned the query itself as its closest point.
 pub(crate) const FAST_REACH2: f32 = (1u128 << 64) as f32;
 
+/// Whether [`closest_on_triangle`] sends the triangle with edges `ab` and
+/// `ac` from its first vertex, and normal `n = ab × ac`, to its `f64` path
+/// whatever the query: slivers, and sizes where `f32` products could
+/// overflow or lose their precision to underflow (edges shorter than about
+/// 1e-10). The triangle packets decide by this same test, so the lanes they
+/// answer are exactly the triangles the fast path answers.
+#[inline(always)]
+pub(crate) fn takes_f64_path(ab: Vec3A, ac: Vec3A, n: Vec3A) -> bool {
+    let (ab2, ac2) = (ab.length_squared(), ac.length_squared());
+    let scale = ab2 * ac2;
+    n.length_squared() <= SLIVER_SIN2 * scale
+        || scale.is_nan()
+        || scale < f32::MIN_POSITIVE
+        || ab2.max(ac2) > FAST_EDGE2
+}
+
 /// The point of triangle `a`, `b`, `c` closest to `p`.
 ///
 /// The query is classified against the triangle's vertex, edge and face
@@ -33,16 +49,7 @@ pub(crate) fn closest_on_triangle(a: Vec3A, b: Vec3A, c: Vec3A, p: Vec3A) -> Vec
     let ac = c - a;
     let n = ab.cross(ac);
     let ap = p - a;
-    let (ab2, ac2) = (ab.length_squared(), ac.length_squared());
-    let scale = ab2 * ac2;
-    // Slivers, and sizes where f32 products could overflow or lose their
-    // precision to underflow (edges shorter than about 1e-10), go to f64.
-    if n.length_squared() <= SLIVER_SIN2 * scale
-        || scale.is_nan()
-        || scale < f32::MIN_POSITIVE
-        || ab2.max(ac2) > FAST_EDGE2
-        || ap.length_squared() > FAST_REACH2
-    {
+    if takes_f64_path(ab, ac, n) || ap.length_squared() > FAST_REACH2 {
         return closest_on_sliver(a, b, c, p);
     }
     let d1 = ab.dot(ap);

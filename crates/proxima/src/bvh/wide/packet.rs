@@ -13,16 +13,8 @@
 
 use crate::math::Vec3A;
 use crate::primitive::Triangle;
-use crate::primitive::closest_triangle::{FAST_EDGE2, FAST_REACH2};
+use crate::primitive::closest_triangle::{FAST_REACH2, takes_f64_path};
 use wide::f32x4;
-
-/// The scalar routine sends a triangle to its `f64` path when
-/// `|n|² <= 1e-4 |ab|² |ac|²`. Packing marks for the scalar routine every
-/// triangle below four times that bound, a superset: the lanes answered in
-/// `f32x4` are certainly not slivers to the scalar routine, and the others
-/// get the scalar routine's own answer, whichever path it takes. (The test
-/// `packets_equal_the_scalar_routine` checks triangles across the bound.)
-const SCALAR_SIN2: f32 = 4e-4;
 
 /// Up to four triangles of one leaf in structure of arrays form, with the
 /// leaf-order slot of the first and each lane's input index (so that a tie
@@ -170,15 +162,10 @@ impl TrianglePacket {
             if lane < triangles.len() {
                 let (a, b, c) = (Vec3A::from(t.a), Vec3A::from(t.b), Vec3A::from(t.c));
                 let (ab, ac) = (b - a, c - a);
-                let n = ab.cross(ac);
-                let (ab2, ac2) = (ab.length_squared(), ac.length_squared());
-                let scale = ab2 * ac2;
-                // The scalar routine's size bounds, widened the same way.
-                if n.length_squared() <= SCALAR_SIN2 * scale
-                    || scale.is_nan()
-                    || scale < 4.0 * f32::MIN_POSITIVE
-                    || ab2.max(ac2) > FAST_EDGE2 / 4.0
-                {
+                // The scalar routine's own test, on the same values: a lane is
+                // answered here exactly when the scalar routine would take
+                // its fast path, whose arithmetic the lanes repeat.
+                if takes_f64_path(ab, ac, ab.cross(ac)) {
                     packet.slow |= 1 << lane;
                 } else {
                     packet.fast |= 1 << lane;
