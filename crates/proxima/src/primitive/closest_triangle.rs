@@ -3,6 +3,7 @@
 
 use crate::math::Vec3A;
 use glam::DVec3;
+use wide::f32x4;
 
 /// Below this value of sin²(angle at `a`), a triangle counts as a sliver. The
 /// region tests of the fast path subtract products of nearly equal size, so
@@ -24,8 +25,9 @@ pub(crate) const FAST_REACH2: f32 = (1u128 << 64) as f32;
 /// `ac` from its first vertex, and normal `n = ab × ac`, to its `f64` path
 /// whatever the query: slivers, and sizes where `f32` products could
 /// overflow or lose their precision to underflow (edges shorter than about
-/// 1e-10). The triangle packets decide by this same test, so the lanes they
-/// answer are exactly the triangles the fast path answers.
+/// 1e-10). The triangle packets decide by this same test in four lanes
+/// ([`takes_f64_path_x4`]), so the lanes they answer are exactly the
+/// triangles the fast path answers.
 #[inline(always)]
 pub(crate) fn takes_f64_path(ab: Vec3A, ac: Vec3A, n: Vec3A) -> bool {
     let (ab2, ac2) = (ab.length_squared(), ac.length_squared());
@@ -34,6 +36,23 @@ pub(crate) fn takes_f64_path(ab: Vec3A, ac: Vec3A, n: Vec3A) -> bool {
         || scale.is_nan()
         || scale < f32::MIN_POSITIVE
         || ab2.max(ac2) > FAST_EDGE2
+}
+
+/// [`takes_f64_path`] in four lanes, from each lane's `|ab|²`, `|ac|²` and
+/// `|n|²` computed as the scalar routine computes them: all lanes set where
+/// the scalar test holds. The two must agree lane for lane (tested), since
+/// the triangle packets answer the lanes this leaves clear.
+#[inline(always)]
+pub(crate) fn takes_f64_path_x4(ab2: f32x4, ac2: f32x4, n2: f32x4) -> f32x4 {
+    let scale = ab2 * ac2;
+    // `max(|ab|², |ac|²) > FAST_EDGE2` as two tests: where either is NaN,
+    // so is `scale`, and the lane is set by that test already.
+    let edge = f32x4::splat(FAST_EDGE2);
+    n2.simd_le(f32x4::splat(SLIVER_SIN2) * scale)
+        | scale.is_nan()
+        | scale.simd_lt(f32x4::splat(f32::MIN_POSITIVE))
+        | ab2.simd_gt(edge)
+        | ac2.simd_gt(edge)
 }
 
 /// The point of triangle `a`, `b`, `c` closest to `p`.
