@@ -111,6 +111,12 @@ impl V3 {
         }
     }
 
+    /// The three coordinates' lanes, as stored in a packet.
+    #[inline(always)]
+    fn rows(&self) -> [[f32; 4]; 3] {
+        [self.x.to_array(), self.y.to_array(), self.z.to_array()]
+    }
+
     /// Lane by lane, `t` where `mask` is set, else `self`.
     #[inline(always)]
     fn replace(self, mask: f32x4, t: Self) -> Self {
@@ -139,35 +145,41 @@ impl TrianglePacket {
         assert!((1..=4).contains(&triangles.len()) && indices.len() == triangles.len());
         let last = triangles.len() - 1;
         let t: [&Triangle; 4] = std::array::from_fn(|lane| &triangles[lane.min(last)]);
-        let rows = |vertex: fn(&Triangle) -> Vec3| -> [[f32; 4]; 3] {
+        // The lanes are built in registers. Written to the packet first and
+        // loaded back as vectors, each load waited on four scalar stores
+        // (perf: a fifth of this function's samples on one load); against
+        // that, the whole collapse took 0.87–0.93x as long (one thread,
+        // median of 21 alternating rounds, two runs, dragon and ico1m).
+        let lanes = |vertex: fn(&Triangle) -> Vec3| -> V3 {
             let v = t.map(vertex);
-            [v.map(|v| v.x), v.map(|v| v.y), v.map(|v| v.z)]
+            V3 {
+                x: f32x4::new(v.map(|v| v.x)),
+                y: f32x4::new(v.map(|v| v.y)),
+                z: f32x4::new(v.map(|v| v.z)),
+            }
         };
-        let mut packet = Self {
-            first,
-            fast: 0,
-            slow: 0,
-            _pad: 0,
-            index: std::array::from_fn(|lane| indices[lane.min(last)]),
-            a: rows(|t| t.a),
-            b: rows(|t| t.b),
-            c: rows(|t| t.c),
-        };
+        let (a, b, c) = (lanes(|t| t.a), lanes(|t| t.b), lanes(|t| t.c));
         // The scalar routine's own test (`takes_f64_path`), on the same
         // values in the lanes: a lane is answered here exactly when the
         // scalar routine would take its fast path, whose arithmetic the
         // lanes repeat. Lane by lane with the scalar function instead, the
         // whole collapse took 1.05x (dragon) and 1.11x (ico1m) as long (one
         // thread, median of 15 alternating rounds).
-        let (a, b, c) = (V3::load(&packet.a), V3::load(&packet.b), V3::load(&packet.c));
         let (ab, ac) = (b.sub(a), c.sub(a));
         let (ab2, ac2) = (ab.dot(ab), ac.dot(ac));
         let n = ab.cross(ac);
         let slow = takes_f64_path_x4(ab2, ac2, n.dot(n)).to_bitmask();
         let real = (1u32 << triangles.len()) - 1;
-        packet.slow = slow & real;
-        packet.fast = !slow & real;
-        packet
+        Self {
+            first,
+            fast: !slow & real,
+            slow: slow & real,
+            _pad: 0,
+            index: std::array::from_fn(|lane| indices[lane.min(last)]),
+            a: a.rows(),
+            b: b.rows(),
+            c: c.rows(),
+        }
     }
 
     /// The closest point of each lane's triangle to `p`, its squared
