@@ -37,7 +37,7 @@ impl<'a> Best<'a> {
     /// The input index of the best so far (read from the index array only
     /// when a tie first needs it).
     #[inline(always)]
-    fn index(&self) -> u32 {
+    pub(crate) fn index(&self) -> u32 {
         if self.index == UNKNOWN {
             self.indices[self.slot]
         } else {

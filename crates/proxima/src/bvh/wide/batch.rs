@@ -37,7 +37,17 @@ impl<T: ClosestPoint + Sync> WideTree<T> {
             &self.root_bounds(),
             options.reorder,
             |points, out| match options.interleave {
-                0 | 1 => Seed::closest_each(points, out, options.seed_radius, |p, r| self.closest_within(p, r)),
+                // The sources are looked up once the chunk is answered, all
+                // together: against looking each up as its query ends,
+                // 1.04–1.06x on near-surface batches and 1.01–1.02x on
+                // uniform ones (dragon and ico1m, one thread, median of 21
+                // alternating rounds, two runs).
+                0 | 1 => {
+                    Seed::closest_each(points, out, options.seed_radius, |p, r| {
+                        self.closest_within_deferred(p, r)
+                    });
+                    self.tree.resolve_sources(out);
+                }
                 2..4 => self.closest_interleaved::<2>(points, out),
                 4..8 => self.closest_interleaved::<4>(points, out),
                 8..16 => self.closest_interleaved::<8>(points, out),

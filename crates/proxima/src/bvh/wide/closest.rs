@@ -39,6 +39,27 @@ impl<T: ClosestPoint> WideTree<T> {
         (hit, stats)
     }
 
+    /// [`closest_within`](Self::closest_within), except that the answer's
+    /// `source` holds its leaf-order slot, for
+    /// [`resolve_sources`](crate::AabbTree::resolve_sources) to replace
+    /// later; `primitive` is the input index the walk already knows (from
+    /// the packet, in the common case), not read from the index array.
+    #[inline]
+    pub(crate) fn closest_within_deferred(&self, p: Vec3, max_distance: f32) -> Option<ClosestHit> {
+        if !p.is_finite() {
+            return None;
+        }
+        let p = Vec3A::from(p);
+        let mut best = Best::new(&self.tree.indices, max_distance * max_distance);
+        self.nearest_first(p, &mut best, &mut ());
+        best.found.then(|| ClosestHit {
+            primitive: best.index(),
+            source: best.slot as u32,
+            point: best.point.into(),
+            distance: best.distance_squared.sqrt(),
+        })
+    }
+
     #[inline]
     fn closest_counted<C: Counter>(&self, p: Vec3, max_distance: f32, counter: &mut C) -> Option<ClosestHit> {
         if !p.is_finite() {
