@@ -141,7 +141,6 @@ impl<T> AabbTree<T> {
         (self.primitives, self.indices, self.sources)
     }
 
-    #[inline]
     /// Replaces the slot that each answer of `hits` holds in `source`
     /// (`WideTree::closest_within_deferred`) by the slot's source. Looked up
     /// at the end of each query, the source was a cache miss that the query
@@ -159,6 +158,7 @@ impl<T> AabbTree<T> {
         }
     }
 
+    #[inline]
     fn hit(&self, slot: usize, point: crate::math::Vec3A, distance_squared: f32) -> ClosestHit {
         ClosestHit {
             primitive: self.indices[slot],

@@ -46,13 +46,8 @@ impl<T: ClosestPoint> WideTree<T> {
     /// the packet, in the common case), not read from the index array.
     #[inline]
     pub(crate) fn closest_within_deferred(&self, p: Vec3, max_distance: f32) -> Option<ClosestHit> {
-        if !p.is_finite() {
-            return None;
-        }
-        let p = Vec3A::from(p);
-        let mut best = Best::new(&self.tree.indices, max_distance * max_distance);
-        self.nearest_first(p, &mut best, &mut ());
-        best.found.then(|| ClosestHit {
+        let best = self.best_within(p, max_distance, &mut ())?;
+        Some(ClosestHit {
             primitive: best.index(),
             source: best.slot as u32,
             point: best.point.into(),
@@ -62,13 +57,18 @@ impl<T: ClosestPoint> WideTree<T> {
 
     #[inline]
     fn closest_counted<C: Counter>(&self, p: Vec3, max_distance: f32, counter: &mut C) -> Option<ClosestHit> {
+        let best = self.best_within(p, max_distance, counter)?;
+        Some(self.tree.hit(best.slot, best.point, best.distance_squared))
+    }
+
+    /// The walk's best primitive within `max_distance` of `p`, if any.
+    #[inline(always)]
+    fn best_within<C: Counter>(&self, p: Vec3, max_distance: f32, counter: &mut C) -> Option<Best<'_>> {
         if !p.is_finite() {
             return None;
         }
-        let p = Vec3A::from(p);
         let mut best = Best::new(&self.tree.indices, max_distance * max_distance);
-        self.nearest_first(p, &mut best, counter);
-        best.found
-            .then(|| self.tree.hit(best.slot, best.point, best.distance_squared))
+        self.nearest_first(Vec3A::from(p), &mut best, counter);
+        best.found.then_some(best)
     }
 }
