@@ -6,6 +6,8 @@ use crate::aabb::Aabb;
 use crate::math::Vec3;
 use crate::primitive::ClosestPoint;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Mutex, PoisonError};
 
 /// How a batch is processed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -121,9 +123,19 @@ impl Seed {
 const CHUNK: usize = 1024;
 
 /// The closest-hit batch of both trees: the points, in Morton order within
-/// `bounds` with `reorder`, are cut into chunks of [`CHUNK`] that rayon's
-/// pool hands to `answer_chunk`, which fills a chunk's answers; the answers
+/// `bounds` with `reorder`, are cut into chunks of [`CHUNK`] that the
+/// threads of rayon's pool take in order from a shared counter, each handing
+/// its chunk to `answer_chunk`, which fills the chunk's answers; the answers
 /// come back in input order.
+///
+/// The threads so work on neighbouring chunks, whose queries walk
+/// neighbouring parts of the tree, and the shared cache serves both; each
+/// ends at most one chunk after the other. Rayon's own split of the chunks
+/// gave each thread a contiguous half, stealing five chunks at a time: one
+/// thread was often busy 30% longer than the other. Against it, two
+/// threads answered 1.04–1.10x as many queries per second on the dragon
+/// and ico1m, near-surface and uniform (15 alternating rounds, median
+/// ratio, two runs); smaller chunks (256, 512) gained nothing more.
 pub(crate) fn closest_in_chunks(
     points: &[Vec3],
     bounds: &Aabb,
@@ -136,10 +148,29 @@ pub(crate) fn closest_in_chunks(
         None => points.to_vec(),
     };
     let mut answers = vec![None; points.len()];
-    answers
-        .par_chunks_mut(CHUNK)
-        .zip(sorted.par_chunks(CHUNK))
-        .for_each(|(out, points)| answer_chunk(points, out));
+    // Each chunk is taken exactly once, so its lock is never waited on.
+    let chunks: Vec<Mutex<(&mut [_], &[Vec3])>> = answers
+        .chunks_mut(CHUNK)
+        .zip(sorted.chunks(CHUNK))
+        .map(Mutex::new)
+        .collect();
+    let next = AtomicUsize::new(0);
+    let work = || {
+        while let Some(chunk) = chunks.get(next.fetch_add(1, Ordering::Relaxed)) {
+            let mut chunk = chunk.lock().unwrap_or_else(PoisonError::into_inner);
+            let (out, points) = &mut *chunk;
+            answer_chunk(points, out);
+        }
+    };
+    // One task per thread, at most one per chunk; a task that finds the
+    // chunks all taken ends at once, so no thread has to join in.
+    rayon::scope(|scope| {
+        for _ in 1..rayon::current_num_threads().min(chunks.len()) {
+            scope.spawn(|_| work());
+        }
+        work();
+    });
+    drop(chunks);
     match &order {
         Some(order) => unpermute_copied(order, &answers),
         None => answers,
@@ -323,6 +354,40 @@ mod tests {
             redone += usize::from(*searches.borrow() == [0.0, f32::INFINITY]);
         }
         assert!(redone > 250, "{redone} of 300 searches redone");
+    }
+
+    /// Every chunk is answered exactly once, whatever the number of threads
+    /// (more or fewer than the chunks, several chunks each), with or without
+    /// reordering: each tree's batch is brute force's answers, in input order.
+    #[test]
+    fn chunks_shared_by_threads_answer_every_point_once() {
+        let triangles = crate::sample::small_triangles(400, 21);
+        let linear = crate::LinearSearch::new(crate::PrimitiveSet::from_primitives(triangles.clone()));
+        let tree = AabbTree::build(triangles, &Default::default()).unwrap();
+        let wide = crate::bvh::WideTree::from_tree(tree.clone());
+        let mut rng = Rng::new(22);
+        // Four full chunks and a partial one.
+        let points: Vec<Vec3> = (0..4 * CHUNK + 37)
+            .map(|_| Vec3::new(rng.range(-1.5, 1.5), rng.range(-1.5, 1.5), rng.range(-1.5, 1.5)))
+            .collect();
+        let expected: Vec<_> = points.iter().map(|&p| linear.closest(p)).collect();
+        for threads in [1, 2, 3, 8] {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            for reorder in [true, false] {
+                let options = BatchOptions {
+                    reorder,
+                    ..Default::default()
+                };
+                let (binary, wide) = pool.install(|| {
+                    (
+                        tree.closest_batch_with(&points, options),
+                        wide.closest_batch_with(&points, options),
+                    )
+                });
+                assert!(binary == expected, "binary tree, {threads} threads, {options:?}");
+                assert!(wide == expected, "wide tree, {threads} threads, {options:?}");
+            }
+        }
     }
 
     /// Every code has its three 10-bit digits in place: the order of points
