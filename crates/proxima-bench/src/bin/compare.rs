@@ -133,10 +133,10 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &
         let (mut ours, mut theirs) = (Vec::new(), Vec::new());
         let (mut t_wide, mut t_wide_small) = (f64::INFINITY, f64::INFINITY);
         let (mut t_wide_batch, mut t_wide_morton, mut t_wide_all) = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
-        // Each round's own ratios to parry3d (per query, batch), whose median
-        // is steadier than the ratio of best times when the machine's load
-        // drifts.
-        let mut round_ratios = (Vec::new(), Vec::new());
+        // Each round's own ratios (to parry3d per query and in a batch; the
+        // batch on all threads to the batch on one), whose median is steadier
+        // than the ratio of best times when the machine's load drifts.
+        let mut round_ratios = (Vec::new(), Vec::new(), Vec::new());
         for _ in 0..5 {
             let (mut round_wide, mut round_batch) = (f64::NAN, f64::NAN);
             let (o, t) = warm(|| {
@@ -177,7 +177,9 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &
                         round_batch = t;
                     }
                 }
-                t_wide_all = t_wide_all.min(warm(|| wide.closest_batch(&points)).1);
+                let t = warm(|| wide.closest_batch(&points)).1;
+                t_wide_all = t_wide_all.min(t);
+                round_ratios.2.push(round_batch / t);
             }
             if let Some(small) = &wide_small {
                 let (w, t) = warm(|| {
@@ -211,9 +213,10 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &
                 (acc.0 + s.nodes_visited, acc.1 + s.primitives_tested)
             });
             round_rows.push(format!(
-                "| {set} | {:.2}x | {:.2}x |",
+                "| {set} | {:.2}x | {:.2}x | {:.2}x |",
                 median(&mut round_ratios.0),
-                median(&mut round_ratios.1)
+                median(&mut round_ratios.1),
+                median(&mut round_ratios.2)
             ));
             wide_rows.push(format!(
                 "| {set} | {:.1} | {:.1} | {:.1} | {:.0} | {:.0} | {:.0} | {:.2}x | {:.2}x | {:.2}x | {:.0} | {:.2}x | {:.2}x | {:.2}x |",
@@ -252,9 +255,9 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &
         for row in wide_rows {
             println!("{row}");
         }
-        println!("\nwide tree against parry3d, median over the 5 rounds of each round's own ratio:");
-        println!("| query set | wide/parry | wide batch/parry |");
-        println!("|---|---|---|");
+        println!("\nwide tree, median over the 5 rounds of each round's own ratio:");
+        println!("| query set | wide/parry | wide batch/parry | batch all threads/1 |");
+        println!("|---|---|---|---|");
         for row in round_rows {
             println!("{row}");
         }
