@@ -374,8 +374,9 @@ fn build_nodes<I: BuildItem>(
     };
     let tree = build_subtree(buffers, false, bounds, 0, 0, config);
     // Pair 0 holds the root and a padding node; the rest follow, shifted by
-    // one pair. Written straight to their final array (on huge pages when
-    // large), not to a `Vec` copied there afterwards.
+    // one pair. Written straight to their final array (a mapping advised
+    // for huge pages once written, when large), not to a `Vec` copied there
+    // afterwards.
     let mut nodes = HugePageVec::with_capacity(tree.pair_count + 1);
     nodes.push(NodePair([tree.root.shifted(2), PADDING]));
     for (pairs, shift) in &tree.pieces {

@@ -142,8 +142,9 @@ impl<'a> Packer<'a> {
             .downcast_ref::<AabbTree<Triangle>>()
             .map(AabbTree::primitives)
             .filter(|_| cfg!(target_arch = "x86_64"));
-        // Reserved in place on huge pages: growing by doubling, or copying
-        // into the mapping afterwards, would copy tens of megabytes. A leaf
+        // Reserved in place, in the mapping advised for huge pages once
+        // written: growing by doubling, or copying into the mapping
+        // afterwards, would copy tens of megabytes. A leaf
         // of `k` triangles takes `ceil(k / 4)` packets, at most `1 + k / 4`,
         // and a wide leaf merged from several binary leaves no more than
         // they would: so one packet per binary leaf (half the nodes, the tree
