@@ -133,7 +133,7 @@ const CHUNK: usize = 1024;
 /// ends at most one chunk after the other. Rayon's own split of the chunks
 /// gave each thread a contiguous half, stealing five chunks at a time: one
 /// thread was often busy 30% longer than the other. Against it, two
-/// threads answered 1.04–1.10x as many queries per second on the dragon
+/// threads answered 1.02–1.13x as many queries per second on the dragon
 /// and ico1m, near-surface and uniform (15 alternating rounds, median
 /// ratio, two runs); smaller chunks (256, 512) gained nothing more.
 pub(crate) fn closest_in_chunks(
