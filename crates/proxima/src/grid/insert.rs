@@ -20,6 +20,7 @@ use super::{Cell, CellRange, InsertMethod, scanline};
 use crate::aabb::Aabb;
 use crate::error::GridError;
 use crate::math::Vec3;
+use crate::primitive::exact_sat::{self, box_magnitude, rounding_bound};
 use crate::primitive::sat::to64;
 use crate::primitive::segment_aabb::segment_overlaps as segment_aabb_overlap;
 use crate::primitive::{Bounded, BoxOverlap, LineSegment, Point, Triangle, TriangleBoxTest};
@@ -174,6 +175,11 @@ pub(crate) struct FlatTest {
     second: [f64; 3],
     min: [f64; 3],
     max: [f64; 3],
+    /// Rounding-bound scales of each axis and the vertices, for the exact
+    /// fallback (as in [`TriangleBoxTest`]).
+    magnitude: [f64; 3],
+    triangle_magnitude: [f64; 3],
+    vertices: [[f64; 3]; 3],
 }
 
 impl FlatTest {
@@ -185,16 +191,24 @@ impl FlatTest {
             second: [0.0; 3],
             min: [0.0; 3],
             max: [0.0; 3],
+            magnitude: [0.0; 3],
+            triangle_magnitude: [0.0; 3],
+            vertices: *v,
         };
+        let min = |a: f64, b: f64| if a < b { a } else { b };
+        let max = |a: f64, b: f64| if a > b { a } else { b };
+        let abs = v.map(|p| p.map(f64::abs));
         for i in 0..3 {
             let (p, q) = (v[i], v[(i + 1) % 3]);
             // (q − p) × unit_s: components (q − p)[s2] at s1, −(q − p)[s1] at s2.
             let (a1, a2) = (q[s2] - p[s2], -(q[s1] - p[s1]));
             let proj = v.map(|x| x[s1] * a1 + x[s2] * a2);
-            let min = |a: f64, b: f64| if a < b { a } else { b };
-            let max = |a: f64, b: f64| if a > b { a } else { b };
             (t.first[i], t.second[i]) = (a1, a2);
             (t.min[i], t.max[i]) = (min(min(proj[0], proj[1]), proj[2]), max(max(proj[0], proj[1]), proj[2]));
+            let (from, to) = (abs[i], abs[(i + 1) % 3]);
+            let (m1, m2) = (to[s2] + from[s2], to[s1] + from[s1]);
+            t.magnitude[i] = m1 + m2;
+            t.triangle_magnitude[i] = abs.iter().map(|x| x[s1] * m1 + x[s2] * m2).fold(0.0, max);
         }
         t
     }
@@ -206,10 +220,13 @@ impl CellTest for FlatTest {
         let (s1, s2) = ((self.s + 1) % 3, (self.s + 2) % 3);
         let (c1, c2) = ((lo[s1] + hi[s1]) * 0.5, (lo[s2] + hi[s2]) * 0.5);
         let (h1, h2) = ((hi[s1] - lo[s1]) * 0.5, (hi[s2] - lo[s2]) * 0.5);
+        let box_magnitude = box_magnitude(&lo, &hi);
         (0..3).all(|i| {
             let p = c1 * self.first[i] + c2 * self.second[i];
             let r = h1 * self.first[i].abs() + h2 * self.second[i].abs();
-            p - r <= self.max[i] && p + r >= self.min[i]
+            let gap = (p - r - self.max[i]).max(self.min[i] - p - r);
+            let bound = rounding_bound(box_magnitude, self.magnitude[i], self.triangle_magnitude[i]);
+            gap < -bound || (gap <= bound && !exact_sat::edge_axis_separates(&self.vertices, i, self.s, &lo, &hi))
         })
     }
 }

@@ -8,6 +8,7 @@
 
 mod closest_polygon;
 pub(crate) mod closest_triangle;
+pub(crate) mod exact_sat;
 mod point;
 mod point_aabb;
 pub mod polygon;

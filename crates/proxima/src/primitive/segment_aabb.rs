@@ -7,12 +7,14 @@
 //! which the segment does not move (including every axis of a zero-length
 //! segment, which is then a point) is a plain containment test.
 //!
-//! The entry and exit parameters are computed in `f64` as `(plane − a) / d`:
-//! the numerator and `d` are differences of `f32` values, exact in `f64`, and
-//! the division is correctly rounded, so two planes that the exact segment
-//! crosses at the same parameter (a segment through a box edge or corner) give
-//! the same rounded parameter, and touching is kept.
+//! The entry and exit parameters are computed in `f64` as `(plane − a) / d`.
+//! When the final comparison of the latest entry with the earliest exit is
+//! within its rounding bound (a segment through a box edge or corner, or a
+//! near miss), it is decided again exactly: every entry is compared with every
+//! exit as integer fractions (`exact_sat.rs`), so touching counts and a miss
+//! by less than a rounding step is a miss.
 
+use super::exact_sat;
 use super::sat::to64;
 use super::{BoxOverlap, LineSegment};
 use crate::aabb::Aabb;
@@ -25,6 +27,7 @@ pub(crate) fn segment_overlaps(a: [f64; 3], b: [f64; 3], lo: [f64; 3], hi: [f64;
     for k in 0..3 {
         let d = b[k] - a[k];
         if d == 0.0 {
+            // A zero difference of floats means equal coordinates: a plain containment.
             if !(lo[k] <= a[k] && a[k] <= hi[k]) {
                 return false;
             }
@@ -34,11 +37,17 @@ pub(crate) fn segment_overlaps(a: [f64; 3], b: [f64; 3], lo: [f64; 3], hi: [f64;
         let (near, far) = if p <= q { (p, q) } else { (q, p) };
         t0 = t0.max(near);
         t1 = t1.min(far);
-        if t0 > t1 || t0.is_nan() || t1.is_nan() {
-            return false;
-        }
     }
-    true
+    // Each parameter carries a few rounding steps relative to its size (the
+    // differences, the division); 8 u of the larger covers them with room.
+    let bound = 8.0 * f64::EPSILON * (t0.abs().max(t1.abs()));
+    if t0 < t1 - bound {
+        true
+    } else if t0 > t1 + bound {
+        false
+    } else {
+        exact_sat::segment_overlaps(a, b, lo, hi)
+    }
 }
 
 impl BoxOverlap for LineSegment {

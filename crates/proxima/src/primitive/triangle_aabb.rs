@@ -13,13 +13,14 @@
 //! box, so a collinear triangle is tested as the segment it is, and a triangle
 //! whose three vertices coincide as the point it is.
 //!
-//! Everything is computed in `f64` from the `f32` inputs: edge vectors are
-//! differences of `f32` values and products of two such numbers are exact, so
-//! for coordinates of moderate dynamic range (in particular for all small
-//! dyadic values, as in a triangle lying exactly in a cell's face, edge or
-//! corner plane) the test carries no rounding at all; otherwise its error is a
-//! few `f64` ulps of the coordinates' magnitude.
+//! The test is exact. Each axis is evaluated in `f64` from the `f32` inputs
+//! together with a bound on its rounding error (see `exact_sat.rs`); only when
+//! the gap between the shadows lies within that bound of zero — touching or
+//! nearly touching, as when vertices lie exactly on cell planes — is the axis
+//! decided again in integer arithmetic, where every `f32` is exact. Touching
+//! counts, whatever the coordinates' magnitudes.
 
+use super::exact_sat::{self, box_magnitude, rounding_bound};
 use super::sat::to64;
 use super::{BoxOverlap, Triangle};
 use crate::aabb::Aabb;
@@ -54,6 +55,15 @@ pub struct TriangleBoxTest {
     /// The triangle's shadow on each edge axis.
     shadow_min: [f64; 9],
     shadow_max: [f64; 9],
+    /// The vertices, for the exact fallback.
+    vertices: [[f64; 3]; 3],
+    /// Per edge axis: the sum of its components' absolute forms
+    /// (`|to| + |from|` per component) and the triangle's absolute shadow,
+    /// which scale the axis's rounding bound; the same for the normal.
+    edge_magnitude: [f64; 9],
+    edge_triangle_magnitude: [f64; 9],
+    normal_magnitude: f64,
+    normal_triangle_magnitude: f64,
 }
 
 impl TriangleBoxTest {
@@ -83,7 +93,25 @@ impl TriangleBoxTest {
             second: [0.0; 9],
             shadow_min: [0.0; 9],
             shadow_max: [0.0; 9],
+            vertices: v,
+            edge_magnitude: [0.0; 9],
+            edge_triangle_magnitude: [0.0; 9],
+            normal_magnitude: 0.0,
+            normal_triangle_magnitude: 0.0,
         };
+        let abs = v.map(|p| p.map(f64::abs));
+        // |e0|, |e1| in absolute form (e1 = v2 − v0 as in the normal).
+        let e0_abs: [f64; 3] = std::array::from_fn(|k| abs[1][k] + abs[0][k]);
+        let e1_abs: [f64; 3] = std::array::from_fn(|k| abs[2][k] + abs[0][k]);
+        let normal_abs_form: [f64; 3] = std::array::from_fn(|k| {
+            let (k1, k2) = ((k + 1) % 3, (k + 2) % 3);
+            e0_abs[k1] * e1_abs[k2] + e0_abs[k2] * e1_abs[k1]
+        });
+        t.normal_magnitude = normal_abs_form.iter().sum();
+        t.normal_triangle_magnitude = abs
+            .iter()
+            .map(|p| p[0] * normal_abs_form[0] + p[1] * normal_abs_form[1] + p[2] * normal_abs_form[2])
+            .fold(0.0, max);
         for j in 0..3 {
             let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
             for (i, edge) in e.iter().enumerate() {
@@ -93,6 +121,10 @@ impl TriangleBoxTest {
                 let [lo, hi] = shadow(v.map(|p| p[j1] * a1 + p[j2] * a2));
                 (t.first[x], t.second[x]) = (a1, a2);
                 (t.shadow_min[x], t.shadow_max[x]) = (lo, hi);
+                let (from, to) = (abs[i], abs[(i + 1) % 3]);
+                let (m1, m2) = (to[j2] + from[j2], to[j1] + from[j1]);
+                t.edge_magnitude[x] = m1 + m2;
+                t.edge_triangle_magnitude[x] = abs.iter().map(|p| p[j1] * m1 + p[j2] * m2).fold(0.0, max);
             }
         }
         t
@@ -127,23 +159,27 @@ impl TriangleBoxTest {
     #[inline]
     pub(crate) fn overlaps_run_axes(&self, q: usize, lo: [f64; 3], hi: [f64; 3]) -> bool {
         let (c, h) = center_half(lo, hi);
-        (0..3).all(|i| !self.edge_axis_separates(q, i, &c, &h))
+        let magnitude = box_magnitude(&lo, &hi);
+        (0..3).all(|i| !self.edge_axis_separates(q, i, &c, &h, magnitude, &lo, &hi))
     }
 
     /// The other seven non-box axes: the normal and `edge_i × unit_j`, j ≠ q.
     #[inline]
     pub(crate) fn overlaps_cell_axes(&self, q: usize, lo: [f64; 3], hi: [f64; 3]) -> bool {
         let (c, h) = center_half(lo, hi);
+        let magnitude = box_magnitude(&lo, &hi);
         let n = &self.normal;
         let na = &self.normal_abs;
         let p = c[0] * n[0] + c[1] * n[1] + c[2] * n[2];
         let r = h[0] * na[0] + h[1] * na[1] + h[2] * na[2];
-        if p - r > self.normal_shadow[1] || p + r < self.normal_shadow[0] {
+        let gap = (p - r - self.normal_shadow[1]).max(self.normal_shadow[0] - p - r);
+        let bound = rounding_bound(magnitude, self.normal_magnitude, self.normal_triangle_magnitude);
+        if gap > bound || (gap >= -bound && exact_sat::normal_separates(&self.vertices, &lo, &hi)) {
             return false;
         }
         for j in (0..3).filter(|&j| j != q) {
             for i in 0..3 {
-                if self.edge_axis_separates(j, i, &c, &h) {
+                if self.edge_axis_separates(j, i, &c, &h, magnitude, &lo, &hi) {
                     return false;
                 }
             }
@@ -151,14 +187,28 @@ impl TriangleBoxTest {
         true
     }
 
-    /// `true` when `edge_i × unit_j` separates the box `c ± h` from the triangle.
+    /// `true` when `edge_i × unit_j` separates the box `c ± h` (bounds `lo`,
+    /// `hi`, magnitude `magnitude`) from the triangle: decided in `f64` when
+    /// the gap between the shadows exceeds its rounding bound, exactly otherwise.
+    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    fn edge_axis_separates(&self, j: usize, i: usize, c: &[f64; 3], h: &[f64; 3]) -> bool {
+    fn edge_axis_separates(
+        &self,
+        j: usize,
+        i: usize,
+        c: &[f64; 3],
+        h: &[f64; 3],
+        magnitude: f64,
+        lo: &[f64; 3],
+        hi: &[f64; 3],
+    ) -> bool {
         let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
         let x = 3 * j + i;
         let p = c[j1] * self.first[x] + c[j2] * self.second[x];
         let r = h[j1] * self.first[x].abs() + h[j2] * self.second[x].abs();
-        p - r > self.shadow_max[x] || p + r < self.shadow_min[x]
+        let gap = (p - r - self.shadow_max[x]).max(self.shadow_min[x] - p - r);
+        let bound = rounding_bound(magnitude, self.edge_magnitude[x], self.edge_triangle_magnitude[x]);
+        gap > bound || (gap >= -bound && exact_sat::edge_axis_separates(&self.vertices, i, j, lo, hi))
     }
 }
 

@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 pub mod degenerate;
+pub mod exact;
 pub mod oracle;
 
 use proxima::sample::Rng;

@@ -1,0 +1,370 @@
+//! Exact decisions of the triangle / box separating axis test, for the rare
+//! comparisons that `f64` cannot settle.
+//!
+//! The fast tests ([`TriangleBoxTest`](super::TriangleBoxTest) and the grid's
+//! 2D test) evaluate each axis in `f64` together with a bound on its rounding
+//! error ([`rounding_bound`]). When the computed gap between the shadows is
+//! within that bound of zero — a vertex exactly on a cell plane, a triangle in
+//! a cell face, an edge along a cell edge, as in lattice-aligned meshes — the
+//! axis is decided here instead, in integers: every finite `f32` is a
+//! multiple of `2^-149`, so at the scale of the smallest bit among the inputs
+//! every coordinate, edge, axis and shadow is an exact integer, and touching
+//! is decided with no rounding. The integers are `i128` when the inputs span
+//! few enough bits (coordinates of one mesh and one grid nearly always do),
+//! [`BigInt`] otherwise.
+
+use num_bigint::BigInt;
+use std::cmp::Ordering;
+use std::ops::{Add, Mul, Neg, Sub};
+
+/// The rounding bound of the fast tests: `|computed gap − exact gap| ≤
+/// ROUNDING_FACTOR · M`, where `M` is the gap's expression evaluated on the
+/// absolute values of its inputs (see [`rounding_bound`]). The expressions
+/// are at most 9 operations deep, so `γ_9 ≈ 9 u` (`u = 2^-53`) would do;
+/// `32 u` leaves room for the rounding of `M` itself.
+pub(crate) const ROUNDING_FACTOR: f64 = 16.0 * f64::EPSILON;
+
+/// The largest magnitude of the box's bounds, `max |lo_k|, |hi_k|`, which
+/// bounds `|center_k| + half_k` on every axis (bounds that are unused
+/// placeholders hold 0 and change nothing).
+#[inline(always)]
+pub(crate) fn box_magnitude(lo: &[f64; 3], hi: &[f64; 3]) -> f64 {
+    let m = |a: f64, b: f64| if a > b { a } else { b };
+    m(
+        m(m(lo[0].abs(), hi[0].abs()), m(lo[1].abs(), hi[1].abs())),
+        m(lo[2].abs(), hi[2].abs()),
+    )
+}
+
+/// The error bound of a gap on an axis whose components' absolute forms sum
+/// to `axis_magnitude` and on which the triangle's absolute shadow reaches
+/// `triangle_magnitude`, against a box of magnitude `box_magnitude`:
+/// `M ≤ 2 · box · axis + triangle` (center and half extent each contribute
+/// `(|lo| + |hi|) / 2`).
+#[inline(always)]
+pub(crate) fn rounding_bound(box_magnitude: f64, axis_magnitude: f64, triangle_magnitude: f64) -> f64 {
+    ROUNDING_FACTOR * (2.0 * box_magnitude * axis_magnitude + triangle_magnitude)
+}
+
+/// Integer arithmetic of the exact decisions: `i128` when the inputs' bits
+/// fit (almost always: coordinates of one mesh and one grid span few
+/// binades), [`BigInt`] otherwise. The decisions are written once for both.
+trait Exact: Clone + Ord + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Neg<Output = Self> {
+    fn zero() -> Self;
+    /// `mantissa · 2^shift`.
+    fn shifted(mantissa: i64, shift: u32) -> Self;
+}
+
+impl Exact for i128 {
+    fn zero() -> Self {
+        0
+    }
+    fn shifted(mantissa: i64, shift: u32) -> Self {
+        (mantissa as i128) << shift
+    }
+}
+
+impl Exact for BigInt {
+    fn zero() -> Self {
+        BigInt::ZERO
+    }
+    fn shifted(mantissa: i64, shift: u32) -> Self {
+        BigInt::from(mantissa) << shift
+    }
+}
+
+/// `x = mantissa · 2^exponent` with an odd mantissa (`None` for zero), for
+/// `x` holding an `f32` value.
+fn parts(x: f64) -> Option<(i64, i32)> {
+    let single = x as f32;
+    debug_assert!(single as f64 == x, "exact tests take f32 values, got {x}");
+    let bits = single.to_bits();
+    let biased = ((bits >> 23) & 0xff) as i32;
+    let fraction = (bits & 0x7f_ffff) as i64;
+    // Subnormals are fraction · 2^-149; normals (2^23 + fraction) · 2^(biased − 150).
+    let (mantissa, exponent) = if biased == 0 {
+        (fraction, -149)
+    } else {
+        (fraction | 0x80_0000, biased - 150)
+    };
+    if mantissa == 0 {
+        return None;
+    }
+    let zeros = mantissa.trailing_zeros();
+    let signed = if bits >> 31 == 1 {
+        -(mantissa >> zeros)
+    } else {
+        mantissa >> zeros
+    };
+    Some((signed, exponent + zeros as i32))
+}
+
+/// The common scale of `values`: the smallest exponent of their parts, and
+/// the bits the largest needs as an integer at that scale.
+fn common_scale(values: &[f64]) -> (i32, u32) {
+    let mut low = i32::MAX;
+    let mut high = i32::MIN;
+    for &x in values {
+        if let Some((mantissa, exponent)) = parts(x) {
+            low = low.min(exponent);
+            high = high.max(exponent + (64 - mantissa.unsigned_abs().leading_zeros()) as i32);
+        }
+    }
+    if low == i32::MAX {
+        (0, 0)
+    } else {
+        (low, (high - low) as u32)
+    }
+}
+
+/// `x` as an integer at the scale `2^-low` (exact: `x` is a multiple of `2^low`).
+fn integer<T: Exact>(x: f64, low: i32) -> T {
+    match parts(x) {
+        Some((mantissa, exponent)) => T::shifted(mantissa, (exponent - low) as u32),
+        None => T::zero(),
+    }
+}
+
+fn integers<T: Exact>(v: &[f64; 3], low: i32) -> [T; 3] {
+    v.map(|x| integer(x, low))
+}
+
+/// `true` when the closed intervals `[a_min, a_max]` and `[b_min, b_max]` are disjoint.
+fn disjoint<T: Exact>(a: (&T, &T), b: (&T, &T)) -> bool {
+    a.1 < b.0 || b.1 < a.0
+}
+
+/// The box's shadow on `axis` (only the components in `components` are non-zero).
+fn box_shadow<T: Exact>(lo: &[T; 3], hi: &[T; 3], axis: &[T; 3], components: &[usize]) -> (T, T) {
+    let mut min = T::zero();
+    let mut max = T::zero();
+    for &k in components {
+        let (p, q) = (lo[k].clone() * axis[k].clone(), hi[k].clone() * axis[k].clone());
+        if p <= q {
+            (min, max) = (min + p, max + q);
+        } else {
+            (min, max) = (min + q, max + p);
+        }
+    }
+    (min, max)
+}
+
+/// The inputs of a triangle / box decision, flattened for [`common_scale`].
+fn triangle_box_values(v: &[[f64; 3]; 3], lo: &[f64; 3], hi: &[f64; 3]) -> [f64; 15] {
+    let mut all = [0.0; 15];
+    for (k, x) in v.iter().flatten().chain(lo).chain(hi).enumerate() {
+        all[k] = *x;
+    }
+    all
+}
+
+/// Exactly: does the axis `edge_i × unit_j` separate the triangle `v` from
+/// the closed box `[lo, hi]`? Edge `i` runs from vertex `i` to vertex
+/// `i + 1`; the box's bounds along `j` are not read.
+#[cold]
+#[inline(never)]
+pub(crate) fn edge_axis_separates(v: &[[f64; 3]; 3], i: usize, j: usize, lo: &[f64; 3], hi: &[f64; 3]) -> bool {
+    let (low, bits) = common_scale(&triangle_box_values(v, lo, hi));
+    // Shadows are sums of two products of a coordinate (`bits`) and an edge
+    // component (`bits + 1`): at most 2 · bits + 3 bits with the sign.
+    if bits <= 60 {
+        edge_axis_separates_in::<i128>(v, i, j, lo, hi, low)
+    } else {
+        edge_axis_separates_in::<BigInt>(v, i, j, lo, hi, low)
+    }
+}
+
+fn edge_axis_separates_in<T: Exact>(
+    v: &[[f64; 3]; 3],
+    i: usize,
+    j: usize,
+    lo: &[f64; 3],
+    hi: &[f64; 3],
+    low: i32,
+) -> bool {
+    let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
+    let vertices: [[T; 3]; 3] = v.map(|p| integers(&p, low));
+    let (from, to) = (&vertices[i], &vertices[(i + 1) % 3]);
+    let mut axis = [T::zero(), T::zero(), T::zero()];
+    axis[j1] = to[j2].clone() - from[j2].clone();
+    axis[j2] = from[j1].clone() - to[j1].clone();
+    let projections = vertices.map(|p| p[j1].clone() * axis[j1].clone() + p[j2].clone() * axis[j2].clone());
+    let tri_min = projections.iter().min().expect("three vertices");
+    let tri_max = projections.iter().max().expect("three vertices");
+    let (box_min, box_max) = box_shadow(&integers(lo, low), &integers(hi, low), &axis, &[j1, j2]);
+    disjoint((tri_min, tri_max), (&box_min, &box_max))
+}
+
+/// Exactly: does the triangle's normal `(v1 − v0) × (v2 − v0)` separate it
+/// from the closed box `[lo, hi]`? (A zero normal separates nothing.)
+#[cold]
+#[inline(never)]
+pub(crate) fn normal_separates(v: &[[f64; 3]; 3], lo: &[f64; 3], hi: &[f64; 3]) -> bool {
+    let (low, bits) = common_scale(&triangle_box_values(v, lo, hi));
+    // Normal components: 2 · bits + 3; shadows: three products with a
+    // coordinate, 3 · bits + 7 at most.
+    if bits <= 39 {
+        normal_separates_in::<i128>(v, lo, hi, low)
+    } else {
+        normal_separates_in::<BigInt>(v, lo, hi, low)
+    }
+}
+
+fn normal_separates_in<T: Exact>(v: &[[f64; 3]; 3], lo: &[f64; 3], hi: &[f64; 3], low: i32) -> bool {
+    let [a, b, c]: [[T; 3]; 3] = v.map(|p| integers(&p, low));
+    let e0: [T; 3] = std::array::from_fn(|k| b[k].clone() - a[k].clone());
+    let e1: [T; 3] = std::array::from_fn(|k| c[k].clone() - a[k].clone());
+    let normal: [T; 3] = std::array::from_fn(|k| {
+        let (k1, k2) = ((k + 1) % 3, (k + 2) % 3);
+        e0[k1].clone() * e1[k2].clone() - e0[k2].clone() * e1[k1].clone()
+    });
+    // The three vertices share one projection on their own normal.
+    let plane = a[0].clone() * normal[0].clone() + a[1].clone() * normal[1].clone() + a[2].clone() * normal[2].clone();
+    let (box_min, box_max) = box_shadow(&integers(lo, low), &integers(hi, low), &normal, &[0, 1, 2]);
+    disjoint((&plane, &plane), (&box_min, &box_max))
+}
+
+/// Exactly: does the segment `a`–`b` meet the closed box `[lo, hi]`? Along
+/// each axis where it moves, the segment is inside the slab for parameters
+/// between two fractions `(plane − a) / (b − a)`; it meets the box when every
+/// such entry (and 0) is at most every exit (and 1), compared as integers.
+#[cold]
+#[inline(never)]
+pub(crate) fn segment_overlaps(a: [f64; 3], b: [f64; 3], lo: [f64; 3], hi: [f64; 3]) -> bool {
+    let mut all = [0.0; 12];
+    for (k, x) in a.iter().chain(&b).chain(&lo).chain(&hi).enumerate() {
+        all[k] = *x;
+    }
+    let (low, bits) = common_scale(&all);
+    // Cross products of two differences: 2 · bits + 3 at most.
+    if bits <= 60 {
+        segment_overlaps_in::<i128>(&a, &b, &lo, &hi, low)
+    } else {
+        segment_overlaps_in::<BigInt>(&a, &b, &lo, &hi, low)
+    }
+}
+
+fn segment_overlaps_in<T: Exact>(a: &[f64; 3], b: &[f64; 3], lo: &[f64; 3], hi: &[f64; 3], low: i32) -> bool {
+    let (a, b, lo, hi): ([T; 3], [T; 3], [T; 3], [T; 3]) =
+        (integers(a, low), integers(b, low), integers(lo, low), integers(hi, low));
+    // Fractions as (numerator, positive denominator); the parameter's scale cancels.
+    let one = T::shifted(1, 0);
+    let mut entries = vec![(T::zero(), one.clone())];
+    let mut exits = vec![(one.clone(), one)];
+    for k in 0..3 {
+        let d = b[k].clone() - a[k].clone();
+        let (to_lo, to_hi) = (lo[k].clone() - a[k].clone(), hi[k].clone() - a[k].clone());
+        match d.cmp(&T::zero()) {
+            Ordering::Equal => {
+                if to_lo > T::zero() || to_hi < T::zero() {
+                    return false;
+                }
+            }
+            Ordering::Greater => {
+                entries.push((to_lo, d.clone()));
+                exits.push((to_hi, d));
+            }
+            Ordering::Less => {
+                entries.push((-to_hi, -d.clone()));
+                exits.push((-to_lo, -d));
+            }
+        }
+    }
+    entries.iter().all(|(n0, d0)| {
+        exits
+            .iter()
+            .all(|(n1, d1)| n0.clone() * d1.clone() <= n1.clone() * d0.clone())
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn integers_are_exact_at_the_extremes() {
+        assert_eq!(parts(1.0), Some((1, 0)));
+        assert_eq!(parts(-0.75), Some((-3, -2)));
+        assert_eq!(parts(f32::from_bits(1) as f64), Some((1, -149)));
+        assert_eq!(parts(0.0), None);
+        assert_eq!(parts(f32::MAX as f64), Some((0xff_ffff, 104)));
+        let (low, bits) = common_scale(&[f32::MAX as f64, f32::from_bits(1) as f64]);
+        assert_eq!((low, bits), (-149, 128 + 149));
+        let big: BigInt = integer(f32::MAX as f64, low);
+        assert_eq!(big, BigInt::from(0xff_ffff) << (104 + 149) as u32);
+        assert_eq!(integer::<i128>(-0.75, -3), -6);
+    }
+
+    /// The i128 and BigInt paths agree, including at the bit limits.
+    #[test]
+    fn both_arithmetics_agree() {
+        let mut rng = crate::sample::Rng::new(5);
+        for round in 0..2000 {
+            // Coordinates spread over 2^(round % 70) to exercise both paths.
+            let spread = (round % 70) as i32;
+            let mut value = || {
+                let x = rng.range(-1.0, 1.0) as f64 * 2f64.powi(-(rng.range(0.0, spread as f32 + 1.0) as i32));
+                (x as f32) as f64
+            };
+            let v = [
+                [value(), value(), value()],
+                [value(), value(), value()],
+                [value(), value(), value()],
+            ];
+            let lo = [value(), value(), value()];
+            let hi: [f64; 3] = std::array::from_fn(|k| lo[k].max(value()));
+            let (low, bits) = common_scale(&triangle_box_values(&v, &lo, &hi));
+            if bits > 60 {
+                continue;
+            }
+            for i in 0..3 {
+                for j in 0..3 {
+                    assert_eq!(
+                        edge_axis_separates_in::<i128>(&v, i, j, &lo, &hi, low),
+                        edge_axis_separates_in::<BigInt>(&v, i, j, &lo, &hi, low)
+                    );
+                }
+            }
+            if bits <= 39 {
+                assert_eq!(
+                    normal_separates_in::<i128>(&v, &lo, &hi, low),
+                    normal_separates_in::<BigInt>(&v, &lo, &hi, low)
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn touching_is_not_separated() {
+        // The triangle lies in the plane z = 1, the box's top face.
+        let v = [[0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [0.0, 1.0, 1.0]];
+        assert!(!normal_separates(&v, &[0.0; 3], &[1.0; 3]));
+        assert!(normal_separates(&v, &[0.0; 3], &[1.0, 1.0, 0.75]));
+        // Hypotenuse x + y = 1 against a box whose corner (0.5, 0.5) lies on it.
+        let corner = [0.5, 0.5, 0.0];
+        for j in 0..3 {
+            assert!(!edge_axis_separates(&v, 1, j, &corner, &[2.0; 3]));
+        }
+        // One f32 step beyond: separated along the hypotenuse's axis only.
+        let beyond = f32::from_bits(0.5f32.to_bits() + 1) as f64;
+        assert!(edge_axis_separates(&v, 1, 2, &[0.5, beyond, 0.0], &[2.0; 3]));
+    }
+
+    #[test]
+    fn segments_through_corners_touch() {
+        // The diagonal of the unit square passes exactly through the corner (1, 1).
+        let (a, b) = ([0.0, 0.0, 0.5], [2.0, 2.0, 0.5]);
+        assert!(segment_overlaps(a, b, [1.0, 1.0, 0.0], [3.0, 3.0, 1.0]));
+        assert!(segment_overlaps(a, b, [-1.0, 1.0, 0.0], [1.0, 3.0, 1.0]));
+        let beyond = f32::from_bits(1.0f32.to_bits() + 1) as f64;
+        assert!(!segment_overlaps(a, b, [-1.0, beyond, 0.0], [1.0, 3.0, 1.0]));
+        // A point (zero-length segment) on a face.
+        assert!(segment_overlaps([1.0, 0.5, 0.5], [1.0, 0.5, 0.5], [0.0; 3], [1.0; 3]));
+        assert!(!segment_overlaps(
+            [beyond, 0.5, 0.5],
+            [beyond, 0.5, 0.5],
+            [0.0; 3],
+            [1.0; 3]
+        ));
+    }
+}

@@ -1,0 +1,416 @@
+//! Exactness on lattice-aligned meshes: vertices that lie exactly on cell
+//! planes (or one `f32` step off them), triangles lying in cell faces, edges
+//! along cell edges. Voxelization and the hash grid (both insertion methods)
+//! must report exactly the SET of cells an exact integer oracle finds
+//! (`common::exact`, cross-checked against exact rational clipping).
+
+mod common;
+
+use common::exact::{points_touch_box_by_clipping, triangle_touches_box, triangle_touches_box_by_clipping};
+use proxima::grid::{Cell, FastHash, GridConfig, GridLayout, HashGrid, InsertMethod, VoxelConfig, voxelize};
+use proxima::primitive::PrimitiveSet;
+use proxima::sample::Rng;
+use proxima::{Aabb, LineSegment, Triangle, Vec3};
+use rayon::prelude::*;
+use std::collections::BTreeSet;
+
+/// The cells whose closed boxes (`layout.cell_box`, the grid's definition of
+/// its cells) touch the triangle, by the exact oracle. Candidates: the cells
+/// around the triangle's box, found by an `f64` estimate widened by one cell
+/// on each side, so that the oracle decides every boundary itself.
+fn oracle_cells(t: &Triangle, layout: &GridLayout, clip: bool) -> Vec<Cell> {
+    let b = Aabb::from_points(t.vertices());
+    let (o, s) = (layout.origin(), layout.cell_size());
+    let index = |x: f32, a: usize| ((x as f64 - o[a] as f64) / s[a] as f64).floor() as i64;
+    let lo: [i64; 3] = std::array::from_fn(|a| index(b.min[a], a) - 1);
+    let hi: [i64; 3] = std::array::from_fn(|a| index(b.max[a], a) + 1);
+    let mut out = Vec::new();
+    for k in lo[2]..=hi[2] {
+        for j in lo[1]..=hi[1] {
+            for i in lo[0]..=hi[0] {
+                let cell_box = layout.cell_box([i, j, k]);
+                let touches = triangle_touches_box(t, &cell_box);
+                if clip {
+                    assert_eq!(
+                        touches,
+                        triangle_touches_box_by_clipping(t, &cell_box),
+                        "the two exact oracles disagree on {t:?} and cell {:?}",
+                        [i, j, k]
+                    );
+                }
+                if touches {
+                    out.push([i, j, k]);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The union of the oracle's cells over all triangles, restricted to `keep`.
+fn oracle_set(tris: &[Triangle], layout: &GridLayout, keep: impl Fn(Cell) -> bool + Sync) -> BTreeSet<Cell> {
+    tris.par_iter()
+        .enumerate()
+        .flat_map_iter(|(i, t)| oracle_cells(t, layout, i % 64 == 0))
+        .filter(|&c| keep(c))
+        .collect::<Vec<_>>()
+        .into_iter()
+        .collect()
+}
+
+fn describe(name: &str, what: &str, got: &BTreeSet<Cell>, want: &BTreeSet<Cell>) -> String {
+    let extra: Vec<_> = got.difference(want).take(5).collect();
+    let missing: Vec<_> = want.difference(got).take(5).collect();
+    format!(
+        "{name}, {what}: {} cells no triangle touches (first {extra:?}), {} touched cells missing (first {missing:?}), of {}",
+        got.difference(want).count(),
+        want.difference(got).count(),
+        want.len()
+    )
+}
+
+/// Voxelizes at `resolution` over `bounds` with both insertion methods and
+/// both storages, and compares the cell sets with the oracle's.
+fn check_voxelize(name: &str, tris: &[Triangle], bounds: &Aabb, resolution: u32) {
+    let mut config = VoxelConfig::new(resolution);
+    let reference = voxelize(tris, bounds, &config).unwrap();
+    let layout = *reference.layout();
+    let n = resolution as i64;
+    let want = oracle_set(tris, &layout, |c| c.iter().all(|&i| (0..n).contains(&i)));
+    for (insert, dense_limit) in [
+        (InsertMethod::Scanline, config.dense_limit_bits),
+        (InsertMethod::Classic, config.dense_limit_bits),
+        (InsertMethod::Scanline, 0),
+    ] {
+        config.insert = insert;
+        config.dense_limit_bits = dense_limit;
+        let vox = voxelize(tris, bounds, &config).unwrap();
+        let got: BTreeSet<Cell> = vox.cells().into_iter().collect();
+        assert!(
+            got == want,
+            "{}",
+            describe(
+                name,
+                &format!("voxelize {resolution}³ {insert:?} dense={}", vox.is_dense()),
+                &got,
+                &want
+            )
+        );
+    }
+}
+
+/// Builds the hash grid with both insertion methods and compares the cell
+/// set of every triangle with the oracle's.
+fn check_grid(name: &str, tris: &[Triangle], origin: Vec3, cell: Vec3) {
+    let config = GridConfig {
+        origin,
+        ..GridConfig::new(cell)
+    };
+    let layout = config.layout().unwrap();
+    let want: Vec<BTreeSet<Cell>> = (0..tris.len())
+        .into_par_iter()
+        .map(|p| oracle_cells(&tris[p], &layout, p % 64 == 0).into_iter().collect())
+        .collect();
+    for insert in [InsertMethod::Classic, InsertMethod::Scanline] {
+        let grid: HashGrid<Triangle, FastHash> = HashGrid::build(
+            PrimitiveSet::from_primitives(tris.to_vec()),
+            &GridConfig { insert, ..config },
+        )
+        .unwrap();
+        let mut got: Vec<BTreeSet<Cell>> = vec![BTreeSet::new(); tris.len()];
+        for (cell, members) in grid.occupied() {
+            for &p in members {
+                got[p as usize].insert(cell);
+            }
+        }
+        let bad: Vec<String> = (0..tris.len())
+            .filter(|&p| got[p] != want[p])
+            .map(|p| describe(name, &format!("grid {insert:?} triangle {p}"), &got[p], &want[p]))
+            .collect();
+        assert!(bad.is_empty(), "{} triangles differ; first: {}", bad.len(), bad[0]);
+    }
+}
+
+/// The grid of the triangles' edges (segments), both insertion methods,
+/// against the exact oracle for each segment and each candidate cell.
+fn check_edge_grid(name: &str, tris: &[Triangle], origin: Vec3, cell: Vec3) {
+    let edges: Vec<LineSegment> = tris
+        .iter()
+        .flat_map(|t| [LineSegment::new(t.a, t.b), LineSegment::new(t.b, t.c)])
+        .collect();
+    for insert in [InsertMethod::Classic, InsertMethod::Scanline] {
+        let config = GridConfig {
+            origin,
+            insert,
+            ..GridConfig::new(cell)
+        };
+        let grid: HashGrid<LineSegment, FastHash> =
+            HashGrid::build(PrimitiveSet::from_primitives(edges.clone()), &config).unwrap();
+        let layout = *grid.layout();
+        let mut got: Vec<BTreeSet<Cell>> = vec![BTreeSet::new(); edges.len()];
+        for (c, members) in grid.occupied() {
+            for &p in members {
+                got[p as usize].insert(c);
+            }
+        }
+        let bad: Vec<String> = (0..edges.len())
+            .into_par_iter()
+            .filter_map(|p| {
+                let s = &edges[p];
+                let b = Aabb::from_points([s.a, s.b]);
+                let (o, size) = (layout.origin(), layout.cell_size());
+                let index = |x: f32, a: usize| ((x as f64 - o[a] as f64) / size[a] as f64).floor() as i64;
+                let mut want = BTreeSet::new();
+                for k in index(b.min.z, 2) - 1..=index(b.max.z, 2) + 1 {
+                    for j in index(b.min.y, 1) - 1..=index(b.max.y, 1) + 1 {
+                        for i in index(b.min.x, 0) - 1..=index(b.max.x, 0) + 1 {
+                            let cell_box = layout.cell_box([i, j, k]);
+                            let outside = (0..3).any(|a| b.max[a] < cell_box.min[a] || cell_box.max[a] < b.min[a]);
+                            // The integer test of the degenerate triangle a, b, b (which is
+                            // the segment), cross-checked by exact clipping one time in 16.
+                            let touches = !outside && triangle_touches_box(&Triangle::new(s.a, s.b, s.b), &cell_box);
+                            if p % 16 == 0 && !outside {
+                                assert_eq!(
+                                    touches,
+                                    points_touch_box_by_clipping(&[s.a, s.b], &cell_box),
+                                    "{s:?} {cell_box:?}"
+                                );
+                            }
+                            if touches {
+                                want.insert([i, j, k]);
+                            }
+                        }
+                    }
+                }
+                (got[p] != want).then(|| describe(name, &format!("edge grid {insert:?} segment {p}"), &got[p], &want))
+            })
+            .collect();
+        assert!(bad.is_empty(), "{} segments differ; first: {}", bad.len(), bad[0]);
+    }
+}
+
+// ------------------------------------------------------------ generators ---
+
+/// The surface of a blob of voxels, as two triangles per exposed voxel face:
+/// every vertex on a lattice point, every triangle in a cell face plane
+/// (a voxel- or Minecraft-style mesh). `lattice(i)` gives plane `i`'s value.
+fn voxel_surface(n: i64, seed: u64, lattice: impl Fn(usize, i64) -> f32) -> Vec<Triangle> {
+    let mut rng = Rng::new(seed);
+    let solid: Vec<bool> = (0..n * n * n).map(|_| rng.range(0.0, 1.0) < 0.4).collect();
+    let filled = |c: [i64; 3]| c.iter().all(|&i| (0..n).contains(&i)) && solid[((c[2] * n + c[1]) * n + c[0]) as usize];
+    let point = |c: [i64; 3]| Vec3::new(lattice(0, c[0]), lattice(1, c[1]), lattice(2, c[2]));
+    let mut tris = Vec::new();
+    for k in 0..n {
+        for j in 0..n {
+            for i in 0..n {
+                let c = [i, j, k];
+                if !filled(c) {
+                    continue;
+                }
+                for axis in 0..3 {
+                    for side in [0, 1] {
+                        let mut next = c;
+                        next[axis] += if side == 1 { 1 } else { -1 };
+                        if filled(next) {
+                            continue;
+                        }
+                        let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+                        let mut corner = c;
+                        corner[axis] += side;
+                        let mut q = [corner; 4];
+                        q[1][u] += 1;
+                        q[2][u] += 1;
+                        q[2][v] += 1;
+                        q[3][v] += 1;
+                        let q = q.map(point);
+                        tris.push(Triangle::new(q[0], q[1], q[2]));
+                        tris.push(Triangle::new(q[0], q[2], q[3]));
+                    }
+                }
+            }
+        }
+    }
+    tris
+}
+
+/// Triangles whose vertices lie on lattice lines, as in a marching-cubes
+/// mesh: two coordinates on cell planes, the third anywhere (or, one time in
+/// four, on a plane too, or one `f32` step beside one).
+fn lattice_line_triangles(count: usize, n: i64, seed: u64, lattice: impl Fn(usize, i64) -> f32) -> Vec<Triangle> {
+    let mut rng = Rng::new(seed);
+    let vertex = |rng: &mut Rng, near: Option<[i64; 3]>| {
+        let base: [i64; 3] =
+            near.unwrap_or_else(|| std::array::from_fn(|_| (rng.range(0.0, n as f32) as i64).min(n - 1)));
+        let cell: [i64; 3] = std::array::from_fn(|a| (base[a] + (rng.range(-1.5, 1.5) as i64)).clamp(0, n - 1));
+        let free = (rng.range(0.0, 3.0) as usize).min(2);
+        let mut p = Vec3::new(lattice(0, cell[0]), lattice(1, cell[1]), lattice(2, cell[2]));
+        let roll = rng.range(0.0, 4.0);
+        let (lo, hi) = (lattice(free, cell[free]), lattice(free, cell[free] + 1));
+        p[free] = if roll < 1.0 {
+            lo
+        } else if roll < 1.5 {
+            f32::from_bits(lo.to_bits().wrapping_add(1)).max(lo.min(hi))
+        } else if roll < 2.0 {
+            next_down(lo)
+        } else {
+            lo + (hi - lo) * rng.range(0.0, 1.0)
+        };
+        (p, cell)
+    };
+    (0..count)
+        .map(|_| {
+            let (a, cell) = vertex(&mut rng, None);
+            let (b, _) = vertex(&mut rng, Some(cell));
+            let (c, _) = vertex(&mut rng, Some(cell));
+            Triangle::new(a, b, c)
+        })
+        .collect()
+}
+
+/// The largest `f32` below `x`.
+fn next_down(x: f32) -> f32 {
+    if x > 0.0 {
+        f32::from_bits(x.to_bits() - 1)
+    } else if x == 0.0 {
+        -f32::from_bits(1)
+    } else {
+        f32::from_bits(x.to_bits() + 1)
+    }
+}
+
+/// A real mesh's triangles, rescaled so that its bounding box is `±half`, and
+/// with every coordinate snapped to the nearest quarter cell of an
+/// `resolution`-cell grid spanning the box: the values a CAD or voxel export
+/// would hold (like `-0.05 + 0.003125 · k`, rounded once to `f32`), half of
+/// them on cell planes. Returns the triangles and the box.
+fn rescaled_and_snapped(tris: &[Triangle], half: f32, resolution: u32) -> (Vec<Triangle>, Aabb) {
+    let b = Aabb::from_points(tris.iter().flat_map(|t| t.vertices()));
+    let center = (b.min + b.max) * 0.5;
+    let scale = 2.0 * half as f64 / b.size().max_element() as f64;
+    let quarter = 2.0 * half as f64 / (4 * resolution) as f64;
+    let snap = |x: f32, c: f32| {
+        let k = (((x - c) as f64 * scale + half as f64) / quarter).round();
+        (-half as f64 + k * quarter) as f32
+    };
+    let out: Vec<Triangle> = tris
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t
+                .vertices()
+                .map(|v| Vec3::new(snap(v.x, center.x), snap(v.y, center.y), snap(v.z, center.z)));
+            Triangle::new(a, b, c)
+        })
+        .collect();
+    (out, Aabb::new(Vec3::splat(-half), Vec3::splat(half)))
+}
+
+// ----------------------------------------------------------------- tests ---
+
+/// Lattice planes as the grid computes them: `f32(origin + i · cell)`.
+fn grid_planes(origin: f32, cell: f32) -> impl Fn(usize, i64) -> f32 {
+    move |_, i| (origin as f64 + i as f64 * cell as f64) as f32
+}
+
+/// Lattice planes as a user would write them in decimal: `f32(-0.05 + 0.003125 · i)`,
+/// which are not always the grid's `f32` planes (one step off, some of them).
+fn decimal_planes(origin: f64, cell: f64) -> impl Fn(usize, i64) -> f32 {
+    move |_, i| (origin + cell * i as f64) as f32
+}
+
+#[test]
+fn voxel_meshes_on_the_grid_planes() {
+    for (half, n) in [(0.05f32, 16u32), (1e-3, 12), (1.0, 8), (3.0, 10)] {
+        let cell = 2.0 * half / n as f32;
+        let bounds = Aabb::new(Vec3::splat(-half), Vec3::splat(half));
+        let tris = voxel_surface(n as i64, 7, grid_planes(-half, cell));
+        check_voxelize(&format!("voxel surface ±{half}"), &tris, &bounds, n);
+        check_voxelize(
+            &format!("voxel surface ±{half}, half resolution"),
+            &tris,
+            &bounds,
+            n / 2,
+        );
+        check_voxelize(
+            &format!("voxel surface ±{half}, odd resolution"),
+            &tris,
+            &bounds,
+            n * 3 / 4 + 1,
+        );
+        check_grid(
+            &format!("voxel surface ±{half}"),
+            &tris,
+            Vec3::splat(-half),
+            Vec3::splat(cell),
+        );
+        check_edge_grid(
+            &format!("voxel surface ±{half}"),
+            &tris,
+            Vec3::splat(-half),
+            Vec3::splat(cell),
+        );
+        let decimal = voxel_surface(n as i64, 8, decimal_planes(-half as f64, 2.0 * half as f64 / n as f64));
+        check_voxelize(&format!("decimal voxel surface ±{half}"), &decimal, &bounds, n);
+        check_grid(
+            &format!("decimal voxel surface ±{half}"),
+            &decimal,
+            Vec3::splat(-half),
+            Vec3::splat(cell),
+        );
+    }
+}
+
+#[test]
+fn marching_cubes_style_meshes() {
+    for (half, n, seed) in [(0.05f32, 32u32, 1u64), (1e-3, 16, 2), (0.5, 10, 3), (100.0, 20, 4)] {
+        let cell = 2.0 * half / n as f32;
+        let bounds = Aabb::new(Vec3::splat(-half), Vec3::splat(half));
+        let tris = lattice_line_triangles(2000, n as i64, seed, grid_planes(-half, cell));
+        check_voxelize(&format!("lattice lines ±{half}"), &tris, &bounds, n);
+        check_grid(
+            &format!("lattice lines ±{half}"),
+            &tris,
+            Vec3::splat(-half),
+            Vec3::splat(cell),
+        );
+        check_edge_grid(
+            &format!("lattice lines ±{half}"),
+            &tris,
+            Vec3::splat(-half),
+            Vec3::splat(cell),
+        );
+        let decimal = lattice_line_triangles(
+            2000,
+            n as i64,
+            seed + 10,
+            decimal_planes(-half as f64, 2.0 * half as f64 / n as f64),
+        );
+        check_voxelize(&format!("decimal lattice lines ±{half}"), &decimal, &bounds, n);
+        check_grid(
+            &format!("decimal lattice lines ±{half}"),
+            &decimal,
+            Vec3::splat(-half),
+            Vec3::splat(cell),
+        );
+    }
+}
+
+#[test]
+fn real_meshes_rescaled_onto_the_lattice() {
+    let Some(dir) = common::data_dir() else { return };
+    for name in ["fandisk.obj", "rocker-arm.obj", "bunny-npm.obj", "blade.off"] {
+        let mesh = proxima::io::load(dir.join(name)).unwrap();
+        let tris = mesh.triangles().primitives;
+        for (half, n) in [(0.05f32, 32u32), (1e-3, 24)] {
+            let (snapped, bounds) = rescaled_and_snapped(&tris, half, n);
+            check_voxelize(&format!("{name} ±{half}"), &snapped, &bounds, n);
+            check_voxelize(&format!("{name} ±{half} at {}", 2 * n), &snapped, &bounds, 2 * n);
+            let cell = 2.0 * half / n as f32;
+            check_grid(
+                &format!("{name} ±{half}"),
+                &snapped,
+                Vec3::splat(-half),
+                Vec3::splat(cell),
+            );
+        }
+    }
+}
