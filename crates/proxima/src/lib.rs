@@ -34,6 +34,7 @@
 pub mod aabb;
 pub mod bvh;
 pub mod error;
+mod exact;
 pub mod frustum;
 pub mod grid;
 pub mod io;

@@ -20,10 +20,14 @@
 //!   crossed at the same parameter) steps the crossed axes together: the
 //!   cells it only grazes at that single point are not yielded. The same holds
 //!   for an origin on a boundary: the walk starts in the cell the ray enters;
-//! - the parameter of crossing the boundary `b_a(n)` is
-//!   `(b_a(n) − origin_a) · (1 / direction_a)`, computed in `f64`; ties are
-//!   decided on these values, so two crossings whose rounded parameters differ
-//!   make a cell of tiny positive length, which is yielded;
+//! - which cells, and in which order, is decided exactly: the crossing
+//!   parameters `(b_a(n) − origin_a) / direction_a` are compared in `f64`
+//!   when they are clearly apart and in integer arithmetic otherwise (every
+//!   `f32` is a dyadic rational), so a ray through an edge or a corner of
+//!   cells steps its axes together even when the rounded parameters differ,
+//!   and two crossings that differ by less than a rounding step still make a
+//!   cell of positive length. The reported parameters are the rounded values
+//!   `(b_a(n) − origin_a) · (1 / direction_a)`, in `f64`;
 //! - `t_enter` of each cell is the `t_exit` of the one before; the first
 //!   starts at `t_min`, the last ends at `t_max` (or at the step limit). An
 //!   empty range (`t_min == t_max`) yields nothing.
@@ -54,8 +58,16 @@
 //! ```
 
 use crate::error::GridError;
+use crate::exact::{Exact, common_scale, integer};
 use crate::grid::{Cell, GridLayout, MAX_CELL_INDEX, last_true};
 use crate::math::Vec3;
+use num_bigint::BigInt;
+use std::cmp::Ordering;
+
+/// Relative distance within which two rounded crossing parameters may be in
+/// either exact order: each carries at most three roundings (the difference,
+/// the reciprocal, the product), 3 u of its size; 8 u covers both.
+const CROSSING_SLACK: f64 = 4.0 * f64::EPSILON;
 
 /// Where a traversal walks: cell placement, parameter range and step limit.
 ///
@@ -115,6 +127,8 @@ pub struct TraversalStep {
 pub struct GridTraversal {
     layout: GridLayout,
     origin: [f64; 3],
+    /// The direction, for exact comparisons of crossings.
+    direction: [f64; 3],
     /// `1 / direction` per axis (infinite for a zero component).
     inv: [f64; 3],
     cell: Cell,
@@ -184,6 +198,7 @@ impl GridTraversal {
         let mut walk = Self {
             layout: *layout,
             origin: o,
+            direction: d,
             inv: d.map(|x| 1.0 / x),
             cell: [0; 3],
             step: d.map(|x| {
@@ -207,9 +222,9 @@ impl GridTraversal {
             let guess = ((start - layout.origin()[a] as f64) / layout.cell_size()[a] as f64).floor();
             let index = match walk.step[a] {
                 // The last cell entered at or before t0.
-                1 => last_true(guess, |i| walk.crossing(a, i) <= t0),
+                1 => last_true(guess, |i| walk.compare_with(a, i, t0) != Ordering::Greater),
                 // Going down, cell i is entered at b(i + 1) and left at b(i).
-                -1 => last_true(guess, |i| walk.crossing(a, i) > t0),
+                -1 => last_true(guess, |i| walk.compare_with(a, i, t0) == Ordering::Greater),
                 _ => last_true(guess, |i| layout.boundary(a, i) as f64 <= o[a]),
             };
             walk.cell[a] = index.ok_or(GridError::OutOfRange)?;
@@ -220,10 +235,37 @@ impl GridTraversal {
         Ok(walk)
     }
 
-    /// Parameter where the ray crosses the boundary `b_axis(index)`.
+    /// Parameter where the ray crosses the boundary `b_axis(index)`, rounded.
     #[inline]
     fn crossing(&self, axis: usize, index: i64) -> f64 {
         (self.layout.boundary(axis, index) as f64 - self.origin[axis]) * self.inv[axis]
+    }
+
+    /// The exact crossing parameter of `b_axis(index)` compared with `t`:
+    /// rounded when they are clearly apart, in integers otherwise.
+    fn compare_with(&self, axis: usize, index: i64, t: f64) -> Ordering {
+        let c = self.crossing(axis, index);
+        let slack = CROSSING_SLACK * c.abs().max(t.abs());
+        if c < t - slack {
+            Ordering::Less
+        } else if c > t + slack {
+            Ordering::Greater
+        } else {
+            exact_crossing_vs(
+                self.layout.boundary(axis, index) as f64,
+                self.origin[axis],
+                self.direction[axis],
+                t,
+            )
+        }
+    }
+
+    /// The exact order of the crossings of `b_a(n)` and `b_b(m)` (both axes moving).
+    fn compare_crossings(&self, a: usize, n: i64, b: usize, m: i64) -> Ordering {
+        exact_crossings(
+            [self.layout.boundary(a, n) as f64, self.origin[a], self.direction[a]],
+            [self.layout.boundary(b, m) as f64, self.origin[b], self.direction[b]],
+        )
     }
 
     /// The grid the walk goes through.
@@ -246,19 +288,49 @@ impl GridTraversal {
         true
     }
 
-    /// After a crossing at `self.t`: step every other axis crossed at the same
-    /// parameter, and skip cells of zero length (zero-width cells far from
-    /// the origin), until the current cell has positive length.
+    /// The boundary index of axis `a`'s next crossing.
+    #[inline(always)]
+    fn next_boundary(&self, a: usize) -> i64 {
+        self.cell[a] + self.offset[a]
+    }
+
+    /// Among the axes whose rounded next crossing is at most `limit`, the
+    /// one crossed first, decided exactly (the lowest axis among exact ties).
     #[cold]
-    fn settle(&mut self) -> bool {
+    fn first_exactly(&self, limit: f64) -> usize {
+        let mut first = usize::MAX;
+        for a in (0..3).filter(|&a| self.step[a] != 0 && self.t_next[a] <= limit) {
+            if first == usize::MAX
+                || self.compare_crossings(a, self.next_boundary(a), first, self.next_boundary(first)) == Ordering::Less
+            {
+                first = a;
+            }
+        }
+        first
+    }
+
+    /// After the crossing of `b_m(n)` at rounded parameter `t`: steps every
+    /// axis whose next crossing is exactly at or before it — the crossing
+    /// axis, the other axes of an edge or corner, and zero-width cells — until
+    /// the current cell has positive length. `false` when an index would
+    /// leave the supported range.
+    #[cold]
+    fn settle_exactly(&mut self, m: usize, n: i64, t: f64) -> bool {
+        let limit = t + CROSSING_SLACK * t.abs();
         loop {
+            let mut stepped = false;
             for a in 0..3 {
-                if self.t_next[a] <= self.t && !self.advance(a) {
-                    return false;
+                while self.step[a] != 0
+                    && self.t_next[a] <= limit
+                    && self.compare_crossings(a, self.next_boundary(a), m, n) != Ordering::Greater
+                {
+                    if !self.advance(a) {
+                        return false;
+                    }
+                    stepped = true;
                 }
             }
-            let [tx, ty, tz] = self.t_next;
-            if tx.min(ty).min(tz) > self.t {
+            if !stepped {
                 return true;
             }
         }
@@ -281,25 +353,98 @@ impl Iterator for GridTraversal {
             t_exit: t_cross.min(self.t_max) as f32,
         };
         self.steps_left -= 1;
-        if t_cross >= self.t_max || self.steps_left == 0 {
+        // Crossings within `slack` of each other may be in either order or
+        // tied: those (rays through edges and corners) are decided exactly.
+        let limit = t_cross + CROSSING_SLACK * t_cross.abs();
+        let near = (tx <= limit) as u32 + (ty <= limit) as u32 + (tz <= limit) as u32;
+        // Constant axis indices in each branch keep the state in registers,
+        // and a branch (not a select) lets the processor run ahead.
+        let m = if near > 1 {
+            self.first_exactly(limit)
+        } else if tx == t_cross {
+            0
+        } else if ty == t_cross {
+            1
+        } else {
+            2
+        };
+        let n = self.next_boundary(m);
+        let near_end = self.t_max.is_finite()
+            && (t_cross - self.t_max).abs() <= CROSSING_SLACK * t_cross.abs().max(self.t_max.abs());
+        let ends = if near_end {
+            self.compare_with(m, n, self.t_max) != Ordering::Less
+        } else {
+            t_cross >= self.t_max
+        };
+        if ends || self.steps_left == 0 || !t_cross.is_finite() {
             self.done = true;
             return Some(out);
         }
         self.t = t_cross;
-        // Constant axis indices in each branch keep the state in registers,
-        // and a branch (not a select) lets the processor run ahead.
-        let ok = if tx == t_cross {
-            self.advance(0)
-        } else if ty == t_cross {
-            self.advance(1)
+        let ok = if near > 1 {
+            self.settle_exactly(m, n, t_cross)
         } else {
-            self.advance(2)
+            let ok = match m {
+                0 => self.advance(0),
+                1 => self.advance(1),
+                _ => self.advance(2),
+            };
+            // A zero-width or tiny next cell is rare: one test here.
+            let [tx, ty, tz] = self.t_next;
+            ok && ((tx > limit) & (ty > limit) & (tz > limit) || self.settle_exactly(m, n, t_cross))
         };
-        // Ties (edges, corners) and zero-width cells are rare: one test here.
-        let [tx, ty, tz] = self.t_next;
-        if !ok || ((tx <= t_cross) | (ty <= t_cross) | (tz <= t_cross) && !self.settle()) {
+        if !ok {
             self.done = true;
         }
         Some(out)
+    }
+}
+
+/// The exact order of `(plane − origin) / direction` and `t` (direction ≠ 0).
+#[cold]
+#[inline(never)]
+fn exact_crossing_vs(plane: f64, origin: f64, direction: f64, t: f64) -> Ordering {
+    // 1 joins the inputs so that the scale of the product t · direction can
+    // be matched: distance · 1 against t · direction, both of degree two.
+    let (low, bits) = common_scale(&[plane, origin, direction, t, 1.0]);
+    // Products of two inputs or differences: 2 · bits + 2 at most.
+    if bits <= 61 {
+        crossing_vs_in::<i128>(plane, origin, direction, t, low)
+    } else {
+        crossing_vs_in::<BigInt>(plane, origin, direction, t, low)
+    }
+}
+
+fn crossing_vs_in<T: Exact>(plane: f64, origin: f64, direction: f64, t: f64, low: i32) -> Ordering {
+    let distance: T = (integer::<T>(plane, low) - integer(origin, low)) * integer(1.0, low);
+    let reach: T = integer::<T>(t, low) * integer(direction, low);
+    // distance / direction against t: multiply by direction, flip if negative.
+    let order = distance.cmp(&reach);
+    if direction > 0.0 { order } else { order.reverse() }
+}
+
+/// The exact order of two crossing parameters, each `[plane, origin, direction]`
+/// with a non-zero direction.
+#[cold]
+#[inline(never)]
+fn exact_crossings(a: [f64; 3], b: [f64; 3]) -> Ordering {
+    let (low, bits) = common_scale(&[a[0], a[1], a[2], b[0], b[1], b[2]]);
+    if bits <= 61 {
+        crossings_in::<i128>(a, b, low)
+    } else {
+        crossings_in::<BigInt>(a, b, low)
+    }
+}
+
+fn crossings_in<T: Exact>(a: [f64; 3], b: [f64; 3], low: i32) -> Ordering {
+    // (pa − oa) / da against (pb − ob) / db: cross-multiply by da · db, and
+    // flip the order when that product is negative.
+    let left = (integer::<T>(a[0], low) - integer(a[1], low)) * integer(b[2], low);
+    let right = (integer::<T>(b[0], low) - integer(b[1], low)) * integer(a[2], low);
+    let order = left.cmp(&right);
+    if (a[2] > 0.0) == (b[2] > 0.0) {
+        order
+    } else {
+        order.reverse()
     }
 }

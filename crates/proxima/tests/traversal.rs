@@ -1,9 +1,11 @@
 //! Grid traversal against brute force: every cell whose box the ray segment
 //! meets for a positive length (closed boxes along moving axes, half-open
 //! along axes the ray does not move along), ordered by entry parameter. The
-//! oracle computes boundary crossings with the documented formula
-//! `(b(n) − o) · (1/d)` in f64, cell by cell, and knows nothing of the walk.
+//! oracle decides positive length and order in exact rationals, cell by cell,
+//! reports parameters by the documented formula `(b(n) − o) · (1/d)` in f64,
+//! and knows nothing of the walk.
 
+use num_rational::BigRational;
 use proxima::grid::{Cell, GridLayout};
 use proxima::sample::Rng;
 use proxima::traversal::{GridTraversal, TraversalConfig, TraversalStep};
@@ -11,10 +13,15 @@ use proxima::{GridError, Vec3};
 use std::time::Instant;
 
 /// The cells of `layout` the ray spends positive length in, within
-/// `[t_min, t_max]`, with their entry and exit parameters, by entry.
+/// `[t_min, t_max]`, by entry. Which cells, and their order, are decided in
+/// exact rationals (every `f32` is one); the reported parameters follow the
+/// documented formula: each cell's exit is its earliest rounded crossing
+/// `(b(n) − o) · (1/d)` (capped at `t_max`), its entry the previous exit.
 fn brute_walk(layout: &GridLayout, o: Vec3, d: Vec3, t_min: f32, t_max: f32) -> Vec<TraversalStep> {
     let (o64, inv) = (o.to_array().map(|x| x as f64), d.to_array().map(|x| 1.0 / x as f64));
     let crossing = |a: usize, n: i64| (layout.boundary(a, n) as f64 - o64[a]) * inv[a];
+    let q = |x: f32| BigRational::from_float(x as f64).expect("finite");
+    let exact_crossing = |a: usize, n: i64| (q(layout.boundary(a, n)) - q(o[a])) / q(d[a]);
     let (p0, p1) = (o + d * t_min, o + d * t_max);
     let (s, g) = (layout.cell_size(), layout.origin());
     let lo: [i64; 3] = std::array::from_fn(|a| ((p0[a].min(p1[a]) - g[a]) / s[a]).floor() as i64 - 2);
@@ -24,7 +31,9 @@ fn brute_walk(layout: &GridLayout, o: Vec3, d: Vec3, t_min: f32, t_max: f32) -> 
         for j in lo[1]..=hi[1] {
             for i in lo[0]..=hi[0] {
                 let cell: Cell = [i, j, k];
-                let (mut t0, mut t1) = (t_min as f64, t_max as f64);
+                // Rounded first: most cells are clearly outside, and the exact
+                // rationals are only needed near a tie.
+                let (mut r0, mut r1) = (t_min as f64, t_max as f64);
                 let mut inside = true;
                 for a in 0..3 {
                     if d[a] == 0.0 {
@@ -32,26 +41,39 @@ fn brute_walk(layout: &GridLayout, o: Vec3, d: Vec3, t_min: f32, t_max: f32) -> 
                         inside &= b0 <= o[a] && o[a] < b1;
                     } else {
                         let (c0, c1) = (crossing(a, cell[a]), crossing(a, cell[a] + 1));
-                        t0 = t0.max(c0.min(c1));
-                        t1 = t1.min(c0.max(c1));
+                        r0 = r0.max(c0.min(c1));
+                        r1 = r1.min(c0.max(c1));
                     }
                 }
-                if inside && t1 > t0 {
-                    out.push((
-                        t0,
-                        TraversalStep {
-                            cell,
-                            t_enter: t0 as f32,
-                            t_exit: t1 as f32,
-                        },
-                    ));
+                if !inside || r1 < r0 - 1e-9 * (1.0 + r0.abs()) {
+                    continue;
+                }
+                let (mut t0, mut t1) = (q(t_min), q(t_max));
+                for a in (0..3).filter(|&a| d[a] != 0.0) {
+                    let (c0, c1) = (exact_crossing(a, cell[a]), exact_crossing(a, cell[a] + 1));
+                    let (near, far) = if c0 <= c1 { (c0, c1) } else { (c1, c0) };
+                    t0 = t0.max(near);
+                    t1 = t1.min(far);
+                }
+                if t1 > t0 {
+                    out.push((t0, cell, r1));
                 }
             }
         }
     }
-    // Ordered by the f64 entry parameter (several may round to one f32).
-    out.sort_by(|a, b| a.0.total_cmp(&b.0));
-    out.into_iter().map(|(_, s)| s).collect()
+    out.sort_by(|a, b| a.0.cmp(&b.0));
+    let mut enter = t_min;
+    out.into_iter()
+        .map(|(_, cell, exit)| {
+            let step = TraversalStep {
+                cell,
+                t_enter: enter,
+                t_exit: exit as f32,
+            };
+            enter = step.t_exit;
+            step
+        })
+        .collect()
 }
 
 fn walk(layout: &GridLayout, o: Vec3, d: Vec3, t_min: f32, t_max: f32) -> Vec<TraversalStep> {
@@ -377,4 +399,45 @@ fn steps_per_second() {
     let secs = start.elapsed().as_secs_f64();
     assert_eq!(n, 20_000_000);
     println!("{:.0}M steps/s (checksum {acc})", n as f64 / secs / 1e6);
+}
+
+/// Rays from lattice points along lattice directions `(k1, k2, k3)` cells
+/// per unit, whose reciprocals round (1/3, 1/5, 1/7): they pass exactly
+/// through cell edges and corners where the rounded crossing parameters
+/// differ. The walk must step tied axes together, as the exact oracle does.
+#[test]
+fn lattice_rays_through_edges_and_corners() {
+    let layouts = [
+        GridLayout::cubic(0.25).unwrap(),
+        GridLayout::new(Vec3::splat(-0.05), Vec3::splat(0.1 / 32.0)).unwrap(),
+        GridLayout::new(Vec3::new(1.0, -3.0, 0.5), Vec3::new(0.5, 0.25, 1.0)).unwrap(),
+    ];
+    let mut ties = 0;
+    let mut rays = 0;
+    for layout in &layouts {
+        let cell = layout.cell_size();
+        for k1 in -3i32..=3 {
+            for k2 in -3i32..=5 {
+                for k3 in [-7i32, 0, 1, 3] {
+                    let d = Vec3::new(k1 as f32 * cell.x, k2 as f32 * cell.y, k3 as f32 * cell.z);
+                    if d == Vec3::ZERO {
+                        continue;
+                    }
+                    let o = Vec3::new(layout.boundary(0, 2), layout.boundary(1, -1), layout.boundary(2, 3));
+                    let got = walk(layout, o, d, 0.0, 4.0);
+                    let want = brute_walk(layout, o, d, 0.0, 4.0);
+                    assert_eq!(got, want, "o {o:?} d {d:?} layout {layout:?}");
+                    // Cells skipped at edges or corners: fewer cells than crossings.
+                    let crossings: usize = (0..3).map(|a| (4 * [k1, k2, k3][a].unsigned_abs()) as usize).sum();
+                    ties += (crossings + 1).saturating_sub(got.len());
+                    rays += 1;
+                }
+            }
+        }
+    }
+    println!("{rays} rays, {ties} crossings shared with another axis");
+    assert!(
+        ties > 1000,
+        "the rays should pass through many edges and corners, got {ties}"
+    );
 }

@@ -13,9 +13,9 @@
 //! few enough bits (coordinates of one mesh and one grid nearly always do),
 //! [`BigInt`] otherwise.
 
+use crate::exact::{Exact, common_scale, integers};
 use num_bigint::BigInt;
 use std::cmp::Ordering;
-use std::ops::{Add, Mul, Neg, Sub};
 
 /// The rounding bound of the fast tests: `|computed gap − exact gap| ≤
 /// ROUNDING_FACTOR · M`, where `M` is the gap's expression evaluated on the
@@ -44,89 +44,6 @@ pub(crate) fn box_magnitude(lo: &[f64; 3], hi: &[f64; 3]) -> f64 {
 #[inline(always)]
 pub(crate) fn rounding_bound(box_magnitude: f64, axis_magnitude: f64, triangle_magnitude: f64) -> f64 {
     ROUNDING_FACTOR * (2.0 * box_magnitude * axis_magnitude + triangle_magnitude)
-}
-
-/// Integer arithmetic of the exact decisions: `i128` when the inputs' bits
-/// fit (almost always: coordinates of one mesh and one grid span few
-/// binades), [`BigInt`] otherwise. The decisions are written once for both.
-trait Exact: Clone + Ord + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Neg<Output = Self> {
-    fn zero() -> Self;
-    /// `mantissa · 2^shift`.
-    fn shifted(mantissa: i64, shift: u32) -> Self;
-}
-
-impl Exact for i128 {
-    fn zero() -> Self {
-        0
-    }
-    fn shifted(mantissa: i64, shift: u32) -> Self {
-        (mantissa as i128) << shift
-    }
-}
-
-impl Exact for BigInt {
-    fn zero() -> Self {
-        BigInt::ZERO
-    }
-    fn shifted(mantissa: i64, shift: u32) -> Self {
-        BigInt::from(mantissa) << shift
-    }
-}
-
-/// `x = mantissa · 2^exponent` with an odd mantissa (`None` for zero), for
-/// `x` holding an `f32` value.
-fn parts(x: f64) -> Option<(i64, i32)> {
-    let single = x as f32;
-    debug_assert!(single as f64 == x, "exact tests take f32 values, got {x}");
-    let bits = single.to_bits();
-    let biased = ((bits >> 23) & 0xff) as i32;
-    let fraction = (bits & 0x7f_ffff) as i64;
-    // Subnormals are fraction · 2^-149; normals (2^23 + fraction) · 2^(biased − 150).
-    let (mantissa, exponent) = if biased == 0 {
-        (fraction, -149)
-    } else {
-        (fraction | 0x80_0000, biased - 150)
-    };
-    if mantissa == 0 {
-        return None;
-    }
-    let zeros = mantissa.trailing_zeros();
-    let signed = if bits >> 31 == 1 {
-        -(mantissa >> zeros)
-    } else {
-        mantissa >> zeros
-    };
-    Some((signed, exponent + zeros as i32))
-}
-
-/// The common scale of `values`: the smallest exponent of their parts, and
-/// the bits the largest needs as an integer at that scale.
-fn common_scale(values: &[f64]) -> (i32, u32) {
-    let mut low = i32::MAX;
-    let mut high = i32::MIN;
-    for &x in values {
-        if let Some((mantissa, exponent)) = parts(x) {
-            low = low.min(exponent);
-            high = high.max(exponent + (64 - mantissa.unsigned_abs().leading_zeros()) as i32);
-        }
-    }
-    if low == i32::MAX {
-        (0, 0)
-    } else {
-        (low, (high - low) as u32)
-    }
-}
-
-/// `x` as an integer at the scale `2^-low` (exact: `x` is a multiple of `2^low`).
-fn integer<T: Exact>(x: f64, low: i32) -> T {
-    match parts(x) {
-        Some((mantissa, exponent)) => T::shifted(mantissa, (exponent - low) as u32),
-        None => T::zero(),
-    }
-}
-
-fn integers<T: Exact>(v: &[f64; 3], low: i32) -> [T; 3] {
-    v.map(|x| integer(x, low))
 }
 
 /// `true` when the closed intervals `[a_min, a_max]` and `[b_min, b_max]` are disjoint.
@@ -280,6 +197,7 @@ fn segment_overlaps_in<T: Exact>(a: &[f64; 3], b: &[f64; 3], lo: &[f64; 3], hi: 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::exact::{integer, parts};
 
     #[test]
     fn integers_are_exact_at_the_extremes() {
