@@ -277,7 +277,9 @@ fn parse_size(text: &str) -> Option<u64> {
 /// The value of the environment variable `name` as a size, or `default`.
 fn env_size(name: &str, default: u64) -> Result<u64> {
     match std::env::var(name) {
-        Ok(text) => parse_size(&text).ok_or_else(|| anyhow!("{name}: '{text}' is not a number (a K, M or G suffix is allowed)")),
+        Ok(text) => {
+            parse_size(&text).ok_or_else(|| anyhow!("{name}: '{text}' is not a number (a K, M or G suffix is allowed)"))
+        }
         Err(_) => Ok(default),
     }
 }

@@ -32,7 +32,12 @@ impl std::ops::Deref for TempDir {
 }
 
 fn temp_dir(name: &str) -> TempDir {
-    TempDir(tempfile::Builder::new().prefix(&format!("proxima-cli-{name}-")).tempdir().unwrap())
+    TempDir(
+        tempfile::Builder::new()
+            .prefix(&format!("proxima-cli-{name}-"))
+            .tempdir()
+            .unwrap(),
+    )
 }
 
 fn write(dir: &Path, name: &str, content: &str) -> String {

@@ -139,7 +139,15 @@ fn arguments(rng: &mut Rng, meshes: &[&str]) -> Vec<String> {
         }
         2 => {
             let (origin, dir) = (point(rng), point(rng));
-            push(&["traverse", "--origin", &origin, "--dir", &dir, "--cell", rng.pick(CELLS)]);
+            push(&[
+                "traverse",
+                "--origin",
+                &origin,
+                "--dir",
+                &dir,
+                "--cell",
+                rng.pick(CELLS),
+            ]);
             push(&["--steps", rng.pick(STEPS)]);
         }
         3 => {
@@ -161,7 +169,12 @@ fn arguments(rng: &mut Rng, meshes: &[&str]) -> Vec<String> {
         }
         _ => {
             push(&["bench", &mesh, "--queries", rng.pick(QUERIES), "--json"]);
-            push(&["--threads", rng.pick(THREADS), "--primitives", rng.pick(&["vertices", "faces"])]);
+            push(&[
+                "--threads",
+                rng.pick(THREADS),
+                "--primitives",
+                rng.pick(&["vertices", "faces"]),
+            ]);
         }
     }
     args
@@ -243,5 +256,10 @@ fn cli_argument_space() {
         }
     }
     println!("{runs} command lines in {:.1} s", start.elapsed().as_secs_f64());
-    assert!(failures.is_empty(), "{} of {runs} failed:\n{}", failures.len(), failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "{} of {runs} failed:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
 }

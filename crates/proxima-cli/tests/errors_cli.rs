@@ -33,7 +33,12 @@ impl std::ops::Deref for TempDir {
 }
 
 fn temp_dir(name: &str) -> TempDir {
-    TempDir(tempfile::Builder::new().prefix(&format!("proxima-errors-cli-{name}-")).tempdir().unwrap())
+    TempDir(
+        tempfile::Builder::new()
+            .prefix(&format!("proxima-errors-cli-{name}-"))
+            .tempdir()
+            .unwrap(),
+    )
 }
 
 /// Exit status `code`, no panic, and (for status 1) exactly one line on
@@ -456,11 +461,17 @@ fn voxelize_resolution_beyond_the_work_limit() {
 #[test]
 fn voxelize_beyond_the_memory_budget() {
     let mesh = square_file("voxelize_beyond_the_memory_budget");
-    let out = proxima_env(&["voxelize", &mesh, "--res", "16384"], &[("PROXIMA_MEMORY_BUDGET", "1M")]);
+    let out = proxima_env(
+        &["voxelize", &mesh, "--res", "16384"],
+        &[("PROXIMA_MEMORY_BUDGET", "1M")],
+    );
     assert_one_line_error(
         &out,
         1,
-        &["sq.obj: --res 16384: needs about", "occupied cells, more than the memory budget of 1.0 MiB"],
+        &[
+            "sq.obj: --res 16384: needs about",
+            "occupied cells, more than the memory budget of 1.0 MiB",
+        ],
     );
 }
 
@@ -470,7 +481,14 @@ fn grid_cells_beyond_the_work_limit() {
     let mesh = triangle_file("grid_cells_beyond_the_work_limit");
     let args = ["grid", &mesh, "--cell", "0.25", "--primitives", "faces"];
     let out = proxima_env(&args, &[("PROXIMA_MAX_CELL_TESTS", "71")]);
-    assert_one_line_error(&out, 1, &["ok.obj: --cell 0.25: ", "hold 72 cells to test, more than the limit of 71"]);
+    assert_one_line_error(
+        &out,
+        1,
+        &[
+            "ok.obj: --cell 0.25: ",
+            "hold 72 cells to test, more than the limit of 71",
+        ],
+    );
     assert!(proxima_env(&args, &[("PROXIMA_MAX_CELL_TESTS", "72")]).status.success());
 }
 
@@ -484,11 +502,23 @@ fn grid_beyond_the_memory_budget() {
     assert_one_line_error(
         &out,
         1,
-        &["ok.obj: --cell 0.01: needs about", "cell entries, more than the memory budget of 9.8 KiB"],
+        &[
+            "ok.obj: --cell 0.01: needs about",
+            "cell entries, more than the memory budget of 9.8 KiB",
+        ],
     );
     // The grid ray cast builds the same grid, under the same budget.
     let out = proxima_env(
-        &["raycast", &mesh, "--origin", "0.2,0.2,1", "--dir", "0,0,-1", "--cell", "0.01"],
+        &[
+            "raycast",
+            &mesh,
+            "--origin",
+            "0.2,0.2,1",
+            "--dir",
+            "0,0,-1",
+            "--cell",
+            "0.01",
+        ],
         &[("PROXIMA_MEMORY_BUDGET", "10000")],
     );
     assert_one_line_error(&out, 1, &["ok.obj: --cell 0.01: needs about", "memory budget"]);
@@ -509,7 +539,11 @@ fn bench_query_count_beyond_the_budget() {
     let mesh = triangle_file("bench_query_count_beyond_the_budget");
     for queries in ["18446744073709551615", "1000000000"] {
         let out = proxima(&["bench", &mesh, "--queries", queries]);
-        assert_one_line_error(&out, 1, &[&format!("--queries {queries}: "), "more than the memory budget"]);
+        assert_one_line_error(
+            &out,
+            1,
+            &[&format!("--queries {queries}: "), "more than the memory budget"],
+        );
     }
 }
 
@@ -551,5 +585,9 @@ fn threads_beyond_the_limit() {
     assert_one_line_error(&out, 1, &["--threads 100000 is more than the limit of", "4 per core"]);
     let out = proxima(&["bench", &mesh, "--queries", "30", "--threads", "100000"]);
     assert_one_line_error(&out, 1, &["--threads 100000 is more than the limit of"]);
-    assert!(proxima(&["voxelize", &mesh, "--res", "4", "--threads", "8"]).status.success());
+    assert!(
+        proxima(&["voxelize", &mesh, "--res", "4", "--threads", "8"])
+            .status
+            .success()
+    );
 }

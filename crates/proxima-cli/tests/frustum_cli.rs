@@ -39,7 +39,10 @@ impl std::ops::Deref for TempFile {
 }
 
 fn temp(name: &str, content: &str) -> TempFile {
-    let dir = tempfile::Builder::new().prefix("proxima-frustum-cli-").tempdir().unwrap();
+    let dir = tempfile::Builder::new()
+        .prefix("proxima-frustum-cli-")
+        .tempdir()
+        .unwrap();
     let path: PathBuf = dir.path().join(name);
     std::fs::write(&path, content).unwrap();
     TempFile {

@@ -83,7 +83,11 @@ fn traverse_ends_where_t_leaves_f32() {
     ]));
     let rows: Vec<&str> = out.lines().skip(1).collect();
     assert_eq!(rows.len(), 454);
-    assert!(rows.last().unwrap().starts_with("453,324,97,32,"), "{}", rows.last().unwrap());
+    assert!(
+        rows.last().unwrap().starts_with("453,324,97,32,"),
+        "{}",
+        rows.last().unwrap()
+    );
     assert!(rows.last().unwrap().ends_with(",inf"));
     assert!(rows[..453].iter().all(|r| !r.contains("inf")));
 }
@@ -108,7 +112,18 @@ fn closest_streams_answers_in_input_order_across_chunks() {
     let first = write(dir.path(), "first.pts", &points[..750].join("\n"));
     let second = write(dir.path(), "second.pts", &points[750..].join("\n"));
     for method in ["tree", "linear"] {
-        let run = |file: &str| stdout(&proxima(&["closest", &bunny(), "--points", file, "-k", "1000", "--method", method]));
+        let run = |file: &str| {
+            stdout(&proxima(&[
+                "closest",
+                &bunny(),
+                "--points",
+                file,
+                "-k",
+                "1000",
+                "--method",
+                method,
+            ]))
+        };
         let whole = run(&all);
         let mut expected = run(&first);
         for line in run(&second).lines().skip(1) {

@@ -28,7 +28,12 @@ impl std::ops::Deref for TempDir {
 }
 
 fn temp_dir(name: &str) -> TempDir {
-    TempDir(tempfile::Builder::new().prefix(&format!("proxima-cli-polygons-{name}-")).tempdir().unwrap())
+    TempDir(
+        tempfile::Builder::new()
+            .prefix(&format!("proxima-cli-polygons-{name}-"))
+            .tempdir()
+            .unwrap(),
+    )
 }
 
 fn write(dir: &Path, name: &str, content: &str) -> String {

@@ -109,7 +109,10 @@ mod tests {
         assert_eq!(human_bytes(1536), "1.5 KiB");
         assert_eq!(human_bytes(2 << 30), "2.0 GiB");
         assert_eq!(human_bytes(3 << 40), "3.0 TiB");
-        assert_eq!(human_bytes(u128::MAX), format!("{:.1} EiB", u128::MAX as f64 / (1u64 << 60) as f64));
+        assert_eq!(
+            human_bytes(u128::MAX),
+            format!("{:.1} EiB", u128::MAX as f64 / (1u64 << 60) as f64)
+        );
     }
 
     #[test]

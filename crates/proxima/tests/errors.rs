@@ -23,7 +23,12 @@ impl std::ops::Deref for TempDir {
 }
 
 fn temp_dir(name: &str) -> TempDir {
-    TempDir(tempfile::Builder::new().prefix(&format!("proxima-errors-{name}-")).tempdir().unwrap())
+    TempDir(
+        tempfile::Builder::new()
+            .prefix(&format!("proxima-errors-{name}-"))
+            .tempdir()
+            .unwrap(),
+    )
 }
 
 fn assert_load_error(
@@ -550,7 +555,8 @@ fn grid_beyond_the_memory_budget() {
         })
         .collect();
     let config = GridConfig::cubic(0.25);
-    let one: HashGrid<proxima::Triangle> = HashGrid::build(proxima::PrimitiveSet::from_primitives(copies[..1].to_vec()), &config).unwrap();
+    let one: HashGrid<proxima::Triangle> =
+        HashGrid::build(proxima::PrimitiveSet::from_primitives(copies[..1].to_vec()), &config).unwrap();
     let per_copy = one.entry_count() as u128;
     let bytes = |entries: u128| {
         entries * (proxima::budget::GRID_BYTES_PER_ENTRY + proxima::budget::GRID_BYTES_PER_CELL) as u128
@@ -573,7 +579,13 @@ fn grid_beyond_the_memory_budget() {
         panic!("{e}")
     };
     assert_eq!((what, b), ("cell entries", budget));
-    assert!((90 * per_copy..=100 * per_copy).contains(&count), "{e}: {per_copy} per copy");
-    assert!((bytes(90 * per_copy)..=bytes(100 * per_copy)).contains(&estimate), "{e}");
+    assert!(
+        (90 * per_copy..=100 * per_copy).contains(&count),
+        "{e}: {per_copy} per copy"
+    );
+    assert!(
+        (bytes(90 * per_copy)..=bytes(100 * per_copy)).contains(&estimate),
+        "{e}"
+    );
     assert!(e.to_string().contains("memory budget of"), "{e}");
 }

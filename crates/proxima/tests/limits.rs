@@ -152,7 +152,10 @@ fn walks_end_where_t_no_longer_fits_f32() {
         t_max: 2.5e36,
         ..TraversalConfig::cubic(1e36)
     };
-    let cells: Vec<_> = GridTraversal::new(Vec3::ZERO, Vec3::X, &config).unwrap().map(|s| s.cell[0]).collect();
+    let cells: Vec<_> = GridTraversal::new(Vec3::ZERO, Vec3::X, &config)
+        .unwrap()
+        .map(|s| s.cell[0])
+        .collect();
     assert_eq!(cells, [0, 1, 2]);
 }
 

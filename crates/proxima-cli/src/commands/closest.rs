@@ -104,7 +104,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             Primitives::Polygons => linear(mesh.extract_polygons(args.planarity).set, &points, args.k, &mut write)?,
         },
     }
-    drop(write);
     out.flush()?;
     Ok(())
 }

@@ -65,9 +65,7 @@ pub fn run(args: Args) -> Result<()> {
     let mesh = load_mesh(&args.mesh)?;
     let triangles = mesh.triangles().primitives;
     let bounds = mesh.bounds();
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()?;
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;
     let threads = pool.current_num_threads();
     let start = Instant::now();
     let voxels = pool
