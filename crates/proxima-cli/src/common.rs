@@ -1,6 +1,6 @@
 //! What several commands share: argument parsers, mesh loading, primitive choice.
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result, anyhow, bail};
 use proxima::primitive::polygon::DEFAULT_PLANARITY_TOLERANCE;
 use proxima::{AabbTree, BuildConfig, ConvexPolygon, Mesh, PrimitiveSet, Vec3};
 use std::path::{Path, PathBuf};
@@ -196,12 +196,12 @@ pub fn parse_planarity(text: &str) -> Result<f32, String> {
 pub fn polygons(mesh: &Mesh, path: &Path, planarity: f32) -> PrimitiveSet<ConvexPolygon> {
     let extraction = mesh.extract_polygons(planarity);
     if extraction.fan_triangulated > 0 {
-        eprintln!(
-            "proxima: {}: {} of {} faces with more than 3 vertices are not planar/convex within tolerance {planarity:e}; fan-triangulated",
+        note(&format!(
+            "{}: {} of {} faces with more than 3 vertices are not planar/convex within tolerance {planarity:e}; fan-triangulated",
             path.display(),
             extraction.fan_triangulated,
             extraction.polygon_faces(),
-        );
+        ));
     }
     extraction.set
 }
@@ -244,4 +244,105 @@ macro_rules! with_tree {
             $crate::common::AnyTree::Polygons($tree) => $body,
         }
     };
+}
+
+/// Writes `proxima: {line}` on stderr. A stderr that cannot be written (closed,
+/// or a full device: `2>/dev/full`) is ignored: there is no one left to tell.
+pub fn note(line: &str) {
+    use std::io::Write as _;
+    let _ = writeln!(std::io::stderr().lock(), "proxima: {line}");
+}
+
+/// The environment variable that sets the memory budget of grids,
+/// voxelizations and query sets, in bytes (a `K`, `M` or `G` suffix
+/// multiplies by 2^10, 2^20, 2^30); default [`proxima::budget::default_memory_budget`].
+pub const MEMORY_BUDGET_ENV: &str = "PROXIMA_MEMORY_BUDGET";
+
+/// The environment variable that sets the limit on cells tested by grid
+/// builds and voxelizations; default [`proxima::budget::DEFAULT_MAX_CELL_TESTS`].
+pub const MAX_CELL_TESTS_ENV: &str = "PROXIMA_MAX_CELL_TESTS";
+
+/// Parses `123`, `64K`, `512M`, `2G` (binary multiples) into a count.
+fn parse_size(text: &str) -> Option<u64> {
+    let text = text.trim();
+    let (digits, shift) = match text.as_bytes().last()?.to_ascii_uppercase() {
+        b'K' => (&text[..text.len() - 1], 10),
+        b'M' => (&text[..text.len() - 1], 20),
+        b'G' => (&text[..text.len() - 1], 30),
+        _ => (text, 0),
+    };
+    digits.trim().parse::<u64>().ok()?.checked_mul(1 << shift)
+}
+
+/// The value of the environment variable `name` as a size, or `default`.
+fn env_size(name: &str, default: u64) -> Result<u64> {
+    match std::env::var(name) {
+        Ok(text) => {
+            parse_size(&text).ok_or_else(|| anyhow!("{name}: '{text}' is not a number (a K, M or G suffix is allowed)"))
+        }
+        Err(_) => Ok(default),
+    }
+}
+
+/// The memory budget: [`MEMORY_BUDGET_ENV`] or the library's default.
+pub fn memory_budget() -> Result<u64> {
+    env_size(MEMORY_BUDGET_ENV, proxima::budget::default_memory_budget())
+}
+
+/// The cell-test limit: [`MAX_CELL_TESTS_ENV`] or the library's default.
+pub fn max_cell_tests() -> Result<u64> {
+    env_size(MAX_CELL_TESTS_ENV, proxima::budget::DEFAULT_MAX_CELL_TESTS)
+}
+
+/// The largest `--threads` a command accepts: 4 per core (at least 8). More
+/// would only cost memory and scheduling.
+pub fn max_threads() -> usize {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    (4 * cores).max(8)
+}
+
+/// `requested` worker threads, refused beyond [`max_threads`] with a
+/// one-line error (a note and a cap would make a second stderr line when the
+/// command then fails).
+pub fn thread_count(requested: usize) -> Result<usize> {
+    let cap = max_threads();
+    if requested > cap {
+        bail!("--threads {requested} is more than the limit of {cap} (4 per core on this machine, at least 8)");
+    }
+    Ok(requested)
+}
+
+/// A grid's budget error with the option that sized it (`--cell 0.001`,
+/// `--res 65536`) in front; other errors unchanged.
+pub fn name_option(error: anyhow::Error, option: impl FnOnce() -> String) -> anyhow::Error {
+    match error.downcast_ref::<proxima::GridError>() {
+        Some(proxima::GridError::CellTests { .. } | proxima::GridError::MemoryBudget { .. }) => error.context(option()),
+        _ => error,
+    }
+}
+
+/// `--cell W` for cubic cells, `--cell W,H,D` otherwise.
+pub fn cell_option(cell: Vec3) -> String {
+    if cell.x == cell.y && cell.y == cell.z {
+        format!("--cell {}", cell.x)
+    } else {
+        format!("--cell {},{},{}", cell.x, cell.y, cell.z)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_parse_with_binary_suffixes() {
+        assert_eq!(parse_size("123"), Some(123));
+        assert_eq!(parse_size(" 64k "), Some(64 << 10));
+        assert_eq!(parse_size("512M"), Some(512 << 20));
+        assert_eq!(parse_size("2G"), Some(2 << 30));
+        assert_eq!(parse_size("G"), None);
+        assert_eq!(parse_size(""), None);
+        assert_eq!(parse_size("-1"), None);
+        assert_eq!(parse_size("18446744073709551615G"), None);
+    }
 }

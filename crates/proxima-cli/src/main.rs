@@ -61,7 +61,7 @@ fn main() -> ExitCode {
         Err(error) if common::is_broken_pipe(&error) => ExitCode::SUCCESS,
         Err(error) => {
             // One line: the chain of causes joined, no backtrace.
-            eprintln!("proxima: {}", common::one_line(&error));
+            common::note(&common::one_line(&error));
             ExitCode::FAILURE
         }
     }

@@ -1,7 +1,7 @@
 //! The `proxima` binary: output formats, and one clear line for every kind of
 //! bad input (never a panic, always a non-zero exit).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
 fn proxima(args: &[&str]) -> Output {
@@ -20,11 +20,24 @@ fn stderr(o: &Output) -> String {
 }
 
 /// A fresh temporary directory for one test.
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("proxima-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A fresh directory in the system temp folder, removed when dropped
+/// (`tempfile`); reads as a `Path`.
+struct TempDir(tempfile::TempDir);
+
+impl std::ops::Deref for TempDir {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        self.0.path()
+    }
+}
+
+fn temp_dir(name: &str) -> TempDir {
+    TempDir(
+        tempfile::Builder::new()
+            .prefix(&format!("proxima-cli-{name}-"))
+            .tempdir()
+            .unwrap(),
+    )
 }
 
 fn write(dir: &Path, name: &str, content: &str) -> String {

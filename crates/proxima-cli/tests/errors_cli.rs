@@ -5,7 +5,7 @@
 //! usage errors (clap) exit with 2.
 
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::Path;
 use std::process::{Command, Output};
 
 fn proxima(args: &[&str]) -> Output {
@@ -21,11 +21,24 @@ fn proxima_env(args: &[&str], env: &[(&str, &str)]) -> Output {
     command.output().expect("run proxima")
 }
 
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("proxima-errors-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A fresh directory in the system temp folder, removed when dropped
+/// (`tempfile`); reads as a `Path`.
+struct TempDir(tempfile::TempDir);
+
+impl std::ops::Deref for TempDir {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        self.0.path()
+    }
+}
+
+fn temp_dir(name: &str) -> TempDir {
+    TempDir(
+        tempfile::Builder::new()
+            .prefix(&format!("proxima-errors-cli-{name}-"))
+            .tempdir()
+            .unwrap(),
+    )
 }
 
 /// Exit status `code`, no panic, and (for status 1) exactly one line on
@@ -53,11 +66,28 @@ fn stl_with_count(count: u32) -> Vec<u8> {
 
 const TRIANGLE: &[u8] = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
 
+/// A file path that keeps its temporary directory alive; reads as a `str`.
+struct TempFile {
+    _dir: TempDir,
+    path: String,
+}
+
+impl std::ops::Deref for TempFile {
+    type Target = str;
+    fn deref(&self) -> &str {
+        &self.path
+    }
+}
+
 /// Writes the one-triangle OBJ into a fresh directory.
-fn triangle_file(name: &str) -> String {
-    let path = temp_dir(name).join("ok.obj");
+fn triangle_file(name: &str) -> TempFile {
+    let dir = temp_dir(name);
+    let path = dir.join("ok.obj");
     std::fs::write(&path, TRIANGLE).unwrap();
-    path.display().to_string()
+    TempFile {
+        path: path.display().to_string(),
+        _dir: dir,
+    }
 }
 
 // ------------------------------------------------------------- loading ---
@@ -285,7 +315,8 @@ fn gzip_bomb() {
 
 #[test]
 fn coordinate_beyond_tree_bound() {
-    let path = temp_dir("coordinate_beyond_tree_bound").join("huge.obj");
+    let path_dir = temp_dir("coordinate_beyond_tree_bound");
+    let path = path_dir.join("huge.obj");
     std::fs::write(&path, b"v 0 0 0\nv 1e30 0 0\nv 0 1e30 0\nf 1 2 3\n").unwrap();
     let path = path.to_str().unwrap();
     let out = proxima(&["closest", path, "--primitives", "faces", "--point", "0,0,0"]);
@@ -294,7 +325,8 @@ fn coordinate_beyond_tree_bound() {
 
 #[test]
 fn empty_mesh() {
-    let path = temp_dir("empty_mesh").join("empty.obj");
+    let path_dir = temp_dir("empty_mesh");
+    let path = path_dir.join("empty.obj");
     std::fs::write(&path, b"# nothing\n").unwrap();
     let path = path.to_str().unwrap();
     let out = proxima(&["closest", path, "--primitives", "faces", "--point", "0,0,0"]);
@@ -306,7 +338,8 @@ fn empty_mesh() {
 #[test]
 fn points_file_bad_line() {
     let mesh = triangle_file("points_file_bad_line");
-    let points = temp_dir("points_file_bad_line_pts").join("bad.pts");
+    let points_dir = temp_dir("points_file_bad_line_pts");
+    let points = points_dir.join("bad.pts");
     std::fs::write(&points, b"0 0 0\n# ok\n1 2\n").unwrap();
     let out = proxima(&["closest", &mesh, "--points", points.to_str().unwrap()]);
     assert_one_line_error(&out, 1, &["bad.pts:3", "three numbers"]);
@@ -335,7 +368,8 @@ fn grid_cell_size_not_positive() {
 
 #[test]
 fn grid_primitive_out_of_range() {
-    let path = temp_dir("grid_primitive_out_of_range").join("far.obj");
+    let path_dir = temp_dir("grid_primitive_out_of_range");
+    let path = path_dir.join("far.obj");
     std::fs::write(&path, b"v 0 0 0\nv 1e30 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
     let out = proxima(&[
         "grid",
@@ -389,4 +423,171 @@ fn usage_missing_argument() {
     let mesh = triangle_file("usage_missing_argument");
     assert_one_line_error(&proxima(&["closest", &mesh]), 2, &["--point"]);
     assert_one_line_error(&proxima(&["info"]), 2, &["MESH"]);
+}
+
+/// Writes the unit square (two triangles in the plane z = 0) into a fresh directory.
+fn square_file(name: &str) -> TempFile {
+    let dir = temp_dir(name);
+    let path = dir.join("sq.obj");
+    std::fs::write(&path, "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n").unwrap();
+    TempFile {
+        path: path.display().to_string(),
+        _dir: dir,
+    }
+}
+
+#[test]
+fn voxelize_resolution_beyond_the_work_limit() {
+    // 2 N² cells of cell ranges, refused at once (2^30 used to panic in the
+    // chunking, 2^22 to overflow N³, 65536 to run for ever at 4.9 GB).
+    let mesh = square_file("voxelize_resolution_beyond_the_work_limit");
+    for (res, cells) in [
+        ("1073741824", "2305843009213693952"),
+        ("4194304", "35184372088832"),
+        ("65536", "8589934592"),
+    ] {
+        let out = proxima(&["voxelize", &mesh, "--res", res]);
+        assert_one_line_error(
+            &out,
+            1,
+            &[
+                &format!("sq.obj: --res {res}: "),
+                &format!("hold {cells} cells to test, more than the limit of 4294967296"),
+            ],
+        );
+    }
+}
+
+#[test]
+fn voxelize_beyond_the_memory_budget() {
+    let mesh = square_file("voxelize_beyond_the_memory_budget");
+    let out = proxima_env(
+        &["voxelize", &mesh, "--res", "16384"],
+        &[("PROXIMA_MEMORY_BUDGET", "1M")],
+    );
+    assert_one_line_error(
+        &out,
+        1,
+        &[
+            "sq.obj: --res 16384: needs about",
+            "occupied cells, more than the memory budget of 1.0 MiB",
+        ],
+    );
+}
+
+#[test]
+fn grid_cells_beyond_the_work_limit() {
+    // 6 × 6 × 2 = 72 cells in the triangle's cell range at cells of 0.25.
+    let mesh = triangle_file("grid_cells_beyond_the_work_limit");
+    let args = ["grid", &mesh, "--cell", "0.25", "--primitives", "faces"];
+    let out = proxima_env(&args, &[("PROXIMA_MAX_CELL_TESTS", "71")]);
+    assert_one_line_error(
+        &out,
+        1,
+        &[
+            "ok.obj: --cell 0.25: ",
+            "hold 72 cells to test, more than the limit of 71",
+        ],
+    );
+    assert!(proxima_env(&args, &[("PROXIMA_MAX_CELL_TESTS", "72")]).status.success());
+}
+
+#[test]
+fn grid_beyond_the_memory_budget() {
+    let mesh = triangle_file("grid_beyond_the_memory_budget");
+    let out = proxima_env(
+        &["grid", &mesh, "--cell", "0.01", "--primitives", "faces"],
+        &[("PROXIMA_MEMORY_BUDGET", "10000")],
+    );
+    assert_one_line_error(
+        &out,
+        1,
+        &[
+            "ok.obj: --cell 0.01: needs about",
+            "cell entries, more than the memory budget of 9.8 KiB",
+        ],
+    );
+    // The grid ray cast builds the same grid, under the same budget.
+    let out = proxima_env(
+        &[
+            "raycast",
+            &mesh,
+            "--origin",
+            "0.2,0.2,1",
+            "--dir",
+            "0,0,-1",
+            "--cell",
+            "0.01",
+        ],
+        &[("PROXIMA_MEMORY_BUDGET", "10000")],
+    );
+    assert_one_line_error(&out, 1, &["ok.obj: --cell 0.01: needs about", "memory budget"]);
+}
+
+#[test]
+fn budget_variable_not_a_number() {
+    let mesh = triangle_file("budget_variable_not_a_number");
+    for (name, value) in [("PROXIMA_MEMORY_BUDGET", "lots"), ("PROXIMA_MAX_CELL_TESTS", "-1")] {
+        let out = proxima_env(&["voxelize", &mesh, "--res", "4"], &[(name, value)]);
+        assert_one_line_error(&out, 1, &[name, &format!("'{value}' is not a number")]);
+    }
+}
+
+#[test]
+fn bench_query_count_beyond_the_budget() {
+    // Refused before the points are drawn (these used to abort in the allocator).
+    let mesh = triangle_file("bench_query_count_beyond_the_budget");
+    for queries in ["18446744073709551615", "1000000000"] {
+        let out = proxima(&["bench", &mesh, "--queries", queries]);
+        assert_one_line_error(
+            &out,
+            1,
+            &[&format!("--queries {queries}: "), "more than the memory budget"],
+        );
+    }
+}
+
+#[test]
+fn traverse_steps_beyond_the_limit() {
+    let out = proxima(&[
+        "traverse",
+        "--origin",
+        "0,0,0",
+        "--dir",
+        "1,0.3,0.1",
+        "--cell",
+        "1e30",
+        "--steps",
+        "18446744073709551615",
+    ]);
+    assert_one_line_error(
+        &out,
+        1,
+        &["--steps 18446744073709551615 is more than the limit of 10000000 cells"],
+    );
+}
+
+#[test]
+fn voxelize_binvox_beyond_its_resolution_limit() {
+    let mesh = triangle_file("voxelize_binvox_beyond_its_resolution_limit");
+    let dir = temp_dir("voxelize_binvox_beyond_its_resolution_limit_out");
+    let out_path = dir.join("v.binvox");
+    let out = proxima(&["voxelize", &mesh, "--res", "1025", "--out", out_path.to_str().unwrap()]);
+    assert_one_line_error(&out, 1, &["v.binvox: --res 1025: ", "limited to --res 1024"]);
+    assert!(!out_path.exists());
+}
+
+#[test]
+fn threads_beyond_the_limit() {
+    // 4 per core (at least 8): more would only cost memory and scheduling.
+    let mesh = triangle_file("threads_beyond_the_limit");
+    let out = proxima(&["voxelize", &mesh, "--res", "4", "--threads", "100000"]);
+    assert_one_line_error(&out, 1, &["--threads 100000 is more than the limit of", "4 per core"]);
+    let out = proxima(&["bench", &mesh, "--queries", "30", "--threads", "100000"]);
+    assert_one_line_error(&out, 1, &["--threads 100000 is more than the limit of"]);
+    assert!(
+        proxima(&["voxelize", &mesh, "--res", "4", "--threads", "8"])
+            .status
+            .success()
+    );
 }

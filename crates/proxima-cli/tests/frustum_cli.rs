@@ -25,12 +25,30 @@ fn bunny() -> String {
     concat!(env!("CARGO_MANIFEST_DIR"), "/assets/bunny-npm.obj").to_string()
 }
 
-fn temp(name: &str, content: &str) -> String {
-    let dir = std::env::temp_dir().join(format!("proxima-frustum-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path: PathBuf = dir.join(name);
+/// A file path that keeps its temporary directory (`tempfile`) alive; reads as a `str`.
+struct TempFile {
+    _dir: tempfile::TempDir,
+    path: String,
+}
+
+impl std::ops::Deref for TempFile {
+    type Target = str;
+    fn deref(&self) -> &str {
+        &self.path
+    }
+}
+
+fn temp(name: &str, content: &str) -> TempFile {
+    let dir = tempfile::Builder::new()
+        .prefix("proxima-frustum-cli-")
+        .tempdir()
+        .unwrap();
+    let path: PathBuf = dir.path().join(name);
     std::fs::write(&path, content).unwrap();
-    path.display().to_string()
+    TempFile {
+        path: path.display().to_string(),
+        _dir: dir,
+    }
 }
 
 /// A camera looking at the bunny's left side from the front, seeing part of it.

@@ -1,6 +1,6 @@
 //! The command-line contract of `grid`, `voxelize`, `traverse` and `raycast`.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn proxima(args: &[&str]) -> Output {
@@ -19,10 +19,32 @@ fn bunny() -> String {
     concat!(env!("CARGO_MANIFEST_DIR"), "/assets/bunny-npm.obj").to_string()
 }
 
-fn temp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("proxima-grid-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
+/// A path in a fresh temporary directory (`tempfile`), removed with it when
+/// dropped; reads as a `Path`.
+struct TempPath {
+    _dir: tempfile::TempDir,
+    path: PathBuf,
+}
+
+impl std::ops::Deref for TempPath {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.path
+    }
+}
+
+impl AsRef<Path> for TempPath {
+    fn as_ref(&self) -> &Path {
+        &self.path
+    }
+}
+
+fn temp(name: &str) -> TempPath {
+    let dir = tempfile::Builder::new().prefix("proxima-grid-cli-").tempdir().unwrap();
+    TempPath {
+        path: dir.path().join(name),
+        _dir: dir,
+    }
 }
 
 #[test]

@@ -2,7 +2,7 @@
 //! exactly planar quads (up to f32 rounding), the fallback note on stderr for
 //! faces that are not planar or convex, and the grid, bench and info rows.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
 fn proxima(args: &[&str]) -> Output {
@@ -16,11 +16,24 @@ fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
 }
 
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("proxima-cli-polygons-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A fresh directory in the system temp folder, removed when dropped
+/// (`tempfile`); reads as a `Path`.
+struct TempDir(tempfile::TempDir);
+
+impl std::ops::Deref for TempDir {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        self.0.path()
+    }
+}
+
+fn temp_dir(name: &str) -> TempDir {
+    TempDir(
+        tempfile::Builder::new()
+            .prefix(&format!("proxima-cli-polygons-{name}-"))
+            .tempdir()
+            .unwrap(),
+    )
 }
 
 fn write(dir: &Path, name: &str, content: &str) -> String {

@@ -542,8 +542,11 @@ mod tests {
 
     #[test]
     fn a_broken_file_is_an_error_naming_it() {
-        let dir = std::env::temp_dir().join(format!("proxima-viewer-model-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let temp = tempfile::Builder::new()
+            .prefix("proxima-viewer-model-")
+            .tempdir()
+            .unwrap();
+        let dir = temp.path();
         let path = dir.join("broken.obj");
         std::fs::write(&path, "v 0 0 0\nf 1 2 3\n").unwrap();
         let error = Model::load(ModelSource::File(path.clone()), &|_| {}).err().unwrap();
@@ -552,7 +555,6 @@ mod tests {
             .err()
             .unwrap();
         assert!(missing.contains("missing.ply"), "{missing}");
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

@@ -188,8 +188,11 @@ mod tests {
 
     #[test]
     fn png_is_written_opaque() {
-        let dir = std::env::temp_dir().join(format!("proxima-viewer-png-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let temp = tempfile::Builder::new()
+            .prefix("proxima-viewer-png-")
+            .tempdir()
+            .unwrap();
+        let dir = temp.path();
         let path = dir.join("t.png");
         let mut image = ColorImage::filled([3, 2], Color32::from_rgba_premultiplied(10, 20, 30, 128));
         image.pixels[5] = Color32::from_rgb(255, 0, 255);
@@ -199,6 +202,5 @@ mod tests {
         assert_eq!(back.get_pixel(0, 0).0, [10, 20, 30, 255]);
         assert_eq!(back.get_pixel(2, 1).0, [255, 0, 255, 255]);
         assert!(save_png(&dir.join("missing/dir/t.png"), &image).is_err());
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -113,8 +113,13 @@ fn out_dir() -> PathBuf {
     dir
 }
 
+/// The broken mesh, inside the output directory (removed with it when every
+/// scenario passes): a child finds that directory from its output path.
 fn broken_file() -> PathBuf {
-    std::env::temp_dir().join("proxima-viewer-screenshot-broken.obj")
+    match std::env::var_os("PROXIMA_VIEWER_OUT") {
+        Some(out) => Path::new(&out).with_file_name("broken.obj"),
+        None => out_dir().join("broken.obj"),
+    }
 }
 
 fn main() -> ExitCode {

@@ -4,6 +4,20 @@
 use std::fmt;
 use std::path::PathBuf;
 
+/// A byte count for a message (`1.5 GiB (1610612736 bytes)`).
+fn human(bytes: &u128) -> String {
+    let short = crate::budget::human_bytes(*bytes);
+    if short.ends_with(" bytes") {
+        short
+    } else {
+        format!("{short} ({bytes} bytes)")
+    }
+}
+
+fn human64(bytes: &u64) -> String {
+    human(&u128::from(*bytes))
+}
+
 /// A mesh whose data breaks an invariant.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum MeshError {
@@ -216,6 +230,37 @@ pub enum GridError {
     TooManyCells {
         /// The configured limit.
         limit: u64,
+    },
+    /// The cells of the primitives' bounding boxes (an upper bound on the
+    /// cells a grid build or a voxelization tests) are more than the limit:
+    /// refused before anything is allocated, so that no option can ask for
+    /// hours of work.
+    #[error(
+        "the primitives' cell ranges hold {cells} cells to test, more than the limit of {limit} (use larger cells or a lower resolution)"
+    )]
+    CellTests {
+        /// The sum, over the primitives, of the cells of their cell ranges.
+        cells: u128,
+        /// The configured limit (`max_cell_tests`).
+        limit: u64,
+    },
+    /// The storage would need more memory than the budget (`memory_budget`).
+    /// Known sizes (a dense bitset) are refused before they are allocated;
+    /// sizes that depend on the answer are counted as they grow, and the
+    /// build stops at the budget, estimating the whole from the part done.
+    #[error(
+        "needs about {} for about {count} {what}, more than the memory budget of {} (use larger cells or a lower resolution, or raise the budget)",
+        human(.bytes), human64(.budget)
+    )]
+    MemoryBudget {
+        /// What is counted: `cell entries`, `occupied cells` or `voxels`.
+        what: &'static str,
+        /// How many of them the whole structure would need (estimated).
+        count: u128,
+        /// Bytes the whole structure would need (estimated).
+        bytes: u128,
+        /// The budget, in bytes.
+        budget: u64,
     },
     /// More primitives than 32-bit indices can address.
     #[error("{count} primitives is more than 32-bit indices can address")]

@@ -32,6 +32,7 @@
 #![deny(missing_docs)]
 
 pub mod aabb;
+pub mod budget;
 pub mod bvh;
 pub mod error;
 mod exact;

@@ -32,9 +32,11 @@
 //!   starts at `t_min`, the last ends at `t_max` (or at the step limit). An
 //!   empty range (`t_min == t_max`) yields nothing.
 //!
-//! The walk ends when `t_max` is reached, after `max_steps` cells, or when a
-//! cell index would leave `±2^50` ([`MAX_CELL_INDEX`]) — never later: with
-//! `t_max = ∞` and no step limit it is merely very long. The parameters are
+//! The walk ends when `t_max` is reached, after `max_steps` cells, with the
+//! cell whose exit parameter no longer fits `f32` (yielded with
+//! `t_exit = ∞`), or when a cell index would leave `±2^50`
+//! ([`MAX_CELL_INDEX`]) — never later: with `t_max = ∞` and no step limit it
+//! is merely very long. The parameters are
 //! tracked in `f64`, so huge `t` does not stall the walk; they are yielded as
 //! `f32`.
 //!
@@ -376,7 +378,9 @@ impl Iterator for GridTraversal {
         } else {
             t_cross >= self.t_max
         };
-        if ends || self.steps_left == 0 || !t_cross.is_finite() {
+        // Past f32::MAX the parameters of the cells after this one would all
+        // read ∞: the walk ends with the cell it never leaves in f32.
+        if ends || self.steps_left == 0 || !out.t_exit.is_finite() {
             self.done = true;
             return Some(out);
         }

@@ -9,13 +9,26 @@ use proxima::io::LoadOptions;
 use proxima::traversal::{GridTraversal, TraversalConfig};
 use proxima::{AabbTree, BuildConfig, BuildError, GridError, LinearSearch, LoadError, LoadErrorKind, MeshError, Vec3};
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("proxima-errors-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A fresh directory in the system temp folder, removed when dropped
+/// (`tempfile`); reads as a `Path`.
+struct TempDir(tempfile::TempDir);
+
+impl std::ops::Deref for TempDir {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        self.0.path()
+    }
+}
+
+fn temp_dir(name: &str) -> TempDir {
+    TempDir(
+        tempfile::Builder::new()
+            .prefix(&format!("proxima-errors-{name}-"))
+            .tempdir()
+            .unwrap(),
+    )
 }
 
 fn assert_load_error(
@@ -438,4 +451,141 @@ fn mesh_error_kinds_through_the_constructors() {
         proxima::Mesh::from_faces(v, &[vec![0, 1]]),
         Err(MeshError::FaceTooSmall { face: 0, len: 2 })
     ));
+}
+
+/// Two triangles making the unit square in the plane z = 0.
+const SQUARE: &[u8] = b"v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n";
+
+#[test]
+fn voxelize_resolution_beyond_the_work_limit() {
+    let mesh = proxima::io::parse(SQUARE, proxima::io::Format::Obj, "sq.obj".as_ref()).unwrap();
+    let tris = mesh.triangles().primitives;
+    // Each triangle's cell range, clipped to the grid, is N × N × 1 cells
+    // (x and y reach cell N, outside the grid; z = 0 touches cell -1 too):
+    // 2 N² cells in all, refused before anything is allocated — N = 2^30
+    // used to panic in the chunking, N = 2^22 to overflow N³.
+    for (res, limit) in [(1u32 << 30, None), (1 << 22, None), (65536, Some(1u64 << 32))] {
+        let config = VoxelConfig {
+            max_cell_tests: limit.unwrap_or(VoxelConfig::new(1).max_cell_tests),
+            ..VoxelConfig::new(res)
+        };
+        let e = voxelize(&tris, &mesh.bounds(), &config).unwrap_err();
+        let expected = 2 * (res as u128).pow(2);
+        assert_eq!(
+            e,
+            GridError::CellTests {
+                cells: expected,
+                limit: config.max_cell_tests
+            },
+            "res {res}"
+        );
+        assert!(e.to_string().contains(&format!("{expected} cells")), "{e}");
+    }
+}
+
+#[test]
+fn voxelize_beyond_the_memory_budget() {
+    let mesh = proxima::io::parse(SQUARE, proxima::io::Format::Obj, "sq.obj".as_ref()).unwrap();
+    let tris = mesh.triangles().primitives;
+    // 16384² cells of the square are occupied (2^28): sparse storage, which
+    // stops at the budget; the whole is estimated from the share done.
+    for parallel in [false, true] {
+        let config = VoxelConfig {
+            memory_budget: 1 << 20,
+            parallel,
+            ..VoxelConfig::new(16384)
+        };
+        let e = voxelize(&tris, &mesh.bounds(), &config).unwrap_err();
+        let GridError::MemoryBudget {
+            what,
+            count,
+            bytes,
+            budget,
+        } = e.clone()
+        else {
+            panic!("{e}")
+        };
+        assert_eq!((what, budget), ("occupied cells", 1 << 20));
+        assert!((1u128 << 27..=1 << 29).contains(&count), "{e}");
+        assert_eq!(bytes, count * proxima::budget::VOXEL_BYTES_PER_SPARSE_CELL as u128);
+        assert!(e.to_string().contains("memory budget of 1.0 MiB"), "{e}");
+    }
+    // A dense bitset larger than the budget (64³ bits: 32 KiB) is not used:
+    // sparse storage, the same cells. The unit square in a box of side 64
+    // at cells of 1 touches cells 0 and 1 along x and y, layer 0 along z.
+    let bounds = proxima::Aabb::new(Vec3::ZERO, Vec3::splat(64.0));
+    let small = VoxelConfig {
+        memory_budget: 16 << 10,
+        ..VoxelConfig::new(64)
+    };
+    let sparse = voxelize(&tris, &bounds, &small).unwrap();
+    let dense = voxelize(&tris, &bounds, &VoxelConfig::new(64)).unwrap();
+    assert!(!sparse.is_dense() && dense.is_dense());
+    assert_eq!(sparse.cells(), dense.cells());
+    assert_eq!(dense.cells(), [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]]);
+    assert_eq!(sparse.iter().collect::<Vec<_>>(), dense.iter().collect::<Vec<_>>());
+}
+
+#[test]
+fn grid_cells_beyond_the_work_limit() {
+    let mesh = proxima::io::parse(TRIANGLE, proxima::io::Format::Obj, "t.obj".as_ref()).unwrap();
+    // Cells of 0.25: the triangle's box [0, 1]² × {0} touches cells -1..=4
+    // along x and y, and -1..=0 along z: 6 × 6 × 2 = 72 cells.
+    let config = GridConfig {
+        max_cell_tests: 71,
+        ..GridConfig::cubic(0.25)
+    };
+    let e = HashGrid::<proxima::Triangle>::build(mesh.triangles(), &config).unwrap_err();
+    assert_eq!(e, GridError::CellTests { cells: 72, limit: 71 });
+    assert!(e.to_string().contains("72 cells to test"), "{e}");
+    let config = GridConfig {
+        max_cell_tests: 72,
+        ..config
+    };
+    assert!(HashGrid::<proxima::Triangle>::build(mesh.triangles(), &config).is_ok());
+}
+
+#[test]
+fn grid_beyond_the_memory_budget() {
+    // 100 copies of the triangle, 10 apart: each has the same cells.
+    let copies: Vec<proxima::Triangle> = (0..100)
+        .map(|i| {
+            let shift = Vec3::new(10.0 * i as f32, 0.0, 0.0);
+            proxima::Triangle::new(shift, Vec3::X + shift, Vec3::Y + shift)
+        })
+        .collect();
+    let config = GridConfig::cubic(0.25);
+    let one: HashGrid<proxima::Triangle> =
+        HashGrid::build(proxima::PrimitiveSet::from_primitives(copies[..1].to_vec()), &config).unwrap();
+    let per_copy = one.entry_count() as u128;
+    let bytes = |entries: u128| {
+        entries * (proxima::budget::GRID_BYTES_PER_ENTRY + proxima::budget::GRID_BYTES_PER_CELL) as u128
+    };
+    // Room for about ten copies: the build stops there and estimates the
+    // whole (100 copies) from the share of the work done.
+    let budget = bytes(10 * per_copy) as u64;
+    let config = GridConfig {
+        memory_budget: budget,
+        ..config
+    };
+    let e = HashGrid::<proxima::Triangle>::build(proxima::PrimitiveSet::from_primitives(copies), &config).unwrap_err();
+    let GridError::MemoryBudget {
+        what,
+        count,
+        bytes: estimate,
+        budget: b,
+    } = e.clone()
+    else {
+        panic!("{e}")
+    };
+    assert_eq!((what, b), ("cell entries", budget));
+    assert!(
+        (90 * per_copy..=100 * per_copy).contains(&count),
+        "{e}: {per_copy} per copy"
+    );
+    assert!(
+        (bytes(90 * per_copy)..=bytes(100 * per_copy)).contains(&estimate),
+        "{e}"
+    );
+    assert!(e.to_string().contains("memory budget of"), "{e}");
 }

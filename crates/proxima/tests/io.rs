@@ -9,7 +9,6 @@ use proxima::io::{Format, load, parse};
 use proxima::{LoadError, LoadErrorKind, Mesh, MeshError, Vec3};
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 // ---------------------------------------------------------------------------
@@ -17,26 +16,18 @@ use std::time::{Duration, Instant};
 // ---------------------------------------------------------------------------
 
 /// A file in its own fresh temporary directory, removed on drop.
+/// A file in a fresh temporary directory (`tempfile`), removed when dropped.
 struct TempFile {
-    dir: PathBuf,
+    _dir: tempfile::TempDir,
     path: PathBuf,
 }
 
 impl TempFile {
     fn new(name: &str, bytes: &[u8]) -> Self {
-        static COUNTER: AtomicUsize = AtomicUsize::new(0);
-        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-        let dir = std::env::temp_dir().join(format!("proxima-io-test-{}-{n}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let path = dir.join(name);
+        let dir = tempfile::Builder::new().prefix("proxima-io-test-").tempdir().unwrap();
+        let path = dir.path().join(name);
         std::fs::write(&path, bytes).unwrap();
-        Self { dir, path }
-    }
-}
-
-impl Drop for TempFile {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.dir);
+        Self { _dir: dir, path }
     }
 }
 

@@ -130,6 +130,36 @@ fn walks_end_at_the_step_limit_and_the_index_range() {
 }
 
 #[test]
+fn walks_end_where_t_no_longer_fits_f32() {
+    // Cells of 1e36, direction (1, 0.3, 0.1) normalized (`proxima traverse`
+    // printed rows at t = ∞ on and on past f32::MAX). Boundary crossings
+    // along x, y and z lie at t = i · 1e36 / d, and f32 ends at 3.4028e38:
+    // before the first crossing past it (x at i = 325, t = 3.4086e38) come
+    // 324 crossings along x, 97 along y (the 98th is at 3.426e38) and 32
+    // along z (the 33rd at 3.461e38). The walk yields those 453 cells and
+    // the one it then never leaves in f32, and ends.
+    let dir = Vec3::new(1.0, 0.3, 0.1).normalize();
+    let walk = GridTraversal::new(Vec3::ZERO, dir, &TraversalConfig::cubic(1e36)).unwrap();
+    let steps: Vec<_> = walk.take(1_000_000).collect();
+    let last = steps.last().unwrap();
+    assert_eq!(last.t_exit, f32::INFINITY);
+    assert!(last.t_enter.is_finite() && last.t_enter > 3.39e38, "{last:?}");
+    assert!(steps[..steps.len() - 1].iter().all(|s| s.t_exit.is_finite()));
+    assert_eq!(steps.len(), 454, "{last:?}");
+    assert_eq!(last.cell, [324, 97, 32]);
+    // A finite t_max still ends the walk where it did.
+    let config = TraversalConfig {
+        t_max: 2.5e36,
+        ..TraversalConfig::cubic(1e36)
+    };
+    let cells: Vec<_> = GridTraversal::new(Vec3::ZERO, Vec3::X, &config)
+        .unwrap()
+        .map(|s| s.cell[0])
+        .collect();
+    assert_eq!(cells, [0, 1, 2]);
+}
+
+#[test]
 fn tree_depth_is_bounded_on_adversarial_input() {
     // All primitives identical, and a geometric series (each point halves the
     // distance to 0), which makes every split maximally unbalanced for SAH.

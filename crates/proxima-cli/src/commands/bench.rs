@@ -43,7 +43,8 @@ pub struct Args {
     /// Seed of the generated query set.
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// Worker threads for the query loops (1 = single-thread figures).
+    /// Worker threads for the query loops (1 = single-thread figures; at
+    /// most 4 per core, at least 8).
     #[arg(long, default_value_t = 1)]
     threads: usize,
     /// How the tree is split.
@@ -83,6 +84,11 @@ impl Record {
     }
 }
 
+/// Memory per query point of a benchmark, counted generously: the point (12
+/// bytes), the distances of the tree, wide tree, sphere tree, linear and peer
+/// answers (8 bytes each) and the batch answers (32 bytes).
+const BYTES_PER_QUERY: u64 = 96;
+
 /// Primitive tests the linear scan may spend, so big meshes still finish quickly.
 const LINEAR_BUDGET: usize = 100_000_000;
 
@@ -101,9 +107,8 @@ fn bench_set<T: ClosestPoint + BoundingPoints + Copy + Send + Sync + 'static>(
     let tree = AabbTree::build_set(input, config)?;
     let build_seconds = start.elapsed().as_secs_f64();
 
-    let n_linear = (LINEAR_BUDGET / set.len().max(1))
-        .clamp(20, points.len().max(1))
-        .min(points.len());
+    // At least 20 queries (when there are that many), at most all of them.
+    let n_linear = (LINEAR_BUDGET / set.len().max(1)).max(20).min(points.len());
     let set_for_spheres = set.clone();
     let set_for_wide = set.clone();
     let linear = LinearSearch::new(set);
@@ -265,6 +270,16 @@ pub fn print_table(records: &[Record]) -> std::io::Result<()> {
 
 /// Runs `proxima bench`.
 pub fn run(args: Args) -> anyhow::Result<()> {
+    crate::common::thread_count(args.threads)?;
+    let budget = crate::common::memory_budget()?;
+    if args.points.is_none() && args.queries as u128 * BYTES_PER_QUERY as u128 > budget as u128 {
+        anyhow::bail!(
+            "--queries {}: the query points and answers need about {} ({BYTES_PER_QUERY} bytes per query), more than the memory budget of {}",
+            args.queries,
+            proxima::budget::human_bytes(args.queries as u128 * BYTES_PER_QUERY as u128),
+            proxima::budget::human_bytes(budget.into())
+        );
+    }
     let mesh = load_mesh(&args.mesh)?;
     let (points, set_name) = match &args.points {
         Some(file) => (read_points(file)?, file.display().to_string()),

@@ -61,38 +61,73 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     };
     require_primitives(&mesh, args.primitives, &args.mesh)?;
     note_polygons(&mesh, args.primitives, &args.mesh, args.planarity);
-    let answers: Vec<Vec<ClosestHit>> = match args.method {
+    let stdout = std::io::stdout();
+    let mut out = BufWriter::new(stdout.lock());
+    writeln!(out, "query,rank,primitive,cx,cy,cz,distance")?;
+    // The answers are written chunk by chunk, in input order, so that memory
+    // holds one chunk's answers: at most CHUNK_HITS hits, whatever -k.
+    let mut first = 0usize;
+    let mut write = |hits: Vec<Vec<ClosestHit>>| -> std::io::Result<()> {
+        for (offset, hits) in hits.iter().enumerate() {
+            for (rank, hit) in hits.iter().enumerate() {
+                writeln!(
+                    out,
+                    "{},{rank},{},{},{},{},{}",
+                    first + offset,
+                    hit.source,
+                    hit.point.x,
+                    hit.point.y,
+                    hit.point.z,
+                    hit.distance
+                )?;
+            }
+        }
+        first += hits.len();
+        Ok(())
+    };
+    match args.method {
         Method::Tree => {
             let (tree, _) = build_tree_planar(&mesh, args.primitives, &args.split.config(), args.planarity)
                 .with_context(|| args.mesh.display().to_string())?;
             // The 4-wide tree gives the same answers as the binary one, faster.
-            with_tree!(tree, t => WideTree::from_tree(t).k_nearest_batch(&points, args.k))
+            with_tree!(tree, t => {
+                let wide = WideTree::from_tree(t);
+                for chunk in points.chunks(chunk_len(args.k, wide.len())) {
+                    write(wide.k_nearest_batch(chunk, args.k))?;
+                }
+            })
         }
         Method::Linear => match args.primitives {
-            Primitives::Vertices => linear(mesh.vertices(), &points, args.k),
-            Primitives::Edges => linear(mesh.edges(), &points, args.k),
-            Primitives::Faces => linear(mesh.triangles(), &points, args.k),
-            Primitives::Polygons => linear(mesh.extract_polygons(args.planarity).set, &points, args.k),
+            Primitives::Vertices => linear(mesh.vertices(), &points, args.k, &mut write)?,
+            Primitives::Edges => linear(mesh.edges(), &points, args.k, &mut write)?,
+            Primitives::Faces => linear(mesh.triangles(), &points, args.k, &mut write)?,
+            Primitives::Polygons => linear(mesh.extract_polygons(args.planarity).set, &points, args.k, &mut write)?,
         },
-    };
-    let stdout = std::io::stdout();
-    let mut out = BufWriter::new(stdout.lock());
-    writeln!(out, "query,rank,primitive,cx,cy,cz,distance")?;
-    for (query, hits) in answers.iter().enumerate() {
-        for (rank, hit) in hits.iter().enumerate() {
-            writeln!(
-                out,
-                "{query},{rank},{},{},{},{},{}",
-                hit.source, hit.point.x, hit.point.y, hit.point.z, hit.distance
-            )?;
-        }
     }
     out.flush()?;
     Ok(())
 }
 
-/// Brute-force answers, one list per query.
-fn linear<T: ClosestPoint>(set: PrimitiveSet<T>, points: &[Vec3], k: usize) -> Vec<Vec<ClosestHit>> {
+/// Answers held in memory at once: 2^20 hits (about 32 MiB).
+const CHUNK_HITS: usize = 1 << 20;
+
+/// Queries answered per chunk: at most 65,536, and at most [`CHUNK_HITS`]
+/// hits of `min(k, primitives)` each (at least one query).
+fn chunk_len(k: usize, primitives: usize) -> usize {
+    (CHUNK_HITS / k.min(primitives).max(1)).clamp(1, 1 << 16)
+}
+
+/// Brute-force answers, chunk by chunk, handed to `write`.
+fn linear<T: ClosestPoint>(
+    set: PrimitiveSet<T>,
+    points: &[Vec3],
+    k: usize,
+    write: &mut impl FnMut(Vec<Vec<ClosestHit>>) -> std::io::Result<()>,
+) -> std::io::Result<()> {
+    let len = set.len();
     let scan = LinearSearch::new(set);
-    points.iter().map(|&p| scan.k_nearest(p, k)).collect()
+    for chunk in points.chunks(chunk_len(k, len)) {
+        write(chunk.iter().map(|&p| scan.k_nearest(p, k)).collect())?;
+    }
+    Ok(())
 }

@@ -142,6 +142,8 @@ pub fn run(args: Args) -> Result<()> {
     let config = GridConfig {
         origin: args.origin.unwrap_or(Vec3::ZERO),
         insert: args.insert.method(),
+        memory_budget: crate::common::memory_budget()?,
+        max_cell_tests: crate::common::max_cell_tests()?,
         ..GridConfig::new(args.cell)
     };
     config.layout()?;
@@ -158,12 +160,15 @@ pub fn run(args: Args) -> Result<()> {
     let mut built = Vec::new();
     for (n, &kind) in kinds.iter().enumerate() {
         let keep = args.cells_out.is_some() && n + 1 == kinds.len();
-        built.push(match args.hasher {
-            Hasher::Classic => build_kind::<ClassicHash>(&mesh, kind, &config, keep, &polygons)
+        let result = match args.hasher {
+            Hasher::Classic => build_kind::<ClassicHash>(&mesh, kind, &config, keep, &polygons),
+            Hasher::Fast => build_kind::<FastHash>(&mesh, kind, &config, keep, &polygons),
+        };
+        built.push(
+            result
+                .map_err(|e| crate::common::name_option(e, || crate::common::cell_option(args.cell)))
                 .with_context(|| args.mesh.display().to_string())?,
-            Hasher::Fast => build_kind::<FastHash>(&mesh, kind, &config, keep, &polygons)
-                .with_context(|| args.mesh.display().to_string())?,
-        });
+        );
     }
     if let (Some(path), Some(last)) = (&args.cells_out, built.last()) {
         let layout = config.layout()?;
@@ -284,13 +289,16 @@ pub fn write_boxes(
         "element face {}\nproperty list uchar int vertex_indices\nend_header",
         count * 6
     )?;
-    let mut n = 0usize;
-    let mut faces = Vec::with_capacity(count * 6);
     for c in cells {
         for p in layout.cell_box(c).corners() {
             writeln!(out, "{} {} {}", p.x, p.y, p.z)?;
         }
-        // Corner bit 0 = max x, bit 1 = max y, bit 2 = max z; outward quads.
+    }
+    // The faces of box `b` use its corners 8b..8b+8, so they are written from
+    // the count alone (no list held in memory). Corner bit 0 = max x, bit 1 =
+    // max y, bit 2 = max z; outward quads.
+    for b in 0..count {
+        let n = 8 * b;
         for q in [
             [0, 2, 3, 1],
             [4, 5, 7, 6],
@@ -299,12 +307,8 @@ pub fn write_boxes(
             [0, 4, 6, 2],
             [1, 3, 7, 5],
         ] {
-            faces.push(q.map(|i| n + i));
+            writeln!(out, "4 {} {} {} {}", n + q[0], n + q[1], n + q[2], n + q[3])?;
         }
-        n += 8;
-    }
-    for f in faces {
-        writeln!(out, "4 {} {} {} {}", f[0], f[1], f[2], f[3])?;
     }
     out.flush()
 }

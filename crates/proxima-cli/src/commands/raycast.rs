@@ -120,8 +120,19 @@ pub fn run(args: Args) -> Result<()> {
                 Vec3::splat(side / (triangles.len() as f32).cbrt().max(1.0))
             });
             let start = Instant::now();
-            let grid: HashGrid<Triangle, FastHash> =
-                HashGrid::build(triangles, &GridConfig::new(cell)).with_context(|| args.mesh.display().to_string())?;
+            let config = GridConfig {
+                memory_budget: crate::common::memory_budget()?,
+                max_cell_tests: crate::common::max_cell_tests()?,
+                ..GridConfig::new(cell)
+            };
+            let grid: HashGrid<Triangle, FastHash> = HashGrid::build(triangles, &config)
+                .map_err(|e| {
+                    crate::common::name_option(e.into(), || match args.cell {
+                        Some(_) => crate::common::cell_option(cell),
+                        None => format!("the default cell size {}", cell.x),
+                    })
+                })
+                .with_context(|| args.mesh.display().to_string())?;
             let build = start.elapsed().as_secs_f64();
             let start = Instant::now();
             let hit = grid.first_hit(args.origin, direction, 0.0, f32::INFINITY)?;

@@ -3,7 +3,7 @@
 
 use super::grid::parse_cell;
 use crate::common::parse_vec3;
-use anyhow::Result;
+use anyhow::{Result, bail};
 use proxima::traversal::{GridTraversal, TraversalConfig};
 use proxima::{GridError, Vec3};
 use std::io::{BufWriter, Write};
@@ -20,15 +20,22 @@ pub struct Args {
     /// Cell extents: one number for cubic cells, or W,H,D. Cell 0,0,0 starts at the world origin.
     #[arg(long, value_name = "W[,H,D]", value_parser = parse_cell, allow_hyphen_values = true)]
     cell: Vec3,
-    /// Number of cells to print.
+    /// Number of cells to print (at most 10,000,000; the walk also ends
+    /// where t no longer fits a float).
     #[arg(long, default_value_t = 16)]
     steps: u64,
 }
+
+/// The most rows `--steps` may ask for: about 500 MB of CSV, a few seconds.
+pub const MAX_STEPS: u64 = 10_000_000;
 
 /// Prints `step,i,j,k,t_enter,t_exit` for each cell.
 pub fn run(args: Args) -> Result<()> {
     if args.dir == Vec3::ZERO {
         return Err(GridError::RayDirection.into());
+    }
+    if args.steps > MAX_STEPS {
+        bail!("--steps {} is more than the limit of {MAX_STEPS} cells", args.steps);
     }
     let config = TraversalConfig {
         max_steps: args.steps,

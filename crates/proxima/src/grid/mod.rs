@@ -66,7 +66,11 @@ pub type Cell = [i64; 3];
 
 /// Default of [`GridConfig::max_cells_per_primitive`]: 2^27 cells.
 pub const DEFAULT_MAX_CELLS_PER_PRIMITIVE: u64 = 1 << 27;
-/// Default of [`GridConfig::max_entries`]: 2^28 cell–primitive pairs (1 GiB of indices).
+/// Default of [`GridConfig::max_entries`]: 2^28 cell–primitive pairs. The
+/// memory budget ([`GridConfig::memory_budget`]) usually binds first: a build
+/// holds about [`GRID_BYTES_PER_ENTRY`](crate::budget::GRID_BYTES_PER_ENTRY)
+/// bytes per pair plus [`GRID_BYTES_PER_CELL`](crate::budget::GRID_BYTES_PER_CELL)
+/// per occupied cell at its peak.
 pub const DEFAULT_MAX_ENTRIES: u64 = 1 << 28;
 
 /// How a primitive finds the cells it overlaps. Both give exactly the same
@@ -109,11 +113,18 @@ pub struct GridConfig {
     /// More cell–primitive pairs than this in the whole grid is an error
     /// (at most `u32::MAX`).
     pub max_entries: u64,
+    /// The primitives' cell ranges may hold at most this many cells in all
+    /// (an upper bound on the cells tested; checked before the build).
+    pub max_cell_tests: u64,
+    /// Bytes the build may hold, counted at the measured bytes per entry and
+    /// per occupied cell ([`crate::budget`]); the build stops with
+    /// [`GridError::MemoryBudget`] before passing it.
+    pub memory_budget: u64,
 }
 
 impl GridConfig {
     /// Cells of extents `cell_size`, grid origin at the world origin, classic
-    /// insertion, default limits.
+    /// insertion, default limits and memory budget ([`crate::budget`]).
     pub fn new(cell_size: Vec3) -> Self {
         Self {
             cell_size,
@@ -121,6 +132,8 @@ impl GridConfig {
             insert: InsertMethod::Classic,
             max_cells_per_primitive: DEFAULT_MAX_CELLS_PER_PRIMITIVE,
             max_entries: DEFAULT_MAX_ENTRIES,
+            max_cell_tests: crate::budget::DEFAULT_MAX_CELL_TESTS,
+            memory_budget: crate::budget::default_memory_budget(),
         }
     }
 

@@ -10,8 +10,11 @@
 //!
 //! Storage is a dense bitset (x fastest, then y, each z slice padded to whole
 //! 64-bit words) when `N³` bits fit [`VoxelConfig::dense_limit_bits`]
-//! (2^30 bits = 128 MiB, i.e. 1024³, by default), otherwise a sorted list of
-//! occupied cells gathered through a hash set.
+//! (2^30 bits = 128 MiB, i.e. 1024³, by default) and the memory budget,
+//! otherwise a sorted list of occupied cells gathered through a hash set.
+//! Before anything is allocated, the cells of the triangles' cell ranges
+//! (clipped to the grid) are counted: an upper bound on the work, checked
+//! against [`VoxelConfig::max_cell_tests`].
 //!
 //! In parallel, the z slices are cut into chunks (a few per thread), the
 //! triangles are bucketed by the chunks their z extent may reach, and each
@@ -21,11 +24,13 @@
 use super::insert::InsertParams;
 use super::{Cell, CellRange, FastHash, GridInsert, GridLayout, InsertMethod, Key};
 use crate::aabb::Aabb;
+use crate::budget::VOXEL_BYTES_PER_SPARSE_CELL;
 use crate::error::GridError;
 use crate::math::Vec3;
-use crate::primitive::Triangle;
+use crate::primitive::{Bounded, Triangle};
 use rayon::prelude::*;
 use std::collections::HashSet;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Default of [`VoxelConfig::dense_limit_bits`]: 2^30 bits (128 MiB, 1024³ cells).
 pub const DEFAULT_DENSE_LIMIT_BITS: u64 = 1 << 30;
@@ -43,11 +48,19 @@ pub struct VoxelConfig {
     pub insert: InsertMethod,
     /// Use the rayon thread pool.
     pub parallel: bool,
+    /// The triangles' cell ranges, clipped to the grid, may hold at most this
+    /// many cells in all (an upper bound on the cells tested; checked before
+    /// anything is allocated).
+    pub max_cell_tests: u64,
+    /// Bytes the storage may take: a dense bitset that would not fit is not
+    /// used, and sparse storage stops with [`GridError::MemoryBudget`] before
+    /// it passes the budget (at the measured bytes per cell, [`crate::budget`]).
+    pub memory_budget: u64,
 }
 
 impl VoxelConfig {
     /// `resolution` cells along the longest side, scan-line insertion, in
-    /// parallel, default limits.
+    /// parallel, default limits and memory budget ([`crate::budget`]).
     pub fn new(resolution: u32) -> Self {
         Self {
             resolution,
@@ -55,6 +68,8 @@ impl VoxelConfig {
             max_occupied: super::DEFAULT_MAX_ENTRIES,
             insert: InsertMethod::Scanline,
             parallel: true,
+            max_cell_tests: crate::budget::DEFAULT_MAX_CELL_TESTS,
+            memory_budget: crate::budget::default_memory_budget(),
         }
     }
 }
@@ -79,8 +94,11 @@ enum Storage {
 /// Voxelizes `triangles` over `bounds` (see the module documentation).
 ///
 /// Errors: resolution 0 ([`GridError::Resolution`]); a box that is empty, not
-/// finite or of zero size (invalid cell size); a non-finite triangle; more
-/// occupied cells than `config.max_occupied` in sparse storage.
+/// finite or of zero size (invalid cell size); a non-finite triangle; cell
+/// ranges holding more than `config.max_cell_tests` cells
+/// ([`GridError::CellTests`], before anything is allocated); more occupied
+/// cells than `config.max_occupied` in sparse storage; sparse storage beyond
+/// `config.memory_budget` ([`GridError::MemoryBudget`]).
 ///
 /// ```
 /// use proxima::grid::{VoxelConfig, voxelize};
@@ -102,9 +120,29 @@ pub fn voxelize(triangles: &[Triangle], bounds: &Aabb, config: &VoxelConfig) -> 
     let side = bounds.size().max_element();
     let cell = side / n as f32;
     let layout = GridLayout::new(bounds.min, Vec3::splat(cell))?;
-    let n64 = n as u64;
+    // The budget, before anything is allocated (`N³` overflows `u64` from
+    // N = 2^22 on: counted in `u128`).
+    let n128 = n as u128;
+    let whole = CellRange {
+        min: [0; 3],
+        max: [n as i64 - 1; 3],
+    };
+    let mut work = 0u128;
+    for tri in triangles {
+        if let Ok(range) = layout.cell_range(&tri.bounds()) {
+            work += range.intersection(&whole).count();
+        }
+    }
+    if work > config.max_cell_tests as u128 {
+        return Err(GridError::CellTests {
+            cells: work,
+            limit: config.max_cell_tests,
+        });
+    }
+    let dense_bytes = (n128 * n128).div_ceil(64) * 8 * n128;
+    let dense = n128 * n128 * n128 <= config.dense_limit_bits as u128 && dense_bytes <= config.memory_budget as u128;
+    let budget_cells = config.memory_budget / VOXEL_BYTES_PER_SPARSE_CELL;
     let nn = n as usize * n as usize;
-    let dense = n64 * n64 * n64 <= config.dense_limit_bits;
     let slices = n as usize;
 
     // Chunks of z slices, and the triangles each may concern.
@@ -188,16 +226,58 @@ pub fn voxelize(triangles: &[Triangle], bounds: &Aabb, config: &VoxelConfig) -> 
         (Storage::Dense { words, words_per_slice }, occupied)
     } else {
         let limit = config.max_occupied;
+        // Cells held by all chunks (each adds its own after every triangle):
+        // the storage stops at the budget, never past it.
+        let stored = AtomicU64::new(0);
+        let cell_limit = limit.min(budget_cells);
+        // Cells of the triangles' ranges done so far, by all chunks.
+        let done = AtomicU64::new(0);
+        let over = |held: u64| {
+            if limit <= budget_cells {
+                GridError::TooManyCells { limit }
+            } else {
+                // The whole, estimated from the share of the work done
+                // (`held` counts the last triangle's cells in full).
+                let done = done.load(Ordering::Relaxed).max(1) as u128;
+                let count = (held as u128 * work / done).max(held as u128);
+                GridError::MemoryBudget {
+                    what: "occupied cells",
+                    count,
+                    bytes: count * VOXEL_BYTES_PER_SPARSE_CELL as u128,
+                    budget: config.memory_budget,
+                }
+            }
+        };
         let collect = |c: usize| -> Result<Vec<Cell>, GridError> {
             let p = params(c);
             let mut set: HashSet<Key, FastHash> = HashSet::default();
+            // Cells of this chunk already added to `stored`: the others
+            // see them within 1024 new cells, so all chunks together never
+            // pass the limit by more than 1024 cells per thread.
+            let mut reported = 0u64;
+            let mut total = 0u64;
             for (index, tri) in chunk_tris(c) {
+                let mut report = |held: u64, reported: &mut u64| {
+                    total = stored.fetch_add(held - *reported, Ordering::Relaxed) + (held - *reported);
+                    *reported = held;
+                    total > cell_limit
+                };
+                let mut full = false;
+                // Every cell of the triangle is counted, stored or not, for the estimate.
+                let (before, mut visits) = (set.len() as u64, 0u64);
                 tri.visit_cells(&p, |cell| {
-                    set.insert(Key(cell));
+                    visits += 1;
+                    if !full && set.insert(Key(cell)) && set.len() as u64 - reported >= 1024 {
+                        full = report(set.len() as u64, &mut reported);
+                    }
                 })
                 .map_err(|e| indexed(e, index))?;
-                if set.len() as u64 > limit {
-                    return Err(GridError::TooManyCells { limit });
+                if let (Ok(range), Some(window)) = (layout.cell_range(&tri.bounds()), p.window) {
+                    done.fetch_add(range.intersection(&window).count() as u64, Ordering::Relaxed);
+                }
+                full |= report(set.len() as u64, &mut reported);
+                if full {
+                    return Err(over(total - (set.len() as u64 - before) + visits));
                 }
             }
             let mut cells: Vec<Cell> = set.into_iter().map(|k| k.0).collect();
@@ -210,8 +290,8 @@ pub fn voxelize(triangles: &[Triangle], bounds: &Aabb, config: &VoxelConfig) -> 
             (0..chunks).into_par_iter().map(collect).collect::<Result<_, _>>()?
         };
         let total: usize = parts.iter().map(Vec::len).sum();
-        if total as u64 > limit {
-            return Err(GridError::TooManyCells { limit });
+        if total as u64 > cell_limit {
+            return Err(over(total as u64));
         }
         let cells = parts.concat();
         (Storage::Sparse(cells), total as u64)
@@ -289,6 +369,37 @@ impl VoxelGrid {
                 }
             }
             Storage::Sparse(cells) => cells.iter().copied().for_each(f),
+        }
+    }
+
+    /// The occupied cells, x fastest, then y, then z, without a copy.
+    ///
+    /// ```
+    /// use proxima::grid::{VoxelConfig, voxelize};
+    /// use proxima::{Aabb, Triangle, Vec3};
+    /// let tri = Triangle::new(Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 2.0, 0.0));
+    /// let vox = voxelize(&[tri], &Aabb::new(Vec3::ZERO, Vec3::splat(2.0)), &VoxelConfig::new(2)).unwrap();
+    /// assert_eq!(vox.iter().collect::<Vec<_>>(), vox.cells());
+    /// assert_eq!(vox.iter().count() as u64, vox.occupied());
+    /// ```
+    pub fn iter(&self) -> Box<dyn Iterator<Item = Cell> + '_> {
+        let n = self.resolution as usize;
+        match &self.storage {
+            Storage::Dense { words, words_per_slice } => {
+                Box::new(words.chunks(*words_per_slice).enumerate().flat_map(move |(k, slice)| {
+                    slice.iter().enumerate().flat_map(move |(w, &word)| {
+                        let mut bits = word;
+                        std::iter::from_fn(move || {
+                            (bits != 0).then(|| {
+                                let pos = w * 64 + bits.trailing_zeros() as usize;
+                                bits &= bits - 1;
+                                [(pos % n) as i64, (pos / n) as i64, k as i64]
+                            })
+                        })
+                    })
+                }))
+            }
+            Storage::Sparse(cells) => Box::new(cells.iter().copied()),
         }
     }
 

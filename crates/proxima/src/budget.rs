@@ -1,0 +1,123 @@
+//! Memory and work budgets: how much a grid build or a voxelization may
+//! allocate and how many cells it may test, whatever the sizing options ask.
+//!
+//! Every option that sizes work is checked before the work starts:
+//!
+//! - the **work** (cell tests) is bounded by the sum, over the primitives, of
+//!   the cells of their bounding boxes' cell ranges — an upper bound on the
+//!   cells the insertion tests and on the entries it can produce, computed
+//!   from the boxes alone ([`GridConfig::max_cell_tests`](crate::grid::GridConfig),
+//!   [`VoxelConfig::max_cell_tests`](crate::grid::VoxelConfig));
+//! - storage of a known size (a voxelization's dense bitset) is checked
+//!   against the memory budget before it is allocated;
+//! - storage whose size depends on the answer (a hash grid's entries and
+//!   cells, a sparse voxelization's cells) is counted as it grows, at the
+//!   bytes per entry and per cell measured below, and the build stops with an
+//!   error once the count would pass the budget: it never holds more.
+//!
+//! The default memory budget is 2 GiB, or three quarters of the memory the
+//! system reports available (`MemAvailable` in `/proc/meminfo`) when that is
+//! less ([`default_memory_budget`]).
+//!
+//! ```
+//! use proxima::budget::{DEFAULT_MEMORY_BUDGET, default_memory_budget};
+//! assert!(default_memory_budget() <= DEFAULT_MEMORY_BUDGET);
+//! assert!(default_memory_budget() > 0);
+//! ```
+
+use std::sync::OnceLock;
+
+/// The memory budget when the system has plenty available: 2 GiB.
+pub const DEFAULT_MEMORY_BUDGET: u64 = 2 << 30;
+
+/// The smallest default budget, whatever the system reports: 64 MiB.
+pub const MIN_DEFAULT_MEMORY_BUDGET: u64 = 64 << 20;
+
+/// Default of the cell-test limits: 2^32 cells of cell ranges. Measured on
+/// the bunny (3,674 triangles, release build, one thread): a dense
+/// voxelization spends about 3 ns per range cell (8.8e7 at `--res 1024`,
+/// 0.27 s), so 2^32 is about 13 s; a sparse one or a hash grid spends 15–45
+/// ns per range cell in hash lookups, but their memory budget stops them
+/// first (13.6 million occupied cells, 0.7 GB, from 6.7e8 range cells).
+pub const DEFAULT_MAX_CELL_TESTS: u64 = 1 << 32;
+
+/// Peak bytes of a hash grid build per cell–primitive pair: the replay array
+/// (4 bytes, up to twice that while it grows) and the entry array (4 bytes),
+/// rounded up. Measured with the bytes per cell below: 12 bytes per entry
+/// and 70–72 bytes per occupied cell at the peak (bunny, cells of 0.02 and
+/// 0.005: 0.95 and 13.3 million entries, 75 MB and 1.05 GB).
+pub const GRID_BYTES_PER_ENTRY: u64 = 16;
+
+/// Peak bytes of a hash grid build per occupied cell: 70–72 measured (see
+/// [`GRID_BYTES_PER_ENTRY`]); budgeted for the worst moment, right after the
+/// hash map doubles while its old table is still held (33-byte slots at a
+/// load of 7/16 plus the old table at 7/8: about 113 bytes), plus the cell
+/// key (24), count, start and cursor (4 each).
+pub const GRID_BYTES_PER_CELL: u64 = 128;
+
+/// Peak bytes of a sparse voxelization per occupied cell: 54–55 measured
+/// (bunny at `--res 1025` and `2048`: 3.4 and 13.6 million cells, 188 and
+/// 734 MB); budgeted for the worst moment of the hash set's growth (25-byte
+/// slots, old and new table) plus each chunk's sorted list and their
+/// concatenation (24 bytes each).
+pub const VOXEL_BYTES_PER_SPARSE_CELL: u64 = 128;
+
+/// Memory the system reports available (`MemAvailable` in `/proc/meminfo`),
+/// in bytes, or `None` where it is not known.
+pub fn available_memory() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib.saturating_mul(1024))
+}
+
+/// [`DEFAULT_MEMORY_BUDGET`], or three quarters of [`available_memory`] when
+/// that is less (but at least [`MIN_DEFAULT_MEMORY_BUDGET`]). Read once per
+/// process.
+pub fn default_memory_budget() -> u64 {
+    static BUDGET: OnceLock<u64> = OnceLock::new();
+    *BUDGET.get_or_init(|| match available_memory() {
+        Some(available) => (available / 4 * 3).clamp(MIN_DEFAULT_MEMORY_BUDGET, DEFAULT_MEMORY_BUDGET),
+        None => DEFAULT_MEMORY_BUDGET,
+    })
+}
+
+/// `bytes` as a short human-readable size (`1.5 GiB`), for messages.
+pub fn human_bytes(bytes: u128) -> String {
+    const UNITS: [&str; 7] = ["bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"];
+    let mut value = bytes as f64;
+    let mut unit = 0;
+    while value >= 1024.0 && unit + 1 < UNITS.len() {
+        value /= 1024.0;
+        unit += 1;
+    }
+    if unit == 0 {
+        format!("{bytes} bytes")
+    } else {
+        format!("{value:.1} {}", UNITS[unit])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn human_sizes() {
+        assert_eq!(human_bytes(0), "0 bytes");
+        assert_eq!(human_bytes(1023), "1023 bytes");
+        assert_eq!(human_bytes(1536), "1.5 KiB");
+        assert_eq!(human_bytes(2 << 30), "2.0 GiB");
+        assert_eq!(human_bytes(3 << 40), "3.0 TiB");
+        assert_eq!(
+            human_bytes(u128::MAX),
+            format!("{:.1} EiB", u128::MAX as f64 / (1u64 << 60) as f64)
+        );
+    }
+
+    #[test]
+    fn the_default_budget_is_bounded() {
+        let budget = default_memory_budget();
+        assert!((MIN_DEFAULT_MEMORY_BUDGET..=DEFAULT_MEMORY_BUDGET).contains(&budget));
+    }
+}
