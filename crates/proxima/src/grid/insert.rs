@@ -119,6 +119,22 @@ pub(crate) fn ranges(bounds: &Aabb, params: &InsertParams<'_>) -> Result<Option<
     Ok((!window.is_empty()).then_some((full, window)))
 }
 
+/// The largest magnitude of any cell bound in `range`: boundaries grow with
+/// their index, so the outer ones bound them all (the rounding bounds of the
+/// exact tests are prepared once per primitive from it).
+#[inline]
+fn range_magnitude(layout: &GridLayout, range: &CellRange) -> f64 {
+    (0..3)
+        .map(|a| {
+            let (lo, hi) = (
+                layout.boundary64(a, range.min[a]),
+                layout.boundary64(a, range.max[a] + 1),
+            );
+            lo.abs().max(hi.abs())
+        })
+        .fold(0.0, f64::max)
+}
+
 /// Calls `f(cell, lo, hi)` for every cell of `range` with its closed box (as
 /// `f64`, exact), x fastest; each boundary is computed once per row.
 #[inline]
@@ -177,13 +193,14 @@ pub(crate) struct FlatTest {
     max: [f64; 3],
     /// Rounding-bound scales of each axis and the vertices, for the exact
     /// fallback (as in [`TriangleBoxTest`]).
-    magnitude: [f64; 3],
-    triangle_magnitude: [f64; 3],
+    bound: [f64; 3],
+    box_magnitude: f64,
     vertices: [[f64; 3]; 3],
 }
 
 impl FlatTest {
-    fn new(v: &[[f64; 3]; 3], s: usize) -> Self {
+    /// The test for cells whose bounds are at most `box_magnitude` in absolute value.
+    fn new(v: &[[f64; 3]; 3], s: usize, box_magnitude: f64) -> Self {
         let (s1, s2) = ((s + 1) % 3, (s + 2) % 3);
         let mut t = FlatTest {
             s,
@@ -191,8 +208,8 @@ impl FlatTest {
             second: [0.0; 3],
             min: [0.0; 3],
             max: [0.0; 3],
-            magnitude: [0.0; 3],
-            triangle_magnitude: [0.0; 3],
+            bound: [0.0; 3],
+            box_magnitude,
             vertices: *v,
         };
         let min = |a: f64, b: f64| if a < b { a } else { b };
@@ -207,8 +224,8 @@ impl FlatTest {
             (t.min[i], t.max[i]) = (min(min(proj[0], proj[1]), proj[2]), max(max(proj[0], proj[1]), proj[2]));
             let (from, to) = (abs[i], abs[(i + 1) % 3]);
             let (m1, m2) = (to[s2] + from[s2], to[s1] + from[s1]);
-            t.magnitude[i] = m1 + m2;
-            t.triangle_magnitude[i] = abs.iter().map(|x| x[s1] * m1 + x[s2] * m2).fold(0.0, max);
+            let triangle_magnitude = abs.iter().map(|x| x[s1] * m1 + x[s2] * m2).fold(0.0, max);
+            t.bound[i] = rounding_bound(box_magnitude, m1 + m2, triangle_magnitude);
         }
         t
     }
@@ -220,12 +237,15 @@ impl CellTest for FlatTest {
         let (s1, s2) = ((self.s + 1) % 3, (self.s + 2) % 3);
         let (c1, c2) = ((lo[s1] + hi[s1]) * 0.5, (lo[s2] + hi[s2]) * 0.5);
         let (h1, h2) = ((hi[s1] - lo[s1]) * 0.5, (hi[s2] - lo[s2]) * 0.5);
-        let box_magnitude = box_magnitude(&lo, &hi);
+        debug_assert!(
+            box_magnitude(&lo, &hi) <= self.box_magnitude,
+            "bounds prepared for smaller cells"
+        );
         (0..3).all(|i| {
             let p = c1 * self.first[i] + c2 * self.second[i];
             let r = h1 * self.first[i].abs() + h2 * self.second[i].abs();
             let gap = (p - r - self.max[i]).max(self.min[i] - p - r);
-            let bound = rounding_bound(box_magnitude, self.magnitude[i], self.triangle_magnitude[i]);
+            let bound = self.bound[i];
             gap < -bound || (gap <= bound && !exact_sat::edge_axis_separates(&self.vertices, i, self.s, &lo, &hi))
         })
     }
@@ -325,7 +345,7 @@ impl GridInsert for Triangle {
         let v = [to64(self.a), to64(self.b), to64(self.c)];
         if let Some(s) = (0..3).find(|&a| full.extent(a) == 1) {
             // The triangle lies within one slab of cells: a 2D problem.
-            let test = FlatTest::new(&v, s);
+            let test = FlatTest::new(&v, s, range_magnitude(params.layout, &full));
             match params.method {
                 InsertMethod::Classic => classic_cells(params.layout, &window, &test, visit),
                 InsertMethod::Scanline => scanline::scan(params.layout, &full, &window, &v, &test, visit),
@@ -334,7 +354,7 @@ impl GridInsert for Triangle {
         }
         // Cells of the range overlap the triangle's box: the box normals
         // cannot separate, only the ten other axes are tested.
-        let test = TriangleBoxTest::new(self);
+        let test = TriangleBoxTest::new(self).for_boxes_within(range_magnitude(params.layout, &full));
         match params.method {
             InsertMethod::Classic => classic_cells(params.layout, &window, &test, visit),
             InsertMethod::Scanline => scanline::scan(params.layout, &full, &window, &v, &test, visit),

@@ -64,6 +64,11 @@ pub struct TriangleBoxTest {
     edge_triangle_magnitude: [f64; 9],
     normal_magnitude: f64,
     normal_triangle_magnitude: f64,
+    /// The rounding bounds for boxes of magnitude at most `box_magnitude`
+    /// ([`TriangleBoxTest::for_boxes_within`]).
+    box_magnitude: f64,
+    edge_bound: [f64; 9],
+    normal_bound: f64,
 }
 
 impl TriangleBoxTest {
@@ -98,6 +103,9 @@ impl TriangleBoxTest {
             edge_triangle_magnitude: [0.0; 9],
             normal_magnitude: 0.0,
             normal_triangle_magnitude: 0.0,
+            box_magnitude: f64::NAN,
+            edge_bound: [0.0; 9],
+            normal_bound: 0.0,
         };
         let abs = v.map(|p| p.map(f64::abs));
         // |e0|, |e1| in absolute form (e1 = v2 − v0 as in the normal).
@@ -130,6 +138,18 @@ impl TriangleBoxTest {
         t
     }
 
+    /// The test prepared for boxes whose bounds are all at most `magnitude`
+    /// in absolute value (a grid's cells near the triangle): the rounding
+    /// bounds of every axis are computed once here instead of per box.
+    pub(crate) fn for_boxes_within(mut self, magnitude: f64) -> Self {
+        self.box_magnitude = magnitude;
+        self.normal_bound = rounding_bound(magnitude, self.normal_magnitude, self.normal_triangle_magnitude);
+        for x in 0..9 {
+            self.edge_bound[x] = rounding_bound(magnitude, self.edge_magnitude[x], self.edge_triangle_magnitude[x]);
+        }
+        self
+    }
+
     /// `true` when the triangle and the closed box share at least one point.
     #[inline]
     pub fn overlaps(&self, b: &Aabb) -> bool {
@@ -139,7 +159,7 @@ impl TriangleBoxTest {
                 return false;
             }
         }
-        self.overlaps_axes(lo, hi)
+        self.for_boxes_within(box_magnitude(&lo, &hi)).overlaps_axes(lo, hi)
     }
 
     /// The ten non-box axes only, for a box already known to overlap the
@@ -158,28 +178,34 @@ impl TriangleBoxTest {
     /// `q` (`lo[q]`, `hi[q]` are ignored).
     #[inline]
     pub(crate) fn overlaps_run_axes(&self, q: usize, lo: [f64; 3], hi: [f64; 3]) -> bool {
+        debug_assert!(
+            box_magnitude(&lo, &hi) <= self.box_magnitude,
+            "the bounds were prepared for smaller boxes"
+        );
         let (c, h) = center_half(lo, hi);
-        let magnitude = box_magnitude(&lo, &hi);
-        (0..3).all(|i| !self.edge_axis_separates(q, i, &c, &h, magnitude, &lo, &hi))
+        (0..3).all(|i| !self.edge_axis_separates(q, i, &c, &h, &lo, &hi))
     }
 
     /// The other seven non-box axes: the normal and `edge_i × unit_j`, j ≠ q.
     #[inline]
     pub(crate) fn overlaps_cell_axes(&self, q: usize, lo: [f64; 3], hi: [f64; 3]) -> bool {
+        debug_assert!(
+            box_magnitude(&lo, &hi) <= self.box_magnitude,
+            "the bounds were prepared for smaller boxes"
+        );
         let (c, h) = center_half(lo, hi);
-        let magnitude = box_magnitude(&lo, &hi);
         let n = &self.normal;
         let na = &self.normal_abs;
         let p = c[0] * n[0] + c[1] * n[1] + c[2] * n[2];
         let r = h[0] * na[0] + h[1] * na[1] + h[2] * na[2];
         let gap = (p - r - self.normal_shadow[1]).max(self.normal_shadow[0] - p - r);
-        let bound = rounding_bound(magnitude, self.normal_magnitude, self.normal_triangle_magnitude);
+        let bound = self.normal_bound;
         if gap > bound || (gap >= -bound && exact_sat::normal_separates(&self.vertices, &lo, &hi)) {
             return false;
         }
         for j in (0..3).filter(|&j| j != q) {
             for i in 0..3 {
-                if self.edge_axis_separates(j, i, &c, &h, magnitude, &lo, &hi) {
+                if self.edge_axis_separates(j, i, &c, &h, &lo, &hi) {
                     return false;
                 }
             }
@@ -188,9 +214,8 @@ impl TriangleBoxTest {
     }
 
     /// `true` when `edge_i × unit_j` separates the box `c ± h` (bounds `lo`,
-    /// `hi`, magnitude `magnitude`) from the triangle: decided in `f64` when
-    /// the gap between the shadows exceeds its rounding bound, exactly otherwise.
-    #[allow(clippy::too_many_arguments)]
+    /// `hi`) from the triangle: decided in `f64` when the gap between the
+    /// shadows exceeds its rounding bound, exactly otherwise.
     #[inline(always)]
     fn edge_axis_separates(
         &self,
@@ -198,7 +223,6 @@ impl TriangleBoxTest {
         i: usize,
         c: &[f64; 3],
         h: &[f64; 3],
-        magnitude: f64,
         lo: &[f64; 3],
         hi: &[f64; 3],
     ) -> bool {
@@ -207,7 +231,7 @@ impl TriangleBoxTest {
         let p = c[j1] * self.first[x] + c[j2] * self.second[x];
         let r = h[j1] * self.first[x].abs() + h[j2] * self.second[x].abs();
         let gap = (p - r - self.shadow_max[x]).max(self.shadow_min[x] - p - r);
-        let bound = rounding_bound(magnitude, self.edge_magnitude[x], self.edge_triangle_magnitude[x]);
+        let bound = self.edge_bound[x];
         gap > bound || (gap >= -bound && exact_sat::edge_axis_separates(&self.vertices, i, j, lo, hi))
     }
 }
