@@ -43,24 +43,23 @@ impl Exact for BigInt {
 }
 
 /// `x = mantissa · 2^exponent` with an odd mantissa (`None` for zero), for
-/// `x` holding an `f32` value.
+/// a finite `x` (every `f32` and `f64` is such a dyadic rational).
 pub(crate) fn parts(x: f64) -> Option<(i64, i32)> {
-    let single = x as f32;
-    debug_assert!(single as f64 == x, "exact tests take f32 values, got {x}");
-    let bits = single.to_bits();
-    let biased = ((bits >> 23) & 0xff) as i32;
-    let fraction = (bits & 0x7f_ffff) as i64;
-    // Subnormals are fraction · 2^-149; normals (2^23 + fraction) · 2^(biased − 150).
+    debug_assert!(x.is_finite(), "exact arithmetic takes finite values, got {x}");
+    let bits = x.to_bits();
+    let biased = ((bits >> 52) & 0x7ff) as i32;
+    let fraction = (bits & 0xf_ffff_ffff_ffff) as i64;
+    // Subnormals are fraction · 2^-1074; normals (2^52 + fraction) · 2^(biased − 1075).
     let (mantissa, exponent) = if biased == 0 {
-        (fraction, -149)
+        (fraction, -1074)
     } else {
-        (fraction | 0x80_0000, biased - 150)
+        (fraction | (1 << 52), biased - 1075)
     };
     if mantissa == 0 {
         return None;
     }
     let zeros = mantissa.trailing_zeros();
-    let signed = if bits >> 31 == 1 {
+    let signed = if bits >> 63 == 1 {
         -(mantissa >> zeros)
     } else {
         mantissa >> zeros

@@ -248,6 +248,11 @@ impl GridTraversal {
     fn compare_with(&self, axis: usize, index: i64, t: f64) -> Ordering {
         let c = self.crossing(axis, index);
         let slack = CROSSING_SLACK * c.abs().max(t.abs());
+        if !c.is_finite() {
+            // A boundary beyond f32 (far from the origin for its cell size):
+            // infinitely far along the ray, which the rounded value says exactly.
+            return c.partial_cmp(&t).unwrap_or(Ordering::Equal);
+        }
         if c < t - slack {
             Ordering::Less
         } else if c > t + slack {
@@ -264,6 +269,11 @@ impl GridTraversal {
 
     /// The exact order of the crossings of `b_a(n)` and `b_b(m)` (both axes moving).
     fn compare_crossings(&self, a: usize, n: i64, b: usize, m: i64) -> Ordering {
+        let (ca, cb) = (self.crossing(a, n), self.crossing(b, m));
+        if !(ca.is_finite() && cb.is_finite()) {
+            // Boundaries beyond f32: see `compare_with`.
+            return ca.partial_cmp(&cb).unwrap_or(Ordering::Equal);
+        }
         exact_crossings(
             [self.layout.boundary(a, n) as f64, self.origin[a], self.direction[a]],
             [self.layout.boundary(b, m) as f64, self.origin[b], self.direction[b]],

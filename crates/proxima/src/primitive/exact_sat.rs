@@ -81,7 +81,12 @@ fn triangle_box_values(v: &[[f64; 3]; 3], lo: &[f64; 3], hi: &[f64; 3]) -> [f64;
 #[cold]
 #[inline(never)]
 pub(crate) fn edge_axis_separates(v: &[[f64; 3]; 3], i: usize, j: usize, lo: &[f64; 3], hi: &[f64; 3]) -> bool {
-    let (low, bits) = common_scale(&triangle_box_values(v, lo, hi));
+    let values = triangle_box_values(v, lo, hi);
+    if !values.iter().all(|x| x.is_finite()) {
+        // Cell bounds beyond f32 (huge cells far out): keep the cell.
+        return false;
+    }
+    let (low, bits) = common_scale(&values);
     // Shadows are sums of two products of a coordinate (`bits`) and an edge
     // component (`bits + 1`): at most 2 · bits + 3 bits with the sign.
     if bits <= 60 {
@@ -117,7 +122,11 @@ fn edge_axis_separates_in<T: Exact>(
 #[cold]
 #[inline(never)]
 pub(crate) fn normal_separates(v: &[[f64; 3]; 3], lo: &[f64; 3], hi: &[f64; 3]) -> bool {
-    let (low, bits) = common_scale(&triangle_box_values(v, lo, hi));
+    let values = triangle_box_values(v, lo, hi);
+    if !values.iter().all(|x| x.is_finite()) {
+        return false;
+    }
+    let (low, bits) = common_scale(&values);
     // Normal components: 2 · bits + 3; shadows: three products with a
     // coordinate, 3 · bits + 7 at most.
     if bits <= 39 {
@@ -151,6 +160,9 @@ pub(crate) fn segment_overlaps(a: [f64; 3], b: [f64; 3], lo: [f64; 3], hi: [f64;
     let mut all = [0.0; 12];
     for (k, x) in a.iter().chain(&b).chain(&lo).chain(&hi).enumerate() {
         all[k] = *x;
+    }
+    if !all.iter().all(|x| x.is_finite()) {
+        return true;
     }
     let (low, bits) = common_scale(&all);
     // Cross products of two differences: 2 · bits + 3 at most.
@@ -205,6 +217,8 @@ mod tests {
         assert_eq!(parts(-0.75), Some((-3, -2)));
         assert_eq!(parts(f32::from_bits(1) as f64), Some((1, -149)));
         assert_eq!(parts(0.0), None);
+        assert_eq!(parts(f64::from_bits(1)), Some((1, -1074)));
+        assert_eq!(parts(1.0 + f64::EPSILON), Some(((1 << 52) + 1, -52)));
         assert_eq!(parts(f32::MAX as f64), Some((0xff_ffff, 104)));
         let (low, bits) = common_scale(&[f32::MAX as f64, f32::from_bits(1) as f64]);
         assert_eq!((low, bits), (-149, 128 + 149));
