@@ -55,7 +55,10 @@ pub struct Args {
 pub fn run(args: Args) -> anyhow::Result<()> {
     let mesh = load_mesh(&args.mesh)?;
     let points = match (&args.point, &args.points) {
-        (Some(p), _) => vec![*p],
+        (Some(p), _) => {
+            crate::common::check_query_point(*p, "--point")?;
+            vec![*p]
+        }
         (None, Some(file)) => read_points(file)?,
         (None, None) => bail!("give --point X,Y,Z or --points FILE"),
     };
@@ -66,7 +69,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             let (tree, _) = build_tree_planar(&mesh, args.primitives, &args.split.config(), args.planarity)
                 .with_context(|| args.mesh.display().to_string())?;
             // The 4-wide tree gives the same answers as the binary one, faster.
-            with_tree!(tree, t => WideTree::from_tree(t).k_nearest_batch(&points, args.k))
+            with_tree!(tree, t => {
+                let tree = WideTree::from_tree(t);
+                let answers = tree.k_nearest_batch(&points, args.k);
+                distinct_sources(answers, &points, args.k, tree.len(), |p, k| tree.k_nearest(p, k))
+            })
         }
         Method::Linear => match args.primitives {
             Primitives::Vertices => linear(mesh.vertices(), &points, args.k),
@@ -93,6 +100,43 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 
 /// Brute-force answers, one list per query.
 fn linear<T: ClosestPoint>(set: PrimitiveSet<T>, points: &[Vec3], k: usize) -> Vec<Vec<ClosestHit>> {
+    let count = set.primitives.len();
     let scan = LinearSearch::new(set);
-    points.iter().map(|&p| scan.k_nearest(p, k)).collect()
+    let answers = points.iter().map(|&p| scan.k_nearest(p, k)).collect();
+    distinct_sources(answers, points, k, count, |p, k| scan.k_nearest(p, k))
+}
+
+/// The `k` nearest primitives as the user counts them: a face split into
+/// several triangles (a fan) or polygons is one face, listed once, at its
+/// nearest part's distance.
+///
+/// `answers` holds the `k` nearest parts per query, nearest first (ties by
+/// part index, and the parts of a face are consecutive, so ties go to the
+/// lower face). The first occurrence of each source in that order is the
+/// source at its own distance, so keeping first occurrences gives the nearest
+/// sources in order; when that leaves fewer than `k`, the query is asked
+/// again for twice as many parts, until `k` sources are found or every part
+/// has been seen.
+fn distinct_sources(
+    mut answers: Vec<Vec<ClosestHit>>,
+    points: &[Vec3],
+    k: usize,
+    parts: usize,
+    k_nearest: impl Fn(Vec3, usize) -> Vec<ClosestHit>,
+) -> Vec<Vec<ClosestHit>> {
+    let first_occurrences = |hits: &mut Vec<ClosestHit>| {
+        let mut seen = std::collections::HashSet::with_capacity(hits.len());
+        hits.retain(|h| seen.insert(h.source));
+    };
+    for (hits, &p) in answers.iter_mut().zip(points) {
+        let mut asked = k;
+        first_occurrences(hits);
+        while hits.len() < k && asked < parts {
+            asked = asked.saturating_mul(2).min(parts);
+            *hits = k_nearest(p, asked);
+            first_occurrences(hits);
+        }
+        hits.truncate(k);
+    }
+    answers
 }

@@ -38,6 +38,7 @@ pub fn run(args: Args) -> Result<()> {
         check_extension(path, &["csv", "ply", "binvox"], "voxelize --out")?;
     }
     let mesh = load_mesh(&args.mesh)?;
+    crate::common::require_primitives(&mesh, crate::common::Primitives::Faces, &args.mesh)?;
     let triangles = mesh.triangles().primitives;
     let bounds = mesh.bounds();
     let config = VoxelConfig {
