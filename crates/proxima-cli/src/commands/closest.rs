@@ -35,7 +35,8 @@ pub struct Args {
     /// or white space; `#` comments and blank lines are skipped.
     #[arg(long)]
     points: Option<PathBuf>,
-    /// How many nearest primitives per query.
+    /// How many nearest primitives per query; a face of more than three
+    /// vertices is listed once, at its nearest triangle's distance.
     #[arg(short, long, default_value_t = 1)]
     k: usize,
     /// Search method.
