@@ -153,7 +153,9 @@ fn ply_header_line(line: &[u8], ascii: bool) -> Mode {
 
 /// What an STL of which `bytes` have been read is, as far as can be told.
 fn stl_mode(bytes: &[u8]) -> Mode {
-    if stl::may_be_ascii(bytes) {
+    // The first 4 KiB decide (a file of white space alone is not rescanned
+    // whole on every chunk): what follows cannot make them look ascii or not.
+    if stl::may_be_ascii(bytes.get(..stl::SNIFF_BYTES).unwrap_or(bytes)) {
         return Mode::Stl;
     }
     // Binary: once the announced triangles are read, the rest is ignored, and

@@ -13,7 +13,7 @@ const HEADER_BYTES: u64 = 84;
 /// Binary triangle: normal, three corners (12 `f32`), 2 attribute bytes.
 const TRIANGLE_BYTES: u64 = 50;
 /// How far to look for NUL bytes when telling binary from ascii.
-const SNIFF_BYTES: usize = 4096;
+pub(super) const SNIFF_BYTES: usize = 4096;
 
 pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Mesh, LoadError> {
     if binary_size(bytes) == Some(bytes.len() as u64) {
