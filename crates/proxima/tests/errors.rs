@@ -542,8 +542,8 @@ fn input_line_too_long() {
 
 #[test]
 fn input_too_large() {
-    let dir = temp_dir("input_too_large");
-    let path = dir.join("big.obj");
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("big.obj");
     std::fs::write(&path, b"v 0 0 0\n".repeat(100)).unwrap();
     let options = LoadOptions {
         max_input_bytes: 100,
