@@ -1,6 +1,6 @@
 //! What several commands share: argument parsers, mesh loading, primitive choice.
 
-use anyhow::{Context, Result, anyhow, bail};
+use anyhow::{Result, anyhow, bail};
 use proxima::primitive::polygon::DEFAULT_PLANARITY_TOLERANCE;
 use proxima::{AabbTree, BuildConfig, ConvexPolygon, Mesh, PrimitiveSet, Vec3};
 use std::path::{Path, PathBuf};
@@ -15,7 +15,8 @@ pub fn one_line(error: &anyhow::Error) -> String {
             parts.push(text);
         }
     }
-    parts.join(": ").replace('\n', " ")
+    // File names and echoed file content reach the terminal: no escape sequences.
+    proxima::io::escape_for_terminal(&parts.join(": ").replace('\n', " "), usize::MAX)
 }
 
 /// Parses `X,Y,Z` (commas and/or spaces) into a finite point.
@@ -34,36 +35,62 @@ pub fn parse_vec3(text: &str) -> Result<Vec3, String> {
     Ok(Vec3::from_array(v))
 }
 
-/// Reads a points file: one point per line, three numbers separated by commas
-/// or white space; `#` comments and blank lines are skipped.
+/// Reads a points file (see [`proxima::io::parse_points`]): one point per
+/// line, three numbers separated by commas or white space; `#` comments and
+/// blank lines are skipped. Read within the same limits as meshes.
 pub fn read_points(path: &Path) -> Result<Vec<Vec3>> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("{}", path.display()))?;
-    let mut points = Vec::new();
-    for (number, line) in text.lines().enumerate() {
-        let content = line.split('#').next().unwrap_or("").trim();
-        if content.is_empty() {
-            continue;
-        }
-        let p = parse_vec3(content).map_err(|e| anyhow::anyhow!("{}:{}: {e}", path.display(), number + 1))?;
-        points.push(p);
-    }
-    Ok(points)
+    Ok(proxima::io::load_points(path, &load_options()?)?)
 }
 
 /// The environment variable that lowers (or raises) the decompression cap of
-/// `.gz` meshes, in bytes (default [`proxima::io::DEFAULT_MAX_DECOMPRESSED_BYTES`]).
+/// `.gz` meshes, in bytes (default [`proxima::io::default_max_input_bytes`]).
 pub const MAX_DECOMPRESSED_ENV: &str = "PROXIMA_MAX_DECOMPRESSED_BYTES";
+
+/// The environment variable that lowers (or raises) the size cap of
+/// uncompressed meshes and points files, in bytes (default
+/// [`proxima::io::default_max_input_bytes`]).
+pub const MAX_INPUT_ENV: &str = "PROXIMA_MAX_INPUT_BYTES";
+
+/// The loading limits, with the environment's overrides.
+fn load_options() -> Result<proxima::io::LoadOptions> {
+    let mut options = proxima::io::LoadOptions::default();
+    let bytes = |name: &str| -> Result<Option<u64>> {
+        match std::env::var(name) {
+            Ok(text) => text
+                .trim()
+                .parse()
+                .map(Some)
+                .map_err(|_| anyhow::anyhow!("{name}: '{text}' is not a number of bytes")),
+            Err(_) => Ok(None),
+        }
+    };
+    if let Some(limit) = bytes(MAX_DECOMPRESSED_ENV)? {
+        options.max_decompressed_bytes = limit;
+    }
+    if let Some(limit) = bytes(MAX_INPUT_ENV)? {
+        options.max_input_bytes = limit;
+    }
+    Ok(options)
+}
 
 /// Loads a mesh; the error names the file (and line).
 pub fn load_mesh(path: &Path) -> Result<Mesh> {
-    let mut options = proxima::io::LoadOptions::default();
-    if let Ok(text) = std::env::var(MAX_DECOMPRESSED_ENV) {
-        options.max_decompressed_bytes = text
-            .trim()
-            .parse()
-            .map_err(|_| anyhow::anyhow!("{MAX_DECOMPRESSED_ENV}: '{text}' is not a number of bytes"))?;
+    Ok(proxima::io::load_with(path, &load_options()?)?)
+}
+
+/// Fails when the mesh has no vertices at all: there is nothing any command
+/// could work on.
+pub fn require_vertices(mesh: &Mesh, path: &Path) -> Result<()> {
+    if mesh.vertex_count() == 0 {
+        bail!("{}: the mesh is empty (0 vertices, 0 faces)", path.display());
     }
-    Ok(proxima::io::load_with(path, &options)?)
+    Ok(())
+}
+
+/// Fails with the point's line (or `--point`) when a query point lies beyond
+/// the range the trees answer in; see [`proxima::bvh::check_query_point`].
+pub fn check_query_point(p: Vec3, what: &str) -> Result<()> {
+    proxima::bvh::check_query_point(p).map_err(|e| anyhow::anyhow!("{what}: {e}"))
 }
 
 /// Which primitives of a mesh a command works on.

@@ -1,7 +1,7 @@
 //! The `proxima` binary: output formats, and one clear line for every kind of
 //! bad input (never a panic, always a non-zero exit).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn proxima(args: &[&str]) -> Output {
@@ -342,5 +342,120 @@ fn a_closed_output_pipe_ends_quietly() {
             "{args:?}: status {:?}, stderr {err}",
             output.status
         );
+    }
+}
+
+/// `closest -k` over faces of more than three vertices: each face once, at the
+/// distance of its nearest fan triangle, in order. The oracle: every face's
+/// distance by brute force over its own triangles, sorted (ties by face).
+#[test]
+fn closest_k_lists_each_face_once() {
+    use proxima::{ClosestPoint, Vec3, Vec3A};
+    let dir = tempfile::tempdir().unwrap();
+    // A cube of quads, plus a hexagon fan: every face splits into 2 or 4 triangles.
+    let cube = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
+                v 3 0 0\nv 4 0 0\nv 4.5 1 0\nv 4 2 0\nv 3 2 0\nv 2.5 1 0\n\
+                f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\nf 9 10 11 12 13 14\n";
+    let handmade = write(dir.path(), "quads.obj", cube);
+    let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/spot_quadrangulated.obj");
+    let mut meshes = vec![PathBuf::from(&handmade)];
+    if shared.exists() {
+        meshes.push(shared);
+    } else {
+        println!("skipped: {} (absent)", shared.display());
+    }
+    for path in &meshes {
+        let mesh = proxima::io::load(path).unwrap();
+        let bounds = mesh.bounds();
+        let triangles = mesh.triangles();
+        let queries: Vec<Vec3> = (0..6)
+            .map(|i| {
+                let t = Vec3::new(0.13 * i as f32 + 0.05, 0.71 - 0.09 * i as f32, 0.37 + 0.11 * i as f32);
+                bounds.min + (bounds.max - bounds.min) * t * 1.2 - (bounds.max - bounds.min) * 0.1
+            })
+            .collect();
+        for &q in &queries {
+            let p = Vec3A::from(q);
+            let mut per_face = vec![f32::INFINITY; mesh.face_count()];
+            for (triangle, &face) in triangles.primitives.iter().zip(&triangles.sources) {
+                let d = (triangle.closest_point(p) - p).length_squared().sqrt();
+                per_face[face as usize] = per_face[face as usize].min(d);
+            }
+            let mut want: Vec<(usize, f32)> = per_face.into_iter().enumerate().collect();
+            want.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+            for k in [1usize, 3, 5, 8] {
+                let want: Vec<(usize, f32)> = want.iter().copied().take(k).collect();
+                for method in ["tree", "linear"] {
+                    let point = format!("{},{},{}", q.x, q.y, q.z);
+                    let o = proxima(&[
+                        "closest",
+                        path.to_str().unwrap(),
+                        "--primitives",
+                        "faces",
+                        "--point",
+                        &point,
+                        "-k",
+                        &k.to_string(),
+                        "--method",
+                        method,
+                    ]);
+                    assert!(o.status.success(), "{}", stderr(&o));
+                    let got: Vec<(usize, f32)> = stdout(&o)
+                        .lines()
+                        .skip(1)
+                        .map(|line| {
+                            let fields: Vec<&str> = line.split(',').collect();
+                            (fields[2].parse().unwrap(), fields[6].parse().unwrap())
+                        })
+                        .collect();
+                    assert_eq!(got, want, "{} {method} k={k} at {q}", path.display());
+                }
+            }
+        }
+    }
+}
+
+/// On a mesh of 1e17 coordinates (inside the trees' bound) parry3d's f32
+/// rounding makes it differ from proxima beyond the tolerance: that is a note
+/// naming parry3d, not "the tree and linear search disagree: this is a bug".
+#[test]
+fn bench_peer_disagreement_is_not_our_bug() {
+    let bunny = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/bunny-npm.obj")).unwrap();
+    let scaled: String = bunny
+        .lines()
+        .map(|line| match line.strip_prefix("v ") {
+            Some(rest) => {
+                let xyz: Vec<f64> = rest
+                    .split_whitespace()
+                    .map(|v| v.parse::<f64>().unwrap() * 1e17)
+                    .collect();
+                format!("v {:e} {:e} {:e}\n", xyz[0], xyz[1], xyz[2])
+            }
+            None => format!("{line}\n"),
+        })
+        .collect();
+    let dir = tempfile::tempdir().unwrap();
+    let path = write(dir.path(), "big.obj", &scaled);
+    let o = proxima(&["bench", &path, "--primitives", "faces", "--queries", "2000"]);
+    let (out, err) = (stdout(&o), stderr(&o));
+    assert!(o.status.success(), "{err}");
+    assert!(!err.contains("this is a bug"), "{err}");
+    let peer_row = out.lines().find(|l| l.contains("parry3d") && l.starts_with("faces"));
+    if let Some(row) = peer_row {
+        // Our rows all agree; when the peer's does not, the note names it.
+        assert!(
+            out.lines()
+                .filter(|l| l.starts_with("faces ") && !l.contains("parry3d"))
+                .all(|l| l.ends_with("yes")),
+            "{out}"
+        );
+        if row.ends_with("NO") {
+            assert!(
+                err.contains("parry3d's distances differ") && err.contains("not an error"),
+                "{err}"
+            );
+        } else {
+            println!("parry3d agreed this time: {row}");
+        }
     }
 }

@@ -302,7 +302,9 @@ fn gzip_bomb() {
     let dir = temp_dir("gzip_bomb");
     let path = dir.join("bomb.obj.gz");
     let mut encoder = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::best());
-    encoder.write_all(&vec![b' '; 2 << 20]).unwrap();
+    encoder
+        .write_all(&[[b' '; 63].as_slice(), b"\n"].concat().repeat(32 << 10))
+        .unwrap();
     std::fs::write(&path, encoder.finish().unwrap()).unwrap();
     let path = path.to_str().unwrap();
     let out = proxima_env(&["info", path], &[("PROXIMA_MAX_DECOMPRESSED_BYTES", "1000000")]);
@@ -590,4 +592,183 @@ fn threads_beyond_the_limit() {
             .status
             .success()
     );
+}
+
+/// A fresh self-cleaning directory holding `name` with `bytes`.
+fn file_with(name: &str, bytes: &[u8]) -> (tempfile::TempDir, String) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join(name);
+    std::fs::write(&path, bytes).unwrap();
+    let path = path.display().to_string();
+    (dir, path)
+}
+
+#[test]
+fn input_endless_zeros() {
+    let dir = tempfile::tempdir().unwrap();
+    for (device, name, needles) in [
+        ("/dev/zero", "zero.obj", &["zero.obj:1", "a NUL byte"][..]),
+        ("/dev/zero", "zero.ply", &["zero.ply:1", "a NUL byte"]),
+        ("/dev/zero", "zero.stl", &["zero.stl", "the mesh is empty"]),
+        ("/dev/urandom", "random.off", &["random.off:", "a NUL byte"]),
+        ("/dev/urandom", "random.stl", &["random.stl", "non-finite coordinate"]),
+    ] {
+        if !Path::new(device).exists() {
+            println!("skipped: no {device}");
+            return;
+        }
+        let link = dir.path().join(name);
+        std::os::unix::fs::symlink(device, &link).unwrap();
+        let start = std::time::Instant::now();
+        let out = proxima(&["info", link.to_str().unwrap()]);
+        assert_one_line_error(&out, 1, needles);
+        assert!(start.elapsed().as_secs() < 5, "{name}: {:?}", start.elapsed());
+    }
+}
+
+#[test]
+fn input_line_too_long() {
+    let mut bytes = b"v 0 0 0\nv ".to_vec();
+    bytes.extend(std::iter::repeat_n(b'1', 2 << 20));
+    let (_dir, path) = file_with("long.obj", &bytes);
+    let out = proxima(&["info", &path]);
+    assert_one_line_error(&out, 1, &["long.obj:2", "line longer than 1048576 bytes"]);
+    assert!(out.stderr.len() < 300, "the line is not echoed");
+}
+
+#[test]
+fn input_too_large() {
+    let (_dir, path) = file_with("big.obj", &b"v 0 0 0\n".repeat(100));
+    let out = proxima_env(&["info", &path], &[("PROXIMA_MAX_INPUT_BYTES", "100")]);
+    assert_one_line_error(&out, 1, &["big.obj", "the input exceeds the limit of 100 bytes"]);
+    let out = proxima_env(&["info", &path], &[("PROXIMA_MAX_INPUT_BYTES", "lots")]);
+    assert_one_line_error(&out, 1, &["PROXIMA_MAX_INPUT_BYTES", "not a number of bytes"]);
+}
+
+#[test]
+fn obj_vertex_extra_numbers() {
+    let (_dir, path) = file_with("extra.obj", b"v 0 0 0 1\nv 1 0 0 1 0 0\nv 0 1 0 1 2\nf 1 2 3\n");
+    let out = proxima(&["info", &path]);
+    assert_one_line_error(&out, 1, &["extra.obj:3", "vertex has 5 numbers"]);
+    let (_dir, path) = file_with("ok.obj", b"v 0 0 0 1\nv 1 0 0 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    assert!(proxima(&["info", &path]).status.success());
+}
+
+const PLY_HEAD: &str = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nproperty uchar red\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+
+#[test]
+fn ply_ascii_value_out_of_range() {
+    let text = format!("{PLY_HEAD}0 0 0 1\n1 0 0 300\n0 1 0 7\n3 0 1 2\n");
+    let (_dir, path) = file_with("uchar.ply", text.as_bytes());
+    let out = proxima(&["info", &path]);
+    assert_one_line_error(
+        &out,
+        1,
+        &["uchar.ply:12", "300 is out of the range of its type `uchar`"],
+    );
+}
+
+#[test]
+fn ply_ascii_trailing_value() {
+    let text = format!("{PLY_HEAD}0 0 0 1\n1 0 0 1 9\n0 1 0 7\n3 0 1 2\n");
+    let (_dir, path) = file_with("trail.ply", text.as_bytes());
+    let out = proxima(&["info", &path]);
+    assert_one_line_error(&out, 1, &["trail.ply:12", "unexpected `9`"]);
+}
+
+#[test]
+fn obj_cr_line_ends() {
+    let (_dir, path) = file_with("cr.obj", b"v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 2 3\r");
+    let out = proxima(&["info", &path, "--json"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("\"faces\": 1"), "{text}");
+    let (_dir, path) = file_with("cr_bad.obj", b"v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 2 9\r");
+    assert_one_line_error(&proxima(&["info", &path]), 1, &["cr_bad.obj:4"]);
+}
+
+#[test]
+fn error_echo_escaped() {
+    let (_dir, path) = file_with("esc.obj", b"v 0 0 0\nv 1 \x1b[31mred 0\n");
+    let out = proxima(&["info", &path]);
+    assert_one_line_error(&out, 1, &["esc.obj:2", "\\u{1b}[31mred"]);
+    assert!(!out.stderr.contains(&0x1b), "raw escape byte on stderr");
+    let long = format!("v 0 0 {}\n", "x".repeat(100_000));
+    let (_dir, path) = file_with("long_token.obj", long.as_bytes());
+    let out = proxima(&["info", &path]);
+    assert_one_line_error(&out, 1, &["long_token.obj:1", "…"]);
+    assert!(out.stderr.len() < 300, "{}", String::from_utf8_lossy(&out.stderr));
+}
+
+#[test]
+fn points_file_bom_and_utf8() {
+    let mesh = triangle_file("points_file_bom_and_utf8");
+    let (_dir, points) = file_with("bom.pts", b"\xEF\xBB\xBF0.2,0.2,1\n");
+    let out = proxima(&["closest", &mesh, "--points", &points]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let (_dir, points) = file_with("bad8.pts", b"0,0,0\n\xff,2,3\n");
+    let out = proxima(&["closest", &mesh, "--points", &points]);
+    assert_one_line_error(&out, 1, &["bad8.pts:2", "invalid UTF-8"]);
+}
+
+#[test]
+fn query_point_beyond_bound() {
+    let mesh = triangle_file("query_point_beyond_bound");
+    for k in ["1", "3"] {
+        let out = proxima(&["closest", &mesh, "--point", "1e30,0,0", "-k", k]);
+        assert_one_line_error(&out, 1, &["--point", "beyond ±4.611686e18"]);
+    }
+    let (_dir, points) = file_with("far.pts", b"0 0 0\n1e30 0 0\n");
+    let out = proxima(&["closest", &mesh, "--points", &points, "-k", "2"]);
+    assert_one_line_error(&out, 1, &["far.pts:2", "beyond ±4.611686e18"]);
+    let out = proxima(&["bench", &mesh, "--points", &points]);
+    assert_one_line_error(&out, 1, &["far.pts:2", "beyond ±4.611686e18"]);
+    // At the bound the distance is finite.
+    let out = proxima(&["closest", &mesh, "--point", "4.6e18,0,0"]);
+    assert!(out.status.success());
+    assert!(!String::from_utf8_lossy(&out.stdout).contains("inf"));
+}
+
+#[test]
+fn empty_mesh_every_command() {
+    let (_dir, empty) = file_with("empty.obj", b"");
+    let (_dir2, vertices) = file_with("verts.obj", b"v 0 0 0\nv 1 0 0\n");
+    for (args, needles) in [
+        (vec!["info", &empty], &["empty.obj", "the mesh is empty"][..]),
+        (vec!["grid", &empty, "--cell", "1"], &["empty.obj", "the mesh is empty"]),
+        (vec!["voxelize", &empty, "--res", "4"], &["empty.obj", "no faces"]),
+        (
+            vec!["grid", &vertices, "--cell", "1", "--primitives", "faces"],
+            &["verts.obj", "no faces"],
+        ),
+        (vec!["voxelize", &vertices, "--res", "4"], &["verts.obj", "no faces"]),
+        (
+            vec!["raycast", &vertices, "--origin", "0,0,1", "--dir", "0,0,-1"],
+            &["verts.obj", "no faces"],
+        ),
+    ] {
+        assert_one_line_error(&proxima(&args), 1, needles);
+    }
+    // A mesh of vertices only still has vertices to report and search.
+    assert!(proxima(&["info", &vertices]).status.success());
+    assert!(
+        proxima(&["closest", &vertices, "--primitives", "vertices", "--point", "0,0,0"])
+            .status
+            .success()
+    );
+}
+
+#[test]
+fn degenerate_bounding_box() {
+    let (_dir, point) = file_with("point.obj", b"v 1 2 3\nv 1 2 3\nv 1 2 3\nf 1 2 3\n");
+    for args in [
+        vec!["voxelize", &point, "--res", "4"],
+        vec![
+            "raycast", &point, "--origin", "1,2,4", "--dir", "0,0,-1", "--method", "grid",
+        ],
+    ] {
+        let out = proxima(&args);
+        assert_one_line_error(&out, 1, &["point.obj", "bounding box is degenerate"]);
+        assert!(!String::from_utf8_lossy(&out.stderr).contains("cell size must be"));
+    }
 }

@@ -86,6 +86,28 @@ pub enum LoadErrorKind {
         /// The limit, in bytes.
         limit: u64,
     },
+    /// An uncompressed input holds more bytes than the configured limit
+    /// ([`LoadOptions::max_input_bytes`](crate::io::LoadOptions)); reading stops there.
+    #[error("the input exceeds the limit of {limit} bytes")]
+    InputTooLarge {
+        /// The limit, in bytes.
+        limit: u64,
+    },
+    /// A line of a text format longer than the limit
+    /// ([`LoadOptions::max_line_bytes`](crate::io::LoadOptions)), such as an
+    /// endless stream without line ends; reading stops there.
+    #[error("line longer than {limit} bytes (is this a text file?)")]
+    LineTooLong {
+        /// The limit, in bytes.
+        limit: usize,
+    },
+    /// A NUL byte where a text format (OBJ, OFF, a PLY header or ascii data, a
+    /// points file) is expected: binary data, not text.
+    #[error("a NUL byte: binary data where text is expected")]
+    NotText,
+    /// Text that is not valid UTF-8 where UTF-8 is required (points files).
+    #[error("invalid UTF-8")]
+    InvalidUtf8,
 }
 
 /// A load failure, with the file and (for text formats) the 1-based line.
@@ -118,6 +140,22 @@ impl fmt::Display for LoadError {
             None => write!(f, "{}: {}", self.path.display(), self.kind),
         }
     }
+}
+
+/// A query point the trees cannot answer for.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum QueryError {
+    /// A coordinate is NaN or infinite.
+    #[error("query point has a non-finite coordinate")]
+    NonFinite,
+    /// A coordinate beyond the bound
+    /// ([`MAX_QUERY_COORDINATE`](crate::bvh::MAX_QUERY_COORDINATE)) where
+    /// squared distances overflow `f32`.
+    #[error("query point has a coordinate beyond ±{bound:e}, where squared distances overflow f32")]
+    CoordinateTooLarge {
+        /// The largest accepted magnitude.
+        bound: f32,
+    },
 }
 
 /// Impossible parameters for building a structure.
@@ -185,6 +223,13 @@ pub enum GridError {
     /// A voxelization resolution of 0.
     #[error("resolution must be at least 1")]
     Resolution,
+    /// A cell size derived from a bounding box that has no extent (all the
+    /// vertices at one point), or is empty or not finite: there is nothing to
+    /// size cells by.
+    #[error(
+        "the bounding box is degenerate (a single point, empty, or wider than f32 can divide): no cell size can be derived from it"
+    )]
+    DegenerateBounds,
     /// A ray origin with a NaN or infinite coordinate.
     #[error("ray origin must be finite")]
     RayOrigin,

@@ -54,7 +54,7 @@ pub use bvh::{AabbTree, BuildConfig, ClosestHit, TreeStats};
 pub use error::FrustumError;
 pub use error::GridError;
 pub use error::RayError;
-pub use error::{BuildError, LoadError, LoadErrorKind, MeshError, PolygonError};
+pub use error::{BuildError, LoadError, LoadErrorKind, MeshError, PolygonError, QueryError};
 pub use frustum::{Frustum, FrustumOverlap};
 pub use grid::{GridConfig, HashGrid, InsertMethod};
 pub use linear::LinearSearch;

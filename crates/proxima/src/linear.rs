@@ -24,8 +24,12 @@ impl<T: ClosestPoint> LinearSearch<T> {
     }
 
     /// The closest primitive, ties to the lowest index; `None` when empty or
-    /// when `p` is not finite.
+    /// when `p` is not finite or beyond
+    /// [`MAX_QUERY_COORDINATE`](crate::bvh::MAX_QUERY_COORDINATE).
     pub fn closest(&self, p: Vec3) -> Option<ClosestHit> {
+        if !crate::bvh::answerable(p) {
+            return None;
+        }
         let pa = Vec3A::from(p);
         let mut best: Option<(usize, Vec3A, f32)> = None;
         for (i, prim) in self.set.primitives.iter().enumerate() {
@@ -45,7 +49,7 @@ impl<T: ClosestPoint> LinearSearch<T> {
 
     /// The `k` closest primitives, nearest first, ties by index.
     pub fn k_nearest(&self, p: Vec3, k: usize) -> Vec<ClosestHit> {
-        if !p.is_finite() {
+        if !crate::bvh::answerable(p) {
             return Vec::new();
         }
         let pa = Vec3A::from(p);

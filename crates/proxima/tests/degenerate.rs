@@ -164,7 +164,7 @@ fn voxelization_of_degenerate_cases() {
                 }
             }
             // A flat or point-like bounding box has no cube to divide.
-            Err(e) => assert!(matches!(e, GridError::CellSize { .. }), "{}: {e}", case.name),
+            Err(e) => assert_eq!(e, GridError::DegenerateBounds, "{}", case.name),
         }
     }
 }

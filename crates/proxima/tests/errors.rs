@@ -305,14 +305,17 @@ fn gzip_corrupt() {
 fn gzip_bomb() {
     let dir = temp_dir("gzip_bomb");
     let path = dir.join("bomb.obj.gz");
-    // 2 MB of spaces compress to about 2 KB.
+    // 2 MiB of blank lines compress to about 2 KB.
     let mut encoder = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::best());
-    encoder.write_all(&vec![b' '; 2 << 20]).unwrap();
+    encoder
+        .write_all(&[[b' '; 63].as_slice(), b"\n"].concat().repeat(32 << 10))
+        .unwrap();
     let bomb = encoder.finish().unwrap();
     assert!(bomb.len() < 10_000);
     std::fs::write(&path, &bomb).unwrap();
     let options = LoadOptions {
         max_decompressed_bytes: 1 << 20,
+        ..LoadOptions::default()
     };
     let e = proxima::io::load_with(&path, &options).unwrap_err();
     assert_load_error(&e, &path, None, "exceeds the limit of 1048576 bytes", |k| {
@@ -323,6 +326,7 @@ fn gzip_bomb() {
         &path,
         &LoadOptions {
             max_decompressed_bytes: 2 << 20,
+            ..LoadOptions::default()
         },
     )
     .unwrap();
@@ -588,4 +592,277 @@ fn grid_beyond_the_memory_budget() {
         "{e}"
     );
     assert!(e.to_string().contains("memory budget of"), "{e}");
+}
+
+/// An endless reader of one repeated line: a well-formed stream that never ends.
+struct Endless {
+    line: &'static [u8],
+    pos: usize,
+}
+
+#[test]
+fn input_endless_zeros() {
+    use proxima::io::{Format, read_with};
+    let path = Path::new("zeros.obj");
+    // Zeros forever: a NUL byte on line 1, found in the first chunk.
+    let start = std::time::Instant::now();
+    for format in [Format::Obj, Format::Off, Format::Ply] {
+        let e = read_with(std::io::repeat(0), format, path, &LoadOptions::default()).unwrap_err();
+        assert_load_error(&e, path, Some(1), "a NUL byte", |k| matches!(k, LoadErrorKind::NotText));
+    }
+    // Spaces forever: one endless line.
+    let e = read_with(std::io::repeat(b' '), Format::Obj, path, &LoadOptions::default()).unwrap_err();
+    assert_load_error(&e, path, Some(1), "line longer than 1048576 bytes", |k| {
+        matches!(k, LoadErrorKind::LineTooLong { limit: 1048576 })
+    });
+    // Zeros forever as binary STL: 0 triangles announced, the rest ignored, not read.
+    let mesh = read_with(
+        std::io::repeat(0),
+        Format::Stl,
+        "zeros.stl".as_ref(),
+        &LoadOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(mesh.vertex_count(), 0);
+    // Valid text forever: stopped at the size limit.
+    let endless = Endless {
+        line: b"v 0 0 0\n",
+        pos: 0,
+    };
+    let options = LoadOptions {
+        max_input_bytes: 8 << 20,
+        ..LoadOptions::default()
+    };
+    let e = read_with(endless, Format::Obj, path, &options).unwrap_err();
+    assert_load_error(&e, path, None, "exceeds the limit of 8388608 bytes", |k| {
+        matches!(k, LoadErrorKind::InputTooLarge { limit: 8388608 })
+    });
+    assert!(start.elapsed().as_secs() < 10, "{:?}", start.elapsed());
+    // Random bytes forever as binary STL: stopped at the first non-finite corner.
+    let random = RandomReader(0x9E37_79B9_7F4A_7C15);
+    let e = read_with(random, Format::Stl, "random.stl".as_ref(), &LoadOptions::default()).unwrap_err();
+    assert!(
+        matches!(e.kind, LoadErrorKind::Mesh(MeshError::NonFiniteVertex { .. })),
+        "{e}"
+    );
+    // The default limit is bounded by the memory the system has.
+    let default = LoadOptions::default();
+    assert!(default.max_input_bytes <= 4 << 30 && default.max_decompressed_bytes <= 4 << 30);
+    assert_eq!(default.max_input_bytes, proxima::io::default_max_input_bytes());
+}
+
+/// Endless pseudo-random bytes (xorshift64).
+struct RandomReader(u64);
+
+#[test]
+fn input_line_too_long() {
+    let path = Path::new("long.obj");
+    let mut bytes = b"v 0 0 0\nv ".to_vec();
+    bytes.extend(std::iter::repeat_n(b'1', 2 << 20));
+    let e = proxima::io::parse(&bytes, proxima::io::Format::Obj, path).unwrap_err();
+    assert_load_error(&e, path, Some(2), "line longer than 1048576 bytes", |k| {
+        matches!(k, LoadErrorKind::LineTooLong { limit: 1048576 })
+    });
+    assert!(e.to_string().len() < 200, "the line is not echoed");
+}
+
+#[test]
+fn input_too_large() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("big.obj");
+    std::fs::write(&path, b"v 0 0 0\n".repeat(100)).unwrap();
+    let options = LoadOptions {
+        max_input_bytes: 100,
+        ..LoadOptions::default()
+    };
+    let e = proxima::io::load_with(&path, &options).unwrap_err();
+    assert_load_error(&e, &path, None, "the input exceeds the limit of 100 bytes", |k| {
+        matches!(k, LoadErrorKind::InputTooLarge { limit: 100 })
+    });
+    // Exactly at the limit is fine.
+    let options = LoadOptions {
+        max_input_bytes: 800,
+        ..LoadOptions::default()
+    };
+    assert_eq!(proxima::io::load_with(&path, &options).unwrap().vertex_count(), 100);
+}
+
+#[test]
+fn obj_vertex_extra_numbers() {
+    let path = Path::new("extra.obj");
+    let parse = |text: &[u8]| proxima::io::parse(text, proxima::io::Format::Obj, path);
+    // x y z, x y z w and x y z r g b are OBJ; the extra numbers are ignored.
+    for line in ["v 1 2 3", "v 1 2 3 1", "v 1 2 3 0.5 0.25 1"] {
+        let mesh = parse(format!("v 0 0 0\n{line}\n").as_bytes()).unwrap();
+        assert_eq!(mesh.positions()[1], Vec3::new(1.0, 2.0, 3.0), "{line}");
+    }
+    for (line, text) in [
+        (
+            "v 1 2 3 4 5",
+            "vertex has 5 numbers; expected 3 (x y z), 4 (x y z w) or 6 (x y z r g b)",
+        ),
+        ("v 1 2 3 4 5 6 7", "vertex has 7 numbers"),
+        ("v 1 2 3 garbage", "bad number `garbage`"),
+    ] {
+        let e = parse(format!("v 0 0 0\n{line}\n").as_bytes()).unwrap_err();
+        assert_load_error(&e, path, Some(2), text, |k| matches!(k, LoadErrorKind::Syntax(_)));
+    }
+}
+
+const PLY_HEAD: &str = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nproperty uchar red\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+
+#[test]
+fn ply_ascii_value_out_of_range() {
+    let path = Path::new("uchar.ply");
+    let parse = |data: &str| proxima::io::parse(format!("{PLY_HEAD}{data}").as_bytes(), proxima::io::Format::Ply, path);
+    assert!(parse("0 0 0 255\n1 0 0 0\n0 1 0 7\n3 0 1 2\n").is_ok());
+    let e = parse("0 0 0 1\n1 0 0 300\n0 1 0 7\n3 0 1 2\n").unwrap_err();
+    assert_load_error(
+        &e,
+        path,
+        Some(12),
+        "number 300 is out of the range of its type `uchar` (0 to 255)",
+        |k| matches!(k, LoadErrorKind::Syntax(_)),
+    );
+    // A list count beyond its type, and a fraction where an integer is declared.
+    let e = parse("0 0 0 1\n1 0 0 1\n0 1 0 7\n256 0 1 2\n").unwrap_err();
+    assert_load_error(&e, path, Some(14), "list length 256 is out of the range", |k| {
+        matches!(k, LoadErrorKind::Syntax(_))
+    });
+    let e = parse("0 0 0 1.5\n1 0 0 1\n0 1 0 7\n3 0 1 2\n").unwrap_err();
+    assert_load_error(&e, path, Some(11), "bad number `1.5`", |k| {
+        matches!(k, LoadErrorKind::Syntax(_))
+    });
+}
+
+#[test]
+fn ply_ascii_trailing_value() {
+    let path = Path::new("trail.ply");
+    let text = format!("{PLY_HEAD}0 0 0 1\n1 0 0 1 9\n0 1 0 7\n3 0 1 2\n");
+    let e = proxima::io::parse(text.as_bytes(), proxima::io::Format::Ply, path).unwrap_err();
+    assert_load_error(
+        &e,
+        path,
+        Some(12),
+        "unexpected `9` after the 4 values of `vertex` element number 2",
+        |k| matches!(k, LoadErrorKind::Syntax(_)),
+    );
+}
+
+#[test]
+fn obj_cr_line_ends() {
+    let path = Path::new("cr.obj");
+    let mesh = proxima::io::parse(b"v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 2 3\r", proxima::io::Format::Obj, path).unwrap();
+    assert_eq!((mesh.vertex_count(), mesh.face_count()), (3, 1));
+    // Lines are counted at lone CRs, with CRLF still one line end.
+    let e = proxima::io::parse(
+        b"v 0 0 0\r\nv 1 0 0\rv 0 1 0\rf 1 2 9\r",
+        proxima::io::Format::Obj,
+        path,
+    )
+    .unwrap_err();
+    assert_eq!(e.line, Some(4), "{e}");
+}
+
+#[test]
+fn error_echo_escaped() {
+    let path = Path::new("esc.obj");
+    let e = proxima::io::parse(b"v 0 0 0\nv 1 \x1b[31mred 0\n", proxima::io::Format::Obj, path).unwrap_err();
+    let message = e.to_string();
+    assert!(!message.contains('\x1b'), "{message:?}");
+    assert_load_error(&e, path, Some(2), "bad number `\\u{1b}[31mred`", |k| {
+        matches!(k, LoadErrorKind::Syntax(_))
+    });
+    // A long token is cut to 80 characters.
+    let long = format!("v 0 0 {}\n", "x".repeat(100_000));
+    let e = proxima::io::parse(long.as_bytes(), proxima::io::Format::Obj, path).unwrap_err();
+    let message = e.to_string();
+    assert!(message.contains(&format!("`{}…`", "x".repeat(80))), "{message}");
+    assert!(message.len() < 200, "{message}");
+}
+
+#[test]
+fn points_file_bom_and_utf8() {
+    let path = Path::new("q.pts");
+    let points = proxima::io::parse_points(b"\xEF\xBB\xBF1,2,3\n", path).unwrap();
+    assert_eq!(points, [Vec3::new(1.0, 2.0, 3.0)]);
+    let e = proxima::io::parse_points(b"1,2,3\n\xff,2,3\n", path).unwrap_err();
+    assert_load_error(&e, path, Some(2), "invalid UTF-8", |k| {
+        matches!(k, LoadErrorKind::InvalidUtf8)
+    });
+}
+
+#[test]
+fn query_point_beyond_bound() {
+    use proxima::bvh::{MAX_QUERY_COORDINATE, check_query_point};
+    use proxima::{QueryError, Triangle};
+    let triangle = Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y);
+    let tree = AabbTree::build(vec![triangle], &BuildConfig::default()).unwrap();
+    let wide = WideTree::from_tree(AabbTree::build(vec![triangle], &BuildConfig::default()).unwrap());
+    let linear = LinearSearch::new(proxima::PrimitiveSet::from_primitives(vec![triangle]));
+    let far = Vec3::new(1e30, 0.0, 0.0);
+    let e = check_query_point(far).unwrap_err();
+    assert_eq!(
+        e,
+        QueryError::CoordinateTooLarge {
+            bound: MAX_QUERY_COORDINATE
+        }
+    );
+    assert!(e.to_string().contains("beyond ±4.611686e18"), "{e}");
+    // Answered as a NaN point is: nothing, rather than primitive 0 at distance inf.
+    assert_eq!(tree.closest(far), None);
+    assert!(tree.k_nearest(far, 3).is_empty());
+    assert_eq!(wide.closest(far), None);
+    assert!(wide.k_nearest(far, 3).is_empty());
+    assert_eq!(wide.closest_batch(&[far, Vec3::ZERO])[0], None);
+    assert_eq!(linear.closest(far), None);
+    assert!(linear.k_nearest(far, 3).is_empty());
+    // At the bound, distances are finite.
+    let edge = Vec3::new(MAX_QUERY_COORDINATE, 0.0, 0.0);
+    assert!(check_query_point(edge).is_ok());
+    assert!(tree.closest(edge).unwrap().distance.is_finite());
+    // Points files refuse such a point on its line.
+    let e = proxima::io::parse_points(b"0 0 0\n1e30 0 0\n", Path::new("far.pts")).unwrap_err();
+    assert_load_error(
+        &e,
+        Path::new("far.pts"),
+        Some(2),
+        "'1e30' is beyond ±4.611686e18",
+        |k| matches!(k, LoadErrorKind::Syntax(_)),
+    );
+}
+
+#[test]
+fn degenerate_bounding_box() {
+    use proxima::{Aabb, Triangle};
+    let p = Vec3::new(1.0, 2.0, 3.0);
+    let triangle = Triangle::new(p, p, p);
+    for bounds in [Aabb::new(p, p), Aabb::EMPTY] {
+        let e = voxelize(&[triangle], &bounds, &VoxelConfig::new(4)).unwrap_err();
+        assert_eq!(e, GridError::DegenerateBounds);
+        let message = e.to_string();
+        assert!(message.contains("bounding box is degenerate"), "{message}");
+        assert!(!message.contains("cell size must be"), "{message}");
+    }
+}
+impl std::io::Read for Endless {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        for b in buf.iter_mut() {
+            *b = self.line[self.pos % self.line.len()];
+            self.pos += 1;
+        }
+        Ok(buf.len())
+    }
+}
+
+impl std::io::Read for RandomReader {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        for b in buf.iter_mut() {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            *b = (self.0 >> 24) as u8;
+        }
+        Ok(buf.len())
+    }
 }

@@ -492,11 +492,12 @@ fn errors_instead_of_exhaustion() {
         voxelize(&tris.primitives, &b, &VoxelConfig::new(0)).unwrap_err(),
         GridError::Resolution
     );
-    let flat = Aabb::new(Vec3::ZERO, Vec3::ZERO);
-    assert!(matches!(
-        voxelize(&tris.primitives, &flat, &VoxelConfig::new(8)),
-        Err(GridError::CellSize { .. })
-    ));
+    // A point-like box: no cell size follows from it.
+    let point = Aabb::new(Vec3::ZERO, Vec3::ZERO);
+    assert_eq!(
+        voxelize(&tris.primitives, &point, &VoxelConfig::new(8)).unwrap_err(),
+        GridError::DegenerateBounds
+    );
     let sparse = VoxelConfig {
         dense_limit_bits: 0,
         max_occupied: 10,

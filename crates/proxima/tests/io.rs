@@ -781,9 +781,13 @@ fn ply_integer_coordinates_and_no_faces() {
         &mesh,
         "binary integer coordinates",
     );
-    // Elements split over lines and several on one line are the same stream.
-    let odd = format!("{PLY_ASCII_HEAD}0 0\n0 1 0 0 0\n1\n0 3 0 1\n2\n");
-    assert_eq!(parse_as(odd.as_bytes(), Format::Ply).unwrap().face(0), &[0, 1, 2]);
+    // Elements split over lines are read as one; but each ends its line, so
+    // that a value too many is blamed on its own line, not on a later one.
+    let split = format!("{PLY_ASCII_HEAD}0 0\n0\n1 0\n0\n0 1 0\n3 0 1\n2\n");
+    assert_eq!(parse_as(split.as_bytes(), Format::Ply).unwrap().face(0), &[0, 1, 2]);
+    let shared = format!("{PLY_ASCII_HEAD}0 0\n0 1 0 0 0\n1\n0 3 0 1\n2\n");
+    let e = parse_as(shared.as_bytes(), Format::Ply).unwrap_err();
+    assert_eq!(e.line, Some(11), "{e}");
 }
 
 #[test]

@@ -74,7 +74,10 @@ pub struct Record {
     pub queries: usize,
     /// Time for all of them.
     pub seconds: f64,
-    /// `true` when the tree's distances equal linear search's on the shared queries.
+    /// `true` when the distances equal the reference's: for linear search and
+    /// the binary tree, each other's on the shared queries; for the other
+    /// structures of proxima, the binary tree's; for the peer, ours within
+    /// its tolerance.
     pub agree: bool,
 }
 
@@ -154,11 +157,13 @@ fn bench_set<T: ClosestPoint + BoundingPoints + Copy + Send + Sync + 'static>(
             .collect()
     });
 
-    let agree = expected.iter().zip(&per_query).all(|(a, b)| a == b)
-        && per_query_wide == per_query
-        && per_query_spheres == per_query
-        && batch.iter().zip(&per_query).all(|(a, b)| a.map(|h| h.distance) == *b);
-    let row = |method, build_seconds, queries, seconds| Record {
+    // Each structure against the binary tree, and the tree against linear
+    // search, so a disagreement names the structure that differs.
+    let tree_agrees = expected.iter().zip(&per_query).all(|(a, b)| a == b);
+    let wide_agrees = per_query_wide == per_query;
+    let spheres_agree = per_query_spheres == per_query;
+    let batch_agrees = batch.iter().zip(&per_query).all(|(a, b)| a.map(|h| h.distance) == *b);
+    let row = |method, build_seconds, queries, seconds, agree| Record {
         primitives: kind.name(),
         method,
         build_seconds,
@@ -168,11 +173,23 @@ fn bench_set<T: ClosestPoint + BoundingPoints + Copy + Send + Sync + 'static>(
     };
     let peer = peer(&per_query);
     Ok([
-        row("linear", 0.0, n_linear, linear_seconds),
-        row("tree", build_seconds, points.len(), tree_seconds),
-        row("tree-wide", wide_build_seconds, points.len(), wide_seconds),
-        row("tree-batch", wide_build_seconds, points.len(), batch_seconds),
-        row("sphere-tree", sphere_build_seconds, points.len(), sphere_seconds),
+        row("linear", 0.0, n_linear, linear_seconds, tree_agrees),
+        row("tree", build_seconds, points.len(), tree_seconds, tree_agrees),
+        row("tree-wide", wide_build_seconds, points.len(), wide_seconds, wide_agrees),
+        row(
+            "tree-batch",
+            wide_build_seconds,
+            points.len(),
+            batch_seconds,
+            batch_agrees,
+        ),
+        row(
+            "sphere-tree",
+            sphere_build_seconds,
+            points.len(),
+            sphere_seconds,
+            spheres_agree,
+        ),
     ]
     .into_iter()
     .chain(peer)
@@ -367,8 +384,27 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             );
         }
     }
-    if records.iter().any(|r| !r.agree) {
-        anyhow::bail!("the tree and linear search disagree: this is a bug, please report it");
+    // Our structures must agree exactly; the peer computes in its own f32
+    // arithmetic, and its rounding at large coordinates is not our bug.
+    if let Some(r) = records.iter().find(|r| !r.agree && r.method != "parry3d") {
+        if matches!(r.method, "linear" | "tree") {
+            anyhow::bail!(
+                "{}: the tree and linear search disagree: this is a bug, please report it",
+                r.primitives
+            );
+        }
+        anyhow::bail!(
+            "{}: {} disagrees with the binary tree (which agrees with linear search): this is a bug, please report it",
+            r.primitives,
+            r.method
+        );
+    }
+    if records.iter().any(|r| !r.agree && r.method == "parry3d") {
+        eprintln!(
+            "proxima: note: {}: parry3d's distances differ from proxima's by more than 1e-5 of the bounding box \
+             diagonal on some queries (proxima's tree and linear search agree); parry3d's own rounding, not an error",
+            args.mesh.display()
+        );
     }
     Ok(())
 }

@@ -35,7 +35,8 @@ pub struct Args {
     /// or white space; `#` comments and blank lines are skipped.
     #[arg(long)]
     points: Option<PathBuf>,
-    /// How many nearest primitives per query.
+    /// How many nearest primitives per query; a face of more than three
+    /// vertices is listed once, at its nearest triangle's distance.
     #[arg(short, long, default_value_t = 1)]
     k: usize,
     /// Search method.
@@ -55,7 +56,10 @@ pub struct Args {
 pub fn run(args: Args) -> anyhow::Result<()> {
     let mesh = load_mesh(&args.mesh)?;
     let points = match (&args.point, &args.points) {
-        (Some(p), _) => vec![*p],
+        (Some(p), _) => {
+            crate::common::check_query_point(*p, "--point")?;
+            vec![*p]
+        }
         (None, Some(file)) => read_points(file)?,
         (None, None) => bail!("give --point X,Y,Z or --points FILE"),
     };
@@ -93,7 +97,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             with_tree!(tree, t => {
                 let wide = WideTree::from_tree(t);
                 for chunk in points.chunks(chunk_len(args.k, wide.len())) {
-                    write(wide.k_nearest_batch(chunk, args.k))?;
+                    let answers = wide.k_nearest_batch(chunk, args.k);
+                    write(distinct_sources(answers, chunk, args.k, wide.len(), |p, k| wide.k_nearest(p, k)))?;
                 }
             })
         }
@@ -127,7 +132,43 @@ fn linear<T: ClosestPoint>(
     let len = set.len();
     let scan = LinearSearch::new(set);
     for chunk in points.chunks(chunk_len(k, len)) {
-        write(chunk.iter().map(|&p| scan.k_nearest(p, k)).collect())?;
+        let answers = chunk.iter().map(|&p| scan.k_nearest(p, k)).collect();
+        write(distinct_sources(answers, chunk, k, len, |p, k| scan.k_nearest(p, k)))?;
     }
     Ok(())
+}
+
+/// The `k` nearest primitives as the user counts them: a face split into
+/// several triangles (a fan) or polygons is one face, listed once, at its
+/// nearest part's distance.
+///
+/// `answers` holds the `k` nearest parts per query, nearest first (ties by
+/// part index, and the parts of a face are consecutive, so ties go to the
+/// lower face). The first occurrence of each source in that order is the
+/// source at its own distance, so keeping first occurrences gives the nearest
+/// sources in order; when that leaves fewer than `k`, the query is asked
+/// again for twice as many parts, until `k` sources are found or every part
+/// has been seen.
+fn distinct_sources(
+    mut answers: Vec<Vec<ClosestHit>>,
+    points: &[Vec3],
+    k: usize,
+    parts: usize,
+    k_nearest: impl Fn(Vec3, usize) -> Vec<ClosestHit>,
+) -> Vec<Vec<ClosestHit>> {
+    let first_occurrences = |hits: &mut Vec<ClosestHit>| {
+        let mut seen = std::collections::HashSet::with_capacity(hits.len());
+        hits.retain(|h| seen.insert(h.source));
+    };
+    for (hits, &p) in answers.iter_mut().zip(points) {
+        let mut asked = k;
+        first_occurrences(hits);
+        while hits.len() < k && asked < parts {
+            asked = asked.saturating_mul(2).min(parts);
+            *hits = k_nearest(p, asked);
+            first_occurrences(hits);
+        }
+        hits.truncate(k);
+    }
+    answers
 }

@@ -139,6 +139,18 @@ fn build_kind<S: BuildHasher + Default>(
 /// Builds the grids and prints their statistics.
 pub fn run(args: Args) -> Result<()> {
     let mesh = load_mesh(&args.mesh)?;
+    // `all` reports each kind there is; one kind must be there.
+    let required = match args.primitives {
+        GridPrimitives::All => None,
+        GridPrimitives::Vertices => Some(crate::common::Primitives::Vertices),
+        GridPrimitives::Edges => Some(crate::common::Primitives::Edges),
+        GridPrimitives::Polygons => Some(crate::common::Primitives::Polygons),
+        _ => Some(crate::common::Primitives::Faces),
+    };
+    match required {
+        Some(kind) => crate::common::require_primitives(&mesh, kind, &args.mesh)?,
+        None => crate::common::require_vertices(&mesh, &args.mesh)?,
+    }
     let config = GridConfig {
         origin: args.origin.unwrap_or(Vec3::ZERO),
         insert: args.insert.method(),

@@ -22,6 +22,8 @@ pub struct Args {
 /// statistics and build time of its AABB tree.
 pub fn run(args: Args) -> anyhow::Result<()> {
     let mesh = load_mesh(&args.mesh)?;
+    // A mesh of vertices only is reported (its vertex tree), an empty one is an error.
+    crate::common::require_vertices(&mesh, &args.mesh)?;
     let bounds = mesh.bounds();
     let edges = mesh.edge_indices().len();
     let config = BuildConfig::default();

@@ -115,10 +115,19 @@ pub fn run(args: Args) -> Result<()> {
             )
         }
         RayMethod::Grid => {
-            let cell = args.cell.unwrap_or_else(|| {
-                let side = mesh.bounds().size().max_element();
-                Vec3::splat(side / (triangles.len() as f32).cbrt().max(1.0))
-            });
+            let cell = match args.cell {
+                Some(cell) => cell,
+                None => {
+                    let side = mesh.bounds().size().max_element();
+                    let cell = side / (triangles.len() as f32).cbrt().max(1.0);
+                    // No extent to size cells by: say so, not "cell size 0" the user never gave.
+                    if !(cell > 0.0 && cell.is_finite()) {
+                        return Err(anyhow::Error::new(proxima::GridError::DegenerateBounds)
+                            .context(format!("{} (give --cell)", args.mesh.display())));
+                    }
+                    Vec3::splat(cell)
+                }
+            };
             let start = Instant::now();
             let config = GridConfig {
                 memory_budget: crate::common::memory_budget()?,

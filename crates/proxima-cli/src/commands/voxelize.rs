@@ -55,6 +55,10 @@ pub fn run(args: Args) -> Result<()> {
         }
     }
     let threads = crate::common::thread_count(args.threads)?;
+    let mesh = load_mesh(&args.mesh)?;
+    crate::common::require_primitives(&mesh, crate::common::Primitives::Faces, &args.mesh)?;
+    let triangles = mesh.triangles().primitives;
+    let bounds = mesh.bounds();
     let config = VoxelConfig {
         insert: args.insert.method(),
         parallel: args.threads != 1,
@@ -62,9 +66,6 @@ pub fn run(args: Args) -> Result<()> {
         max_cell_tests: crate::common::max_cell_tests()?,
         ..VoxelConfig::new(args.res)
     };
-    let mesh = load_mesh(&args.mesh)?;
-    let triangles = mesh.triangles().primitives;
-    let bounds = mesh.bounds();
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;
     let threads = pool.current_num_threads();
     let start = Instant::now();

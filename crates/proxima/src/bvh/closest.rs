@@ -124,7 +124,7 @@ impl<T: ClosestPoint> AabbTree<T> {
 
     #[inline]
     fn closest_counted<C: Counter>(&self, p: Vec3, max_distance: f32, counter: &mut C) -> Option<ClosestHit> {
-        if !p.is_finite() {
+        if !crate::bvh::answerable(p) {
             return None;
         }
         let p = Vec3A::from(p);
@@ -139,7 +139,7 @@ impl<T: ClosestPoint> AabbTree<T> {
     /// a tested alternative; the depth-first [`closest`](Self::closest) was
     /// measured faster (see ARCHITECTURE.md). Allocates its queue.
     pub fn closest_best_first(&self, p: Vec3) -> Option<ClosestHit> {
-        if !p.is_finite() {
+        if !crate::bvh::answerable(p) {
             return None;
         }
         let p = Vec3A::from(p);

@@ -116,7 +116,7 @@ pub(crate) fn drain_sorted(heap: &mut BinaryHeap<Candidate>, out: &mut Vec<Close
 impl<T: ClosestPoint> AabbTree<T> {
     /// The `k` primitives closest to `p`, nearest first (ties by input index).
     /// Gives all primitives when `k` exceeds their number, none when `k == 0`
-    /// or `p` is not finite.
+    /// or `p` is not finite or beyond [`MAX_QUERY_COORDINATE`](crate::bvh::MAX_QUERY_COORDINATE).
     ///
     /// ```
     /// use proxima::{AabbTree, Point, Vec3};
@@ -155,7 +155,7 @@ pub(crate) fn k_nearest_with(
 ) {
     let k = k.min(indices.len());
     scratch.heap.clear();
-    if k > 0 && p.is_finite() {
+    if k > 0 && crate::bvh::answerable(p) {
         let mut best = KBest {
             heap: &mut scratch.heap,
             k,

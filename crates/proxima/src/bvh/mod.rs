@@ -21,7 +21,8 @@ pub mod wide;
 
 pub use self::wide::{WideChild, WideKnnScratch, WideNode, WideTree};
 pub use batch::BatchOptions;
-pub use config::{BuildConfig, MAX_COORDINATE, MAX_DEPTH, SplitMethod};
+pub(crate) use config::answerable;
+pub use config::{BuildConfig, MAX_COORDINATE, MAX_DEPTH, MAX_QUERY_COORDINATE, SplitMethod, check_query_point};
 pub use knn::KnnScratch;
 pub use node::Node;
 use node::NodePair;

@@ -94,7 +94,8 @@ enum Storage {
 /// Voxelizes `triangles` over `bounds` (see the module documentation).
 ///
 /// Errors: resolution 0 ([`GridError::Resolution`]); a box that is empty, not
-/// finite or of zero size (invalid cell size); a non-finite triangle; cell
+/// finite or of zero size, so that no cell size follows from it
+/// ([`GridError::DegenerateBounds`]); a non-finite triangle; cell
 /// ranges holding more than `config.max_cell_tests` cells
 /// ([`GridError::CellTests`], before anything is allocated); more occupied
 /// cells than `config.max_occupied` in sparse storage; sparse storage beyond
@@ -119,6 +120,11 @@ pub fn voxelize(triangles: &[Triangle], bounds: &Aabb, config: &VoxelConfig) -> 
     }
     let side = bounds.size().max_element();
     let cell = side / n as f32;
+    // A point-like (or empty) box has no extent to divide: say so, rather than
+    // blaming a cell size the caller never gave.
+    if !(cell > 0.0 && cell.is_finite()) {
+        return Err(GridError::DegenerateBounds);
+    }
     let layout = GridLayout::new(bounds.min, Vec3::splat(cell))?;
     // The budget, before anything is allocated (`N³` overflows `u64` from
     // N = 2^22 on: counted in `u128`).

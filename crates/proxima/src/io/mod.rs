@@ -7,13 +7,14 @@
 //!
 //! # Accepted forms
 //!
-//! - **OBJ**: `v x y z [w …]` (components after `z`, such as `w` or vertex
-//!   colours, are ignored) and `f` with vertex references `a`, `a/t`, `a//n` or
+//! - **OBJ**: `v x y z`, `v x y z w` or `v x y z r g b` (the common vertex
+//!   colour extension), the numbers after `z` being checked and ignored (any
+//!   other count is an error), and `f` with vertex references `a`, `a/t`, `a//n` or
 //!   `a/t/n`: 1-based, or negative (relative to the vertices read so far),
 //!   polygons of any size. References to vertices defined later in the file are
 //!   resolved at the end. Every other statement (`vt`, `vn`, `g`, `o`, `s`,
 //!   `usemtl`, `mtllib`, `l`, `p`, free-form geometry, …) is ignored, as are
-//!   `#` comments, blank lines and `\r\n` line ends; a trailing `\` continues a
+//!   `#` comments and blank lines; a trailing `\` continues a
 //!   line. A statement that does not start with a letter is an error. A
 //!   leading UTF-8 byte order mark is skipped (also in OFF).
 //! - **OFF**: an `OFF` header (optionally `ST`/`C`/`N` prefixed, as in `COFF`
@@ -28,10 +29,11 @@
 //!   `int8` … `float64` aliases), other properties skipped;
 //!   `element face` with a `property list <count> <index> vertex_indices` (or
 //!   `vertex_index`), with integer types; any other element is skipped, in ascii
-//!   and binary alike; `comment` and `obj_info` lines. Ascii data is read as a
-//!   stream of whitespace-separated values, so trailing spaces or elements split
-//!   over lines do not matter, but values left over after the last element are
-//!   an error.
+//!   and binary alike; `comment` and `obj_info` lines. Ascii data is read as
+//!   whitespace-separated values; an element may be split over lines, but
+//!   it ends its line (a value left over on that line is an error, blamed on
+//!   that line), each value must fit its declared type, and values left over
+//!   after the last element are an error.
 //! - **STL**: binary (80-byte header, `u32` triangle count, 50 bytes per
 //!   triangle) and ascii (`solid` … `facet normal` … `outer loop`, `vertex x y z`
 //!   at least three times, `endloop`, `endfacet`, … `endsolid`; keywords are
@@ -45,6 +47,10 @@
 //!   (same `f32` bit patterns, with `-0.0` taken as `0.0`) are welded into one
 //!   vertex, numbered in order of first appearance. Faces are kept as read,
 //!   including ones that become degenerate after welding.
+//!
+//! In every text format a line ends at `\n`, `\r\n` or a lone `\r` (old Mac
+//! files), and ascii PLY values must fit their declared type (`uchar 300` is
+//! an error) with each element ending its line.
 //!
 //! Every vertex of a file is kept, including those that no face uses, in file
 //! order; faces keep their polygon size (nothing is triangulated here).
@@ -63,6 +69,17 @@
 //! minimum size; ascii: two bytes per value), which is checked before anything
 //! is allocated.
 //!
+//! # Bounds
+//!
+//! [`load_with`] and [`read_with`] stream their input and stop at the limits
+//! of [`LoadOptions`]: total size ([`LoadErrorKind::InputTooLarge`],
+//! [`LoadErrorKind::DecompressedTooLarge`]; by default 4 GiB or half the
+//! available memory, whichever is less), and in text, a line longer than 1 MiB
+//! ([`LoadErrorKind::LineTooLong`]) or a NUL byte ([`LoadErrorKind::NotText`]),
+//! which end `/dev/zero` or `/dev/urandom` read as `.obj` after the first
+//! chunk. Text echoed in messages has its control characters escaped and is cut
+//! to 80 characters ([`escape_for_terminal`]).
+//!
 //! # Why hand-written parsers
 //!
 //! So that every error carries its line (tobj, for one, reports none), sizes
@@ -77,8 +94,12 @@
 mod obj;
 mod off;
 mod ply;
+mod points;
+mod read;
 mod stl;
 mod text;
+
+pub use points::{load_points, parse_points};
 
 use crate::error::{LoadError, LoadErrorKind};
 use crate::mesh::Mesh;
@@ -139,28 +160,57 @@ fn is_gzip_path(path: &Path) -> bool {
         .is_some_and(|e| e.eq_ignore_ascii_case("gz"))
 }
 
-/// Default of [`LoadOptions::max_decompressed_bytes`]: 4 GiB, far above any
-/// real mesh (the ascii dragon is 33 MB) and below what a gzip bomb expands to.
+/// The ceiling of [`LoadOptions::max_decompressed_bytes`] and
+/// [`LoadOptions::max_input_bytes`]: 4 GiB, far above any real mesh (the
+/// ascii dragon is 33 MB) and below what a gzip bomb expands to.
 pub const DEFAULT_MAX_DECOMPRESSED_BYTES: u64 = 4 << 30;
+
+/// Default of [`LoadOptions::max_line_bytes`]: 1 MiB, some ten thousand times
+/// the longest line of a real mesh file (an OBJ face of a few thousand vertices).
+pub const DEFAULT_MAX_LINE_BYTES: usize = 1 << 20;
+
+/// The default input size limit: 4 GiB, or half the memory the system has
+/// available now (`MemAvailable`), whichever is less. A file is held whole
+/// while it is parsed and the mesh takes about as much again, so an input
+/// beyond half the available memory would fail later, in swap or by the
+/// out-of-memory killer, instead of with an error.
+pub fn default_max_input_bytes() -> u64 {
+    let half_available = read::memory_available().map_or(u64::MAX, |bytes| bytes / 2);
+    DEFAULT_MAX_DECOMPRESSED_BYTES.min(half_available)
+}
 
 /// Limits applied while loading.
 ///
 /// ```
 /// use proxima::io::LoadOptions;
-/// let strict = LoadOptions { max_decompressed_bytes: 64 << 20 };
-/// assert!(strict.max_decompressed_bytes < LoadOptions::default().max_decompressed_bytes);
+/// let strict = LoadOptions { max_decompressed_bytes: 64 << 20, ..LoadOptions::default() };
+/// assert!(strict.max_decompressed_bytes <= 64 << 20);
+/// assert!(LoadOptions::default().max_input_bytes <= 4 << 30);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct LoadOptions {
     /// A `.gz` file that decompresses to more bytes than this fails with
     /// [`LoadErrorKind::DecompressedTooLarge`] (decompression stops there).
+    /// Default: [`default_max_input_bytes`].
     pub max_decompressed_bytes: u64,
+    /// An uncompressed file (or stream) of more bytes than this fails with
+    /// [`LoadErrorKind::InputTooLarge`] (reading stops there; a regular file
+    /// is refused from its size, before any byte is read). Default:
+    /// [`default_max_input_bytes`].
+    pub max_input_bytes: u64,
+    /// A line of a text format longer than this fails with
+    /// [`LoadErrorKind::LineTooLong`], as soon as it has been read that far.
+    /// Default: [`DEFAULT_MAX_LINE_BYTES`].
+    pub max_line_bytes: usize,
 }
 
 impl Default for LoadOptions {
     fn default() -> Self {
+        let max = default_max_input_bytes();
         Self {
-            max_decompressed_bytes: DEFAULT_MAX_DECOMPRESSED_BYTES,
+            max_decompressed_bytes: max,
+            max_input_bytes: max,
+            max_line_bytes: DEFAULT_MAX_LINE_BYTES,
         }
     }
 }
@@ -171,8 +221,8 @@ impl Default for LoadOptions {
 /// Fails with [`LoadErrorKind::UnknownFormat`] for an extension it does not know,
 /// [`LoadErrorKind::Io`] when the file cannot be read or its gzip stream is
 /// corrupt, [`LoadErrorKind::DecompressedTooLarge`] for a gzip stream that
-/// expands beyond the limit, and the errors of [`parse`] otherwise; every
-/// error names `path`.
+/// expands beyond the limit, [`LoadErrorKind::InputTooLarge`] for a file
+/// beyond it, and the errors of [`read_with`] otherwise; every error names `path`.
 ///
 /// ```no_run
 /// let mesh = proxima::io::load("dragon_vrip.ply.gz")?;
@@ -183,17 +233,59 @@ pub fn load(path: impl AsRef<Path>) -> Result<Mesh, LoadError> {
     load_with(path, &LoadOptions::default())
 }
 
-/// [`load`] with explicit limits.
+/// [`load`] with explicit limits. The file is streamed: a gzip file is
+/// decompressed as it is read, and neither it nor its output is ever held
+/// beyond the limits, whatever it is (a gzip bomb, `/dev/zero`, `/dev/urandom`).
 pub fn load_with(path: impl AsRef<Path>, options: &LoadOptions) -> Result<Mesh, LoadError> {
     let path = path.as_ref();
     let format = Format::from_path(path).ok_or_else(|| LoadError::new(path, None, LoadErrorKind::UnknownFormat))?;
-    let bytes = std::fs::read(path).map_err(|e| LoadError::new(path, None, e))?;
-    if is_gzip_path(path) {
-        let bytes = gunzip(&bytes, options.max_decompressed_bytes).map_err(|e| LoadError::new(path, None, e))?;
-        parse(&bytes, format, path)
+    let file = std::fs::File::open(path).map_err(|e| LoadError::new(path, None, e))?;
+    let metadata = file.metadata().map_err(|e| LoadError::new(path, None, e))?;
+    let mut guard = read::TextGuard::new(format, options.max_line_bytes);
+    let bytes = if is_gzip_path(path) {
+        let decoder = flate2::read::MultiGzDecoder::new(std::io::BufReader::new(file));
+        let limit = read::Limit::Decompressed(options.max_decompressed_bytes);
+        read::read_bounded(decoder, limit, None, &mut guard, path)?
     } else {
-        parse(&bytes, format, path)
-    }
+        // Devices and pipes report a size of 0: only a regular file's size is known.
+        let size = metadata.is_file().then_some(metadata.len());
+        read::read_bounded(
+            file,
+            read::Limit::Input(options.max_input_bytes),
+            size,
+            &mut guard,
+            path,
+        )?
+    };
+    parse_checked(&bytes, format, path)
+}
+
+/// Reads a mesh in `format` from `reader` (a file, a pipe, a decompressor, …)
+/// to its end and parses it, within the limits of `options`:
+/// [`LoadErrorKind::InputTooLarge`] past [`LoadOptions::max_input_bytes`],
+/// [`LoadErrorKind::LineTooLong`] and [`LoadErrorKind::NotText`] (with the
+/// line) as soon as text that is not text arrives, so an endless stream of
+/// zeros fails after its first chunk; then the errors of [`parse`].
+/// `path_for_errors` only labels errors.
+///
+/// ```
+/// use proxima::io::{Format, LoadOptions, read_with};
+/// use proxima::LoadErrorKind;
+/// // An endless stream of zeros: a NUL byte on line 1, found in the first chunk.
+/// let e = read_with(std::io::repeat(0), Format::Obj, "zeros.obj".as_ref(), &LoadOptions::default()).unwrap_err();
+/// assert!(matches!(e.kind, LoadErrorKind::NotText));
+/// assert_eq!(e.line, Some(1));
+/// ```
+pub fn read_with(
+    reader: impl Read,
+    format: Format,
+    path_for_errors: &Path,
+    options: &LoadOptions,
+) -> Result<Mesh, LoadError> {
+    let mut guard = read::TextGuard::new(format, options.max_line_bytes);
+    let limit = read::Limit::Input(options.max_input_bytes);
+    let bytes = read::read_bounded(reader, limit, None, &mut guard, path_for_errors)?;
+    parse_checked(&bytes, format, path_for_errors)
 }
 
 /// Decompresses every gzip member of `bytes`, failing with
@@ -244,6 +336,13 @@ pub fn gunzip(bytes: &[u8], max_bytes: u64) -> Result<Vec<u8>, LoadErrorKind> {
 /// # Ok::<(), proxima::LoadError>(())
 /// ```
 pub fn parse(bytes: &[u8], format: Format, path_for_errors: &Path) -> Result<Mesh, LoadError> {
+    // The same checks as a streamed file gets, so both give the same errors.
+    read::TextGuard::new(format, DEFAULT_MAX_LINE_BYTES).feed(bytes, path_for_errors)?;
+    parse_checked(bytes, format, path_for_errors)
+}
+
+/// [`parse`] of bytes the text checks have passed.
+fn parse_checked(bytes: &[u8], format: Format, path_for_errors: &Path) -> Result<Mesh, LoadError> {
     // Text written by some Windows tools starts with a UTF-8 byte order mark.
     let text = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     match format {
@@ -252,4 +351,31 @@ pub fn parse(bytes: &[u8], format: Format, path_for_errors: &Path) -> Result<Mes
         Format::Stl => stl::parse(bytes, path_for_errors),
         Format::Off => off::parse(text, path_for_errors),
     }
+}
+
+/// `text` made safe to print on a terminal, cut to `max_chars` characters
+/// (and an ellipsis): control characters (escape sequences, carriage
+/// returns, …) and bidirectional-text overrides are written as `\u{…}`
+/// escapes, so what a hostile file holds cannot move the cursor, recolour
+/// the terminal or reorder what is shown.
+///
+/// ```
+/// assert_eq!(proxima::io::escape_for_terminal("a\x1b[31mb", 80), "a\\u{1b}[31mb");
+/// assert_eq!(proxima::io::escape_for_terminal("abcdef", 3), "abc…");
+/// ```
+pub fn escape_for_terminal(text: &str, max_chars: usize) -> String {
+    let mut out = String::with_capacity(text.len().min(max_chars.saturating_mul(4)));
+    for (n, c) in text.chars().enumerate() {
+        if n == max_chars {
+            out.push('…');
+            break;
+        }
+        let bidi = matches!(c, '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}');
+        if c.is_control() || bidi {
+            out.extend(c.escape_unicode());
+        } else {
+            out.push(c);
+        }
+    }
+    out
 }

@@ -88,7 +88,7 @@ impl Obj<'_> {
         }
     }
 
-    /// `v x y z [...]`.
+    /// `v x y z`, `v x y z w` or `v x y z r g b`.
     fn vertex<'t>(&mut self, line: usize, mut tokens: impl Iterator<Item = &'t [u8]>) -> Result<(), LoadError> {
         let mut xyz = [0.0f32; 3];
         for (axis, value) in xyz.iter_mut().enumerate() {
@@ -98,6 +98,19 @@ impl Obj<'_> {
             };
             *value = parse_f32(token)
                 .ok_or_else(|| syntax(self.path, Some(line), format!("bad number `{}`", show(token))))?;
+        }
+        // `w`, or the `r g b` of the vertex-colour extension: checked, then ignored.
+        let mut extra = 0;
+        for token in tokens {
+            parse_f32(token).ok_or_else(|| syntax(self.path, Some(line), format!("bad number `{}`", show(token))))?;
+            extra += 1;
+        }
+        if !matches!(extra, 0 | 1 | 3) {
+            let message = format!(
+                "vertex has {} numbers; expected 3 (x y z), 4 (x y z w) or 6 (x y z r g b)",
+                3 + extra
+            );
+            return Err(syntax(self.path, Some(line), message));
         }
         let p = check_finite(Vec3::from_array(xyz), self.positions.len(), self.path, Some(line))?;
         self.positions.push(p);

@@ -368,38 +368,37 @@ impl Reader<'_> {
             for property in &element.properties {
                 let next = |tokens: &mut TokenStream<'a>| next_value(tokens, element, i, self.path);
                 match (property.kind, property.role) {
-                    (Kind::Scalar(_), Role::Coordinate(axis)) => {
+                    (Kind::Scalar(t), Role::Coordinate(axis)) => {
                         let token = next(tokens)?;
-                        let value = parse_f32(token).ok_or_else(|| {
-                            syntax(self.path, Some(tokens.line()), format!("bad number `{}`", show(token)))
-                        })?;
+                        let value = ascii_value(t, token, "number")
+                            .map_err(|message| syntax(self.path, Some(tokens.line()), message))?;
                         if let Some(slot) = xyz.get_mut(axis) {
                             *slot = value;
                         }
                     }
-                    (Kind::Scalar(_), _) => {
-                        next(tokens)?;
+                    (Kind::Scalar(t), _) => {
+                        let token = next(tokens)?;
+                        ascii_value(t, token, "number")
+                            .map_err(|message| syntax(self.path, Some(tokens.line()), message))?;
                     }
-                    (Kind::List(..), role) => {
+                    (Kind::List(count, item), role) => {
                         let token = next(tokens)?;
                         let line = tokens.line();
-                        let len = parse_int(token).and_then(|n| u64::try_from(n).ok()).ok_or_else(|| {
-                            syntax(self.path, Some(line), format!("bad list length `{}`", show(token)))
-                        })?;
+                        let len = ascii_integer(count, token, "list length")
+                            .and_then(|n| u64::try_from(n).map_err(|_| format!("bad list length `{}`", show(token))))
+                            .map_err(|message| syntax(self.path, Some(line), message))?;
                         for _ in 0..len {
                             let token = tokens.next_token().ok_or_else(|| {
                                 let message = format!("a list of {len} values ends early");
                                 truncated(self.path, Some(tokens.line()), message)
                             })?;
                             if role == Role::Indices {
-                                let index = parse_int(token).ok_or_else(|| {
-                                    syntax(
-                                        self.path,
-                                        Some(tokens.line()),
-                                        format!("bad vertex index `{}`", show(token)),
-                                    )
-                                })?;
+                                let index = ascii_integer(item, token, "vertex index")
+                                    .map_err(|message| syntax(self.path, Some(tokens.line()), message))?;
                                 self.push_index(index, Some(tokens.line()))?;
+                            } else {
+                                ascii_value(item, token, "number")
+                                    .map_err(|message| syntax(self.path, Some(tokens.line()), message))?;
                             }
                         }
                         if role == Role::Indices {
@@ -408,13 +407,21 @@ impl Reader<'_> {
                     }
                 }
             }
+            // An element ends its line: a value left over means the header and
+            // the data disagree, and the line to blame is this one.
+            let line = tokens.line();
+            if let Some(extra) = super::text::tokens(tokens.rest_of_line()).next() {
+                let message = format!(
+                    "unexpected `{}` after the {} values of `{}` element number {}",
+                    show(extra),
+                    element.properties.len(),
+                    show(element.name),
+                    i + 1
+                );
+                return Err(syntax(self.path, Some(line), message));
+            }
             if is_vertex {
-                let p = check_finite(
-                    Vec3::from_array(xyz),
-                    self.positions.len(),
-                    self.path,
-                    Some(tokens.line()),
-                )?;
+                let p = check_finite(Vec3::from_array(xyz), self.positions.len(), self.path, Some(line))?;
                 self.positions.push(p);
             }
         }
@@ -522,6 +529,37 @@ fn next_value<'a>(tokens: &mut TokenStream<'a>, element: &Element, i: u64, path:
         );
         truncated(path, Some(tokens.line()), message)
     })
+}
+
+/// An ascii value of type `t` as a coordinate: an integer type takes an
+/// integer within its range (`uchar 300` is an error), a float type any number
+/// `f32` parsing accepts (the caller checks finiteness).
+fn ascii_value(t: Scalar, token: &[u8], what: &str) -> Result<f32, String> {
+    if t.is_integer() {
+        ascii_integer(t, token, what).map(|v| v as f32)
+    } else {
+        parse_f32(token).ok_or_else(|| format!("bad {what} `{}`", show(token)))
+    }
+}
+
+/// An ascii integer of type `t`, within its range.
+fn ascii_integer(t: Scalar, token: &[u8], what: &str) -> Result<i64, String> {
+    let (min, max, name) = match t {
+        Scalar::I8 => (i8::MIN.into(), i8::MAX.into(), "char"),
+        Scalar::U8 => (0, u8::MAX.into(), "uchar"),
+        Scalar::I16 => (i16::MIN.into(), i16::MAX.into(), "short"),
+        Scalar::U16 => (0, u16::MAX.into(), "ushort"),
+        Scalar::I32 => (i32::MIN.into(), i32::MAX.into(), "int"),
+        Scalar::U32 => (0, u32::MAX.into(), "uint"),
+        Scalar::F32 | Scalar::F64 => return Err(format!("a {what} must have an integer type")),
+    };
+    let value = parse_int(token).ok_or_else(|| format!("bad {what} `{}`", show(token)))?;
+    if !(min..=max).contains(&value) {
+        return Err(format!(
+            "{what} {value} is out of the range of its type `{name}` ({min} to {max})"
+        ));
+    }
+    Ok(value)
 }
 
 /// `true` when some property of `element` has a role matching `f`.

@@ -13,27 +13,38 @@ const HEADER_BYTES: u64 = 84;
 /// Binary triangle: normal, three corners (12 `f32`), 2 attribute bytes.
 const TRIANGLE_BYTES: u64 = 50;
 /// How far to look for NUL bytes when telling binary from ascii.
-const SNIFF_BYTES: usize = 4096;
+pub(super) const SNIFF_BYTES: usize = 4096;
 
 pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Mesh, LoadError> {
-    let announced = bytes
-        .get(80..84)
-        .and_then(|b| b.try_into().ok())
-        .map(u32::from_le_bytes);
-    let binary_size = |n: u32| HEADER_BYTES + TRIANGLE_BYTES * u64::from(n);
-    if announced.is_some_and(|n| binary_size(n) == bytes.len() as u64) {
+    if binary_size(bytes) == Some(bytes.len() as u64) {
         return parse_binary(bytes, path);
     }
     // Many binary files also start with `solid`; text never holds NUL bytes, while
     // binary data nearly always does (zero normals, attribute bytes, 0.0).
     let text = bytes.trim_ascii_start();
-    let looks_ascii = text.get(..5).is_some_and(|head| head.eq_ignore_ascii_case(b"solid"))
-        && !bytes.iter().take(SNIFF_BYTES).any(|&b| b == 0);
+    let looks_ascii = text.get(..5).is_some_and(|head| head.eq_ignore_ascii_case(b"solid")) && may_be_ascii(bytes);
     if looks_ascii {
         parse_ascii(bytes, path)
     } else {
         parse_binary(bytes, path)
     }
+}
+
+/// The size of a binary STL whose header is at the start of `bytes`: 84 bytes
+/// and 50 per announced triangle. `None` before the 84 bytes of the header.
+pub(super) fn binary_size(bytes: &[u8]) -> Option<u64> {
+    let announced = bytes.get(80..84)?.try_into().ok().map(u32::from_le_bytes)?;
+    Some(HEADER_BYTES + TRIANGLE_BYTES * u64::from(announced))
+}
+
+/// `false` once the first bytes of a file show it is not an ascii STL: they
+/// start (after white space) with something other than `solid`, or hold a NUL
+/// byte within the first 4 KiB. `true` for a prefix of one that does.
+pub(super) fn may_be_ascii(bytes: &[u8]) -> bool {
+    let text = bytes.trim_ascii_start();
+    let head = text.get(..5).unwrap_or(text);
+    let solid = b"solid".get(..head.len()).is_some_and(|s| s.eq_ignore_ascii_case(head));
+    solid && !bytes.iter().take(SNIFF_BYTES).any(|&b| b == 0)
 }
 
 /// Binary STL: the size must hold the announced triangles; bytes after them are
@@ -48,18 +59,14 @@ fn parse_binary(bytes: &[u8], path: &Path) -> Result<Mesh, LoadError> {
         return Err(truncated(path, None, message));
     };
     let needed = HEADER_BYTES + TRIANGLE_BYTES * u64::from(count);
-    if needed > bytes.len() as u64 {
-        let message = format!(
-            "the header announces {count} triangles, which need {needed} bytes, but the file has {}",
-            bytes.len()
-        );
-        return Err(truncated(path, None, message));
-    }
-    let count = count as usize;
-    let mut welder = Welder::with_capacity(count / 2 + 3);
-    let mut faces = Faces::with_capacity(count, count * 3);
     let data = bytes.get(HEADER_BYTES as usize..).unwrap_or_default();
-    for triangle in data.chunks_exact(TRIANGLE_BYTES as usize).take(count) {
+    // The triangles that are there are read first, so that a bad coordinate
+    // is reported before the truncation: a stream stops being read at its
+    // first non-finite corner (see `first_non_finite`).
+    let present = (count as usize).min(data.len() / TRIANGLE_BYTES as usize);
+    let mut welder = Welder::with_capacity(present / 2 + 3);
+    let mut faces = Faces::with_capacity(present, present * 3);
+    for triangle in data.chunks_exact(TRIANGLE_BYTES as usize).take(present) {
         // Skip the normal (12 bytes); read three corners.
         for corner in triangle.get(12..48).unwrap_or_default().chunks_exact(12) {
             let mut xyz = [0.0f32; 3];
@@ -71,7 +78,32 @@ fn parse_binary(bytes: &[u8], path: &Path) -> Result<Mesh, LoadError> {
         }
         faces.close().map_err(|e| error_at(path, None, e))?;
     }
+    if needed > bytes.len() as u64 {
+        let message = format!(
+            "the header announces {count} triangles, which need {needed} bytes, but the file has {}",
+            bytes.len()
+        );
+        return Err(truncated(path, None, message));
+    }
     faces.finish(welder.positions, path)
+}
+
+/// Whether one of the complete binary triangles numbered `from..` in `bytes`
+/// has a non-finite corner (which the parser refuses), and the number of
+/// complete triangles checked so far otherwise.
+pub(super) fn first_non_finite(bytes: &[u8], from: usize) -> Result<usize, ()> {
+    let data = bytes.get(HEADER_BYTES as usize..).unwrap_or_default();
+    let complete = data.len() / TRIANGLE_BYTES as usize;
+    for triangle in data.chunks_exact(TRIANGLE_BYTES as usize).take(complete).skip(from) {
+        let corners = triangle.get(12..48).unwrap_or_default();
+        if corners
+            .chunks_exact(4)
+            .any(|b| !b.try_into().map_or(0.0, f32::from_le_bytes).is_finite())
+        {
+            return Err(());
+        }
+    }
+    Ok(complete.max(from))
 }
 
 /// Ascii STL.

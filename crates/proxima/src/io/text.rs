@@ -6,8 +6,9 @@ use crate::math::Vec3;
 use crate::mesh::Mesh;
 use std::path::Path;
 
-/// The lines of `bytes` with their 1-based numbers, without the `\n` or `\r\n`
-/// that ends them. A final `\n` does not start another (empty) line.
+/// The lines of `bytes` with their 1-based numbers, without the `\n`, `\r\n` or
+/// lone `\r` (old Mac line end) that ends them. A final line end does not start
+/// another (empty) line.
 pub(super) struct Lines<'a> {
     rest: &'a [u8],
     line: usize,
@@ -42,13 +43,20 @@ impl<'a> Iterator for Lines<'a> {
         if self.rest.is_empty() {
             return None;
         }
-        let (line, rest) = match self.rest.iter().position(|&b| b == b'\n') {
-            Some(i) => (&self.rest[..i], &self.rest[i + 1..]),
+        let (line, rest) = match self.rest.iter().position(|&b| b == b'\n' || b == b'\r') {
+            Some(i) => {
+                let end = if self.rest[i] == b'\r' && self.rest.get(i + 1) == Some(&b'\n') {
+                    i + 2
+                } else {
+                    i + 1
+                };
+                (&self.rest[..i], &self.rest[end..])
+            }
             None => (self.rest, &self.rest[self.rest.len()..]),
         };
         self.rest = rest;
         self.line += 1;
-        Some((self.line, line.strip_suffix(b"\r").unwrap_or(line)))
+        Some((self.line, line))
     }
 }
 
@@ -96,18 +104,21 @@ impl<'a> TokenStream<'a> {
     pub(super) fn next_token(&mut self) -> Option<&'a [u8]> {
         let rest = self.bytes.get(self.pos..)?;
         let mut skip = 0;
+        let mut previous = self.pos.checked_sub(1).and_then(|i| self.bytes.get(i)).copied();
         for &b in rest {
-            if b == b'\n' {
+            // `\r\n` ends one line, a lone `\r` one too.
+            if b == b'\r' || (b == b'\n' && previous != Some(b'\r')) {
                 self.line += 1;
             } else if !b.is_ascii_whitespace() {
                 break;
             }
+            previous = Some(b);
             skip += 1;
         }
         let rest = rest.get(skip..).unwrap_or_default();
         if rest.is_empty() {
-            // End of input: report the last line, not the empty one after a final `\n`.
-            if skip > 0 && self.bytes.last() == Some(&b'\n') {
+            // End of input: report the last line, not the empty one after a final line end.
+            if skip > 0 && matches!(self.bytes.last(), Some(b'\n' | b'\r')) {
                 self.line -= 1;
             }
             self.pos = self.bytes.len();
@@ -118,11 +129,14 @@ impl<'a> TokenStream<'a> {
         rest.get(..len)
     }
 
-    /// Skips the rest of the current line (its `\n` stays, so the line count is
-    /// unchanged) and returns it.
+    /// Skips the rest of the current line (its line end stays, so the line count
+    /// is unchanged) and returns it.
     pub(super) fn rest_of_line(&mut self) -> &'a [u8] {
         let rest = self.bytes.get(self.pos..).unwrap_or_default();
-        let len = rest.iter().position(|&b| b == b'\n').unwrap_or(rest.len());
+        let len = rest
+            .iter()
+            .position(|&b| b == b'\n' || b == b'\r')
+            .unwrap_or(rest.len());
         self.pos += len;
         rest.get(..len).unwrap_or_default()
     }
@@ -177,12 +191,22 @@ pub(super) fn parse_uint(token: &[u8]) -> Option<u64> {
     Some(value)
 }
 
-/// A token for an error message: lossy UTF-8, cut to a reasonable length.
+/// A token for an error message: lossy UTF-8, control characters escaped (so
+/// no escape sequence of a hostile file reaches the terminal), cut to
+/// [`SHOWN_CHARS`] characters and an ellipsis.
 pub(super) fn show(token: &[u8]) -> String {
-    const MAX: usize = 40;
-    let text = String::from_utf8_lossy(token.get(..MAX).unwrap_or(token)).into_owned();
-    if token.len() > MAX { format!("{text}…") } else { text }
+    // Decoding more than the characters shown would only cost time on a huge line.
+    let head = token.get(..SHOWN_CHARS * 4).unwrap_or(token);
+    let text = String::from_utf8_lossy(head);
+    let mut shown = crate::io::escape_for_terminal(&text, SHOWN_CHARS);
+    if head.len() < token.len() && !shown.ends_with('…') {
+        shown.push('…');
+    }
+    shown
 }
+
+/// The most characters of a file's text an error message echoes.
+pub(super) const SHOWN_CHARS: usize = 80;
 
 /// An error of `kind` at `line` of `path`.
 pub(super) fn error_at(path: &Path, line: Option<usize>, kind: impl Into<LoadErrorKind>) -> LoadError {

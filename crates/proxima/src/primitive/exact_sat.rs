@@ -233,7 +233,7 @@ mod tests {
         let mut rng = crate::sample::Rng::new(5);
         for round in 0..2000 {
             // Coordinates spread over 2^(round % 70) to exercise both paths.
-            let spread = (round % 70) as i32;
+            let spread = round % 70;
             let mut value = || {
                 let x = rng.range(-1.0, 1.0) as f64 * 2f64.powi(-(rng.range(0.0, spread as f32 + 1.0) as i32));
                 (x as f32) as f64

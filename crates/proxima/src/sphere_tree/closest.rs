@@ -32,7 +32,7 @@ impl<T: ClosestPoint> SphereTree<T> {
 
     #[inline]
     fn closest_counted<C: Counter>(&self, p: Vec3, max_distance: f32, counter: &mut C) -> Option<ClosestHit> {
-        if !p.is_finite() {
+        if !crate::bvh::answerable(p) {
             return None;
         }
         let p = Vec3A::from(p);

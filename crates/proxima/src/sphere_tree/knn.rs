@@ -9,7 +9,7 @@ use crate::primitive::ClosestPoint;
 impl<T: ClosestPoint> SphereTree<T> {
     /// The `k` primitives closest to `p`, nearest first (ties by input index).
     /// Gives all primitives when `k` exceeds their number, none when `k == 0`
-    /// or `p` is not finite.
+    /// or `p` is not finite or beyond [`MAX_QUERY_COORDINATE`](crate::bvh::MAX_QUERY_COORDINATE).
     pub fn k_nearest(&self, p: Vec3, k: usize) -> Vec<ClosestHit> {
         let mut out = Vec::new();
         self.k_nearest_into(p, k, &mut KnnScratch::new(), &mut out);

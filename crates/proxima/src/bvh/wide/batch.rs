@@ -89,8 +89,8 @@ impl<T: ClosestPoint + Sync> WideTree<T> {
         loop {
             for (walk, query) in walks.iter_mut().zip(&mut serving) {
                 if *query == usize::MAX {
-                    // Non-finite points have no answer, as in `closest`.
-                    while next < points.len() && !points[next].is_finite() {
+                    // Points out of range have no answer, as in `closest`.
+                    while next < points.len() && !crate::bvh::answerable(points[next]) {
                         out[next] = None;
                         next += 1;
                     }

@@ -64,7 +64,7 @@ impl<T: ClosestPoint> WideTree<T> {
     /// The walk's best primitive within `max_distance` of `p`, if any.
     #[inline(always)]
     fn best_within<C: Counter>(&self, p: Vec3, max_distance: f32, counter: &mut C) -> Option<Best<'_>> {
-        if !p.is_finite() {
+        if !crate::bvh::answerable(p) {
             return None;
         }
         let mut best = Best::new(&self.tree.indices, max_distance * max_distance);

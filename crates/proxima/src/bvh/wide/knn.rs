@@ -54,7 +54,7 @@ impl<T: ClosestPoint> WideTree<T> {
     pub fn k_nearest_into(&self, p: Vec3, k: usize, scratch: &mut WideKnnScratch, out: &mut Vec<ClosestHit>) {
         let k = k.min(self.len());
         scratch.heap.clear();
-        if k > 0 && p.is_finite() {
+        if k > 0 && crate::bvh::answerable(p) {
             let mut best = KBest {
                 heap: &mut scratch.heap,
                 k,

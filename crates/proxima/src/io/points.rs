@@ -1,0 +1,88 @@
+//! Points files: the query points of `proxima closest --points` and `bench --points`.
+
+use super::read::{Limit, TextGuard, read_bounded};
+use super::text::{Lines, show, syntax};
+use super::{DEFAULT_MAX_LINE_BYTES, LoadOptions};
+use crate::bvh::MAX_QUERY_COORDINATE;
+use crate::error::{LoadError, LoadErrorKind};
+use crate::math::Vec3;
+use std::path::Path;
+
+/// Reads a points file within the limits of `options` (as
+/// [`load_with`](super::load_with) reads a mesh: streamed, bounded in size
+/// and line length), then [`parse_points`] it.
+pub fn load_points(path: impl AsRef<Path>, options: &LoadOptions) -> Result<Vec<Vec3>, LoadError> {
+    let path = path.as_ref();
+    let file = std::fs::File::open(path).map_err(|e| LoadError::new(path, None, e))?;
+    let metadata = file.metadata().map_err(|e| LoadError::new(path, None, e))?;
+    let size = metadata.is_file().then_some(metadata.len());
+    let mut guard = TextGuard::text(options.max_line_bytes);
+    let bytes = read_bounded(file, Limit::Input(options.max_input_bytes), size, &mut guard, path)?;
+    parse_lines(&bytes, path)
+}
+
+/// Parses a points file: one point per line, three numbers separated by commas
+/// and/or white space; `#` comments and blank lines are skipped, as is a
+/// leading UTF-8 byte order mark. Each coordinate must be finite and within
+/// ±[`MAX_QUERY_COORDINATE`], the range where the trees' squared distances fit
+/// `f32`. Errors carry the line: [`LoadErrorKind::Syntax`] for a line that is
+/// not a point, [`LoadErrorKind::InvalidUtf8`], and the text checks of
+/// [`parse`](super::parse) ([`LoadErrorKind::NotText`],
+/// [`LoadErrorKind::LineTooLong`]).
+///
+/// ```
+/// let points = proxima::io::parse_points(b"# x y z\n1,2,3\n4 5 6\n", "q.pts".as_ref())?;
+/// assert_eq!(points, [proxima::Vec3::new(1.0, 2.0, 3.0), proxima::Vec3::new(4.0, 5.0, 6.0)]);
+/// let e = proxima::io::parse_points(b"1,2,3\n1 2\n", "q.pts".as_ref()).unwrap_err();
+/// assert_eq!(e.line, Some(2));
+/// # Ok::<(), proxima::LoadError>(())
+/// ```
+pub fn parse_points(bytes: &[u8], path_for_errors: &Path) -> Result<Vec<Vec3>, LoadError> {
+    TextGuard::text(DEFAULT_MAX_LINE_BYTES).feed(bytes, path_for_errors)?;
+    parse_lines(bytes, path_for_errors)
+}
+
+fn parse_lines(bytes: &[u8], path: &Path) -> Result<Vec<Vec3>, LoadError> {
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    // A point takes at least six bytes ("1 2 3\n").
+    let mut points = Vec::with_capacity(bytes.len() / 6);
+    for (number, line) in Lines::new(bytes, 1) {
+        let Ok(line) = std::str::from_utf8(line) else {
+            return Err(LoadError::new(path, Some(number), LoadErrorKind::InvalidUtf8));
+        };
+        let content = line.split('#').next().unwrap_or("").trim();
+        if content.is_empty() {
+            continue;
+        }
+        points.push(parse_point(content).map_err(|message| syntax(path, Some(number), message))?);
+    }
+    Ok(points)
+}
+
+/// `X,Y,Z` (commas and/or white space) as a point within the query bound.
+fn parse_point(text: &str) -> Result<Vec3, String> {
+    let mut numbers = text.split([',', ' ', '\t']).filter(|s| !s.is_empty());
+    let mut xyz = [0f32; 3];
+    for slot in &mut xyz {
+        let Some(number) = numbers.next() else {
+            return Err(format!("expected three numbers X,Y,Z, got '{}'", show(text.as_bytes())));
+        };
+        let value: f32 = number
+            .parse()
+            .map_err(|_| format!("'{}' is not a number", show(number.as_bytes())))?;
+        if !value.is_finite() {
+            return Err(format!("'{}' is not a finite number", show(number.as_bytes())));
+        }
+        if value.abs() > MAX_QUERY_COORDINATE {
+            return Err(format!(
+                "'{}' is beyond ±{MAX_QUERY_COORDINATE:e}, where squared distances overflow f32",
+                show(number.as_bytes())
+            ));
+        }
+        *slot = value;
+    }
+    if numbers.next().is_some() {
+        return Err(format!("expected three numbers X,Y,Z, got '{}'", show(text.as_bytes())));
+    }
+    Ok(Vec3::from_array(xyz))
+}
