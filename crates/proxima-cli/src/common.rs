@@ -35,6 +35,18 @@ pub fn parse_vec3(text: &str) -> Result<Vec3, String> {
     Ok(Vec3::from_array(v))
 }
 
+/// `direction` scaled to unit length in `f64`, where its squared length can
+/// neither overflow (`0,0,-3e38`) nor underflow (`1e-30,0,0`) as it does in
+/// `f32`. A zero direction is returned as it is, for the library to refuse.
+pub fn unit_direction(direction: Vec3) -> Vec3 {
+    let d = direction.to_array().map(|x| x as f64);
+    let length = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+    if length == 0.0 || !length.is_finite() {
+        return direction;
+    }
+    Vec3::from_array(d.map(|x| (x / length) as f32))
+}
+
 /// Reads a points file (see [`proxima::io::parse_points`]): one point per
 /// line, three numbers separated by commas or white space; `#` comments and
 /// blank lines are skipped. Read within the same limits as meshes.

@@ -772,3 +772,36 @@ fn degenerate_bounding_box() {
         assert!(!String::from_utf8_lossy(&out.stderr).contains("cell size must be"));
     }
 }
+
+/// Finite directions whose squared length overflows or underflows `f32` are
+/// directions, not errors: normalized in `f64`.
+#[test]
+fn ray_direction_extreme_but_finite() {
+    for dir in ["0,0,-3e38", "1e-30,0,0", "-1e-44,1e-44,0"] {
+        let out = proxima(&[
+            "traverse",
+            "--origin",
+            "0.5,0.5,0.5",
+            "--dir",
+            dir,
+            "--cell",
+            "1",
+            "--steps",
+            "3",
+        ]);
+        assert!(out.status.success(), "{dir}: {}", String::from_utf8_lossy(&out.stderr));
+        assert_eq!(
+            String::from_utf8_lossy(&out.stdout).lines().count(),
+            4,
+            "{dir}: header and three cells"
+        );
+    }
+    let mesh = triangle_file("ray_direction_extreme_but_finite");
+    let out = proxima(&["raycast", &mesh, "--origin", "0.25,0.25,1", "--dir", "0,0,-3e38"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("0.25") && !text.to_lowercase().contains("no hit"),
+        "{text}"
+    );
+}

@@ -10,7 +10,7 @@ use common::exact::{points_touch_box_by_clipping, triangle_touches_box, triangle
 use proxima::grid::{Cell, FastHash, GridConfig, GridLayout, HashGrid, InsertMethod, VoxelConfig, voxelize};
 use proxima::primitive::PrimitiveSet;
 use proxima::sample::Rng;
-use proxima::{Aabb, LineSegment, Triangle, Vec3};
+use proxima::{Aabb, ConvexPolygon, LineSegment, Triangle, Vec3};
 use rayon::prelude::*;
 use std::collections::BTreeSet;
 
@@ -186,6 +186,47 @@ fn check_edge_grid(name: &str, tris: &[Triangle], origin: Vec3, cell: Vec3) {
             })
             .collect();
         assert!(bad.is_empty(), "{} segments differ; first: {}", bad.len(), bad[0]);
+    }
+}
+
+/// The grid of convex polygons (the quads formed by consecutive triangle
+/// pairs a, b, c / a, c, d of a voxel surface), both insertion methods: a
+/// quad touches a cell exactly when one of its two triangles does.
+fn check_polygon_grid(name: &str, tris: &[Triangle], origin: Vec3, cell: Vec3) {
+    let quads: Vec<ConvexPolygon> = tris
+        .chunks_exact(2)
+        .map(|p| ConvexPolygon::new(&[p[0].a, p[0].b, p[0].c, p[1].c]).expect("a planar square"))
+        .collect();
+    let config = GridConfig {
+        origin,
+        ..GridConfig::new(cell)
+    };
+    let layout = config.layout().unwrap();
+    let want: Vec<BTreeSet<Cell>> = (0..quads.len())
+        .into_par_iter()
+        .map(|q| {
+            let mut cells: BTreeSet<Cell> = oracle_cells(&tris[2 * q], &layout, false).into_iter().collect();
+            cells.extend(oracle_cells(&tris[2 * q + 1], &layout, false));
+            cells
+        })
+        .collect();
+    for insert in [InsertMethod::Classic, InsertMethod::Scanline] {
+        let grid: HashGrid<ConvexPolygon, FastHash> = HashGrid::build(
+            PrimitiveSet::from_primitives(quads.clone()),
+            &GridConfig { insert, ..config },
+        )
+        .unwrap();
+        let mut got: Vec<BTreeSet<Cell>> = vec![BTreeSet::new(); quads.len()];
+        for (c, members) in grid.occupied() {
+            for &p in members {
+                got[p as usize].insert(c);
+            }
+        }
+        let bad: Vec<String> = (0..quads.len())
+            .filter(|&q| got[q] != want[q])
+            .map(|q| describe(name, &format!("polygon grid {insert:?} quad {q}"), &got[q], &want[q]))
+            .collect();
+        assert!(bad.is_empty(), "{} quads differ; first: {}", bad.len(), bad[0]);
     }
 }
 

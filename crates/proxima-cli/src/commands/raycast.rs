@@ -81,7 +81,7 @@ pub fn run(args: Args) -> Result<()> {
         bail!("{}: the mesh has no faces to hit", args.mesh.display());
     }
     let triangles = mesh.triangles();
-    let direction = args.dir.normalize();
+    let direction = crate::common::unit_direction(args.dir);
     let (found, any, build, query, structure, label) = match method {
         RayMethod::Tree => {
             let start = Instant::now();

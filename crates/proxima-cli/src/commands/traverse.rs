@@ -41,7 +41,7 @@ pub fn run(args: Args) -> Result<()> {
         max_steps: args.steps,
         ..TraversalConfig::new(args.cell)
     };
-    let walk = GridTraversal::new(args.origin, args.dir.normalize(), &config)?;
+    let walk = GridTraversal::new(args.origin, crate::common::unit_direction(args.dir), &config)?;
     let stdout = std::io::stdout();
     let mut out = BufWriter::new(stdout.lock());
     writeln!(out, "step,i,j,k,t_enter,t_exit")?;

@@ -20,11 +20,11 @@ use crate::primitive::sat::to64;
 use crate::primitive::{Bounded, ConvexPolygon, PolygonBoxTest};
 
 impl CellTest for PolygonBoxTest {
-    #[inline]
+    #[inline(always)]
     fn run(&self, q: usize, lo: [f64; 3], hi: [f64; 3]) -> bool {
         self.overlaps_run_axes(q, lo, hi)
     }
-    #[inline]
+    #[inline(always)]
     fn cell(&self, q: usize, lo: [f64; 3], hi: [f64; 3]) -> bool {
         self.overlaps_cell_axes(q, lo, hi)
     }
@@ -43,7 +43,7 @@ impl GridInsert for ConvexPolygon {
             for_each_cell(&window, visit);
             return Ok(());
         }
-        let test = PolygonBoxTest::new(self);
+        let test = PolygonBoxTest::new(self).for_boxes_within(super::insert::range_magnitude(params.layout, &full));
         match params.method {
             InsertMethod::Scanline if test.is_planar() => {
                 let mut v = [[0.0; 3]; MAX_POLYGON_VERTICES];

@@ -66,26 +66,29 @@ fn box_shadow<T: Exact>(lo: &[T; 3], hi: &[T; 3], axis: &[T; 3], components: &[u
     (min, max)
 }
 
-/// The inputs of a triangle / box decision, flattened for [`common_scale`].
-fn triangle_box_values(v: &[[f64; 3]; 3], lo: &[f64; 3], hi: &[f64; 3]) -> [f64; 15] {
-    let mut all = [0.0; 15];
+/// Most vertices of a polygon (a triangle has 3).
+const MAX_VERTICES: usize = crate::primitive::polygon::MAX_POLYGON_VERTICES;
+
+/// The inputs of a polygon / box decision, flattened for [`common_scale`]
+/// (unused slots hold 0, which changes no scale); `None` when one is not finite.
+fn polygon_box_values(v: &[[f64; 3]], lo: &[f64; 3], hi: &[f64; 3]) -> Option<[f64; 3 * MAX_VERTICES + 6]> {
+    let mut all = [0.0; 3 * MAX_VERTICES + 6];
     for (k, x) in v.iter().flatten().chain(lo).chain(hi).enumerate() {
         all[k] = *x;
     }
-    all
+    all.iter().all(|x| x.is_finite()).then_some(all)
 }
 
-/// Exactly: does the axis `edge_i × unit_j` separate the triangle `v` from
-/// the closed box `[lo, hi]`? Edge `i` runs from vertex `i` to vertex
-/// `i + 1`; the box's bounds along `j` are not read.
+/// Exactly: does the axis `edge_i × unit_j` separate the convex polygon (or
+/// triangle) `v` from the closed box `[lo, hi]`? Edge `i` runs from vertex
+/// `i` to vertex `i + 1` (cyclically); the box's bounds along `j` are not read.
 #[cold]
 #[inline(never)]
-pub(crate) fn edge_axis_separates(v: &[[f64; 3]; 3], i: usize, j: usize, lo: &[f64; 3], hi: &[f64; 3]) -> bool {
-    let values = triangle_box_values(v, lo, hi);
-    if !values.iter().all(|x| x.is_finite()) {
+pub(crate) fn edge_axis_separates(v: &[[f64; 3]], i: usize, j: usize, lo: &[f64; 3], hi: &[f64; 3]) -> bool {
+    let Some(values) = polygon_box_values(v, lo, hi) else {
         // Cell bounds beyond f32 (huge cells far out): keep the cell.
         return false;
-    }
+    };
     let (low, bits) = common_scale(&values);
     // Shadows are sums of two products of a coordinate (`bits`) and an edge
     // component (`bits + 1`): at most 2 · bits + 3 bits with the sign.
@@ -97,7 +100,7 @@ pub(crate) fn edge_axis_separates(v: &[[f64; 3]; 3], i: usize, j: usize, lo: &[f
 }
 
 fn edge_axis_separates_in<T: Exact>(
-    v: &[[f64; 3]; 3],
+    v: &[[f64; 3]],
     i: usize,
     j: usize,
     lo: &[f64; 3],
@@ -105,49 +108,60 @@ fn edge_axis_separates_in<T: Exact>(
     low: i32,
 ) -> bool {
     let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
-    let vertices: [[T; 3]; 3] = v.map(|p| integers(&p, low));
-    let (from, to) = (&vertices[i], &vertices[(i + 1) % 3]);
+    let (from, to): ([T; 3], [T; 3]) = (integers(&v[i], low), integers(&v[(i + 1) % v.len()], low));
     let mut axis = [T::zero(), T::zero(), T::zero()];
     axis[j1] = to[j2].clone() - from[j2].clone();
     axis[j2] = from[j1].clone() - to[j1].clone();
-    let projections = vertices.map(|p| p[j1].clone() * axis[j1].clone() + p[j2].clone() * axis[j2].clone());
-    let tri_min = projections.iter().min().expect("three vertices");
-    let tri_max = projections.iter().max().expect("three vertices");
+    let (shape_min, shape_max) = shadow(v, &axis, low);
     let (box_min, box_max) = box_shadow(&integers(lo, low), &integers(hi, low), &axis, &[j1, j2]);
-    disjoint((tri_min, tri_max), (&box_min, &box_max))
+    disjoint((&shape_min, &shape_max), (&box_min, &box_max))
 }
 
-/// Exactly: does the triangle's normal `(v1 − v0) × (v2 − v0)` separate it
-/// from the closed box `[lo, hi]`? (A zero normal separates nothing.)
+/// The shadow of the vertices `v` on `axis`.
+fn shadow<T: Exact>(v: &[[f64; 3]], axis: &[T; 3], low: i32) -> (T, T) {
+    let mut projections = v.iter().map(|p| {
+        let p: [T; 3] = integers(p, low);
+        p[0].clone() * axis[0].clone() + p[1].clone() * axis[1].clone() + p[2].clone() * axis[2].clone()
+    });
+    let first = projections.next().expect("at least one vertex");
+    projections.fold((first.clone(), first), |(min, max), x| (min.min(x.clone()), max.max(x)))
+}
+
+/// Exactly: does the normal `Σ (v_i − v_0) × (v_{i+1} − v_0)` (Newell's, for
+/// a triangle `(v1 − v0) × (v2 − v0)`) separate the polygon from the closed
+/// box `[lo, hi]`? (A zero normal separates nothing.)
 #[cold]
 #[inline(never)]
-pub(crate) fn normal_separates(v: &[[f64; 3]; 3], lo: &[f64; 3], hi: &[f64; 3]) -> bool {
-    let values = triangle_box_values(v, lo, hi);
-    if !values.iter().all(|x| x.is_finite()) {
+pub(crate) fn normal_separates(v: &[[f64; 3]], lo: &[f64; 3], hi: &[f64; 3]) -> bool {
+    let Some(values) = polygon_box_values(v, lo, hi) else {
         return false;
-    }
+    };
     let (low, bits) = common_scale(&values);
-    // Normal components: 2 · bits + 3; shadows: three products with a
-    // coordinate, 3 · bits + 7 at most.
-    if bits <= 39 {
+    // Normal components: a sum of up to 6 cross products, 2 · bits + 6;
+    // shadows: three products with a coordinate, 3 · bits + 10 at most.
+    if bits <= 38 {
         normal_separates_in::<i128>(v, lo, hi, low)
     } else {
         normal_separates_in::<BigInt>(v, lo, hi, low)
     }
 }
 
-fn normal_separates_in<T: Exact>(v: &[[f64; 3]; 3], lo: &[f64; 3], hi: &[f64; 3], low: i32) -> bool {
-    let [a, b, c]: [[T; 3]; 3] = v.map(|p| integers(&p, low));
-    let e0: [T; 3] = std::array::from_fn(|k| b[k].clone() - a[k].clone());
-    let e1: [T; 3] = std::array::from_fn(|k| c[k].clone() - a[k].clone());
-    let normal: [T; 3] = std::array::from_fn(|k| {
-        let (k1, k2) = ((k + 1) % 3, (k + 2) % 3);
-        e0[k1].clone() * e1[k2].clone() - e0[k2].clone() * e1[k1].clone()
-    });
-    // The three vertices share one projection on their own normal.
-    let plane = a[0].clone() * normal[0].clone() + a[1].clone() * normal[1].clone() + a[2].clone() * normal[2].clone();
+fn normal_separates_in<T: Exact>(v: &[[f64; 3]], lo: &[f64; 3], hi: &[f64; 3], low: i32) -> bool {
+    let origin: [T; 3] = integers(&v[0], low);
+    let mut normal = [T::zero(), T::zero(), T::zero()];
+    for pair in v[1..].windows(2) {
+        let a: [T; 3] = integers(&pair[0], low);
+        let b: [T; 3] = integers(&pair[1], low);
+        let e0: [T; 3] = std::array::from_fn(|k| a[k].clone() - origin[k].clone());
+        let e1: [T; 3] = std::array::from_fn(|k| b[k].clone() - origin[k].clone());
+        for (k, n) in normal.iter_mut().enumerate() {
+            let (k1, k2) = ((k + 1) % 3, (k + 2) % 3);
+            *n = n.clone() + e0[k1].clone() * e1[k2].clone() - e0[k2].clone() * e1[k1].clone();
+        }
+    }
+    let (shape_min, shape_max) = shadow(v, &normal, low);
     let (box_min, box_max) = box_shadow(&integers(lo, low), &integers(hi, low), &normal, &[0, 1, 2]);
-    disjoint((&plane, &plane), (&box_min, &box_max))
+    disjoint((&shape_min, &shape_max), (&box_min, &box_max))
 }
 
 /// Exactly: does the segment `a`–`b` meet the closed box `[lo, hi]`? Along
@@ -245,7 +259,7 @@ mod tests {
             ];
             let lo = [value(), value(), value()];
             let hi: [f64; 3] = std::array::from_fn(|k| lo[k].max(value()));
-            let (low, bits) = common_scale(&triangle_box_values(&v, &lo, &hi));
+            let (low, bits) = common_scale(&polygon_box_values(&v, &lo, &hi).unwrap());
             if bits > 60 {
                 continue;
             }
@@ -257,7 +271,7 @@ mod tests {
                     );
                 }
             }
-            if bits <= 39 {
+            if bits <= 38 {
                 assert_eq!(
                     normal_separates_in::<i128>(&v, &lo, &hi, low),
                     normal_separates_in::<BigInt>(&v, &lo, &hi, low)

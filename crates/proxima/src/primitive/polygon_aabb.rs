@@ -9,17 +9,17 @@
 //! convex hull, and the test is conservative: no box meeting the hull is
 //! missed.
 //!
-//! As in [`TriangleBoxTest`](super::TriangleBoxTest), everything is computed
-//! in `f64` from the `f32` inputs: the normal is Newell's sum of fan cross
-//! products, exact for coordinates of moderate dynamic range (in particular
-//! small dyadic values), so a polygon lying exactly in a cell face counts as
-//! touching the cells on both sides. Otherwise the error is a few `f64` ulps
-//! of the coordinates' magnitude, which can decide an exact touch either way:
+//! As in [`TriangleBoxTest`](super::TriangleBoxTest), each axis is evaluated
+//! in `f64` with a bound on its rounding, and decided in integers when the
+//! gap lies within it (`exact_sat.rs`): a polygon lying exactly in a cell face
+//! touches the cells on both sides, whatever its coordinates. (Before, the
+//! `f64` rounding could decide an exact touch either way:
 //! spot_quadrangulated.obj has a vertex at x = −4.3e-19 beside one at x = 0 on
-//! a cell boundary, and both this test and the triangle's miss the cell that
-//! vertex touches. Zero axes (an edge parallel to a box axis) project
-//! everything to `[0, 0]` and never separate.
+//! a cell boundary, and the cell that vertex touches was missed.) Zero axes
+//! (an edge parallel to a box axis) project everything to `[0, 0]` and never
+//! separate.
 
+use super::exact_sat::{self, box_magnitude, rounding_bound};
 use super::polygon::{ConvexPolygon, MAX_POLYGON_VERTICES};
 use super::sat::{Interval, Project, project_points, to64};
 use super::{BoxOverlap, Triangle};
@@ -58,6 +58,19 @@ pub struct PolygonBoxTest {
     /// The polygon's shadow on each edge axis.
     shadow_min: [[f64; MAX_POLYGON_VERTICES]; 3],
     shadow_max: [[f64; MAX_POLYGON_VERTICES]; 3],
+    /// The vertices, for the exact fallback.
+    vertices: [[f64; 3]; MAX_POLYGON_VERTICES],
+    /// Rounding-bound scales (as in [`TriangleBoxTest`](super::TriangleBoxTest)):
+    /// per edge axis the sum of its components' absolute forms and the
+    /// polygon's absolute shadow; the same for the normal.
+    edge_magnitude: [[f64; MAX_POLYGON_VERTICES]; 3],
+    edge_shape_magnitude: [[f64; MAX_POLYGON_VERTICES]; 3],
+    normal_magnitude: f64,
+    normal_shape_magnitude: f64,
+    /// The bounds for boxes of magnitude at most `box_magnitude`.
+    box_magnitude: f64,
+    edge_bound: [[f64; MAX_POLYGON_VERTICES]; 3],
+    normal_bound: f64,
 }
 
 impl PolygonBoxTest {
@@ -99,19 +112,71 @@ impl PolygonBoxTest {
             second: [[0.0; MAX_POLYGON_VERTICES]; 3],
             shadow_min: [[0.0; MAX_POLYGON_VERTICES]; 3],
             shadow_max: [[0.0; MAX_POLYGON_VERTICES]; 3],
+            vertices: [[0.0; 3]; MAX_POLYGON_VERTICES],
+            edge_magnitude: [[0.0; MAX_POLYGON_VERTICES]; 3],
+            edge_shape_magnitude: [[0.0; MAX_POLYGON_VERTICES]; 3],
+            normal_magnitude: 0.0,
+            normal_shape_magnitude: 0.0,
+            box_magnitude: f64::NAN,
+            edge_bound: [[0.0; MAX_POLYGON_VERTICES]; 3],
+            normal_bound: 0.0,
         };
+        t.vertices[..count].copy_from_slice(v);
+        let mut abs = [[0.0f64; 3]; MAX_POLYGON_VERTICES];
+        for (slot, p) in abs.iter_mut().zip(v) {
+            *slot = p.map(f64::abs);
+        }
+        let abs = &abs[..count];
+        let mut normal_abs_form = [0.0; 3];
+        for i in 1..count - 1 {
+            let a: [f64; 3] = std::array::from_fn(|k| abs[i][k] + abs[0][k]);
+            let b: [f64; 3] = std::array::from_fn(|k| abs[i + 1][k] + abs[0][k]);
+            for (k, n) in normal_abs_form.iter_mut().enumerate() {
+                let (k1, k2) = ((k + 1) % 3, (k + 2) % 3);
+                *n += a[k1] * b[k2] + a[k2] * b[k1];
+            }
+        }
+        t.normal_magnitude = normal_abs_form.iter().sum();
+        t.normal_shape_magnitude = abs
+            .iter()
+            .map(|p| p[0] * normal_abs_form[0] + p[1] * normal_abs_form[1] + p[2] * normal_abs_form[2])
+            .fold(0.0, max);
         for j in 0..3 {
             let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
             for i in 0..count {
                 let edge = sub(v[(i + 1) % count], v[i]);
                 // edge × unit_j = (…, edge[j2] at j1, −edge[j1] at j2).
                 let (a1, a2) = (edge[j2], -edge[j1]);
-                let [lo, hi] = shadow(&|p| p[j1] * a1 + p[j2] * a2);
+                // Parallel to a coordinate axis: decided by the bounding box
+                // (see TriangleBoxTest); an unbounded shadow never separates.
+                let [lo, hi] = if a1 == 0.0 || a2 == 0.0 {
+                    [f64::NEG_INFINITY, f64::INFINITY]
+                } else {
+                    shadow(&|p| p[j1] * a1 + p[j2] * a2)
+                };
                 (t.first[j][i], t.second[j][i]) = (a1, a2);
                 (t.shadow_min[j][i], t.shadow_max[j][i]) = (lo, hi);
+                let (from, to) = (abs[i], abs[(i + 1) % count]);
+                let (m1, m2) = (to[j2] + from[j2], to[j1] + from[j1]);
+                t.edge_magnitude[j][i] = m1 + m2;
+                t.edge_shape_magnitude[j][i] = abs.iter().map(|p| p[j1] * m1 + p[j2] * m2).fold(0.0, max);
             }
         }
         t
+    }
+
+    /// The test prepared for boxes whose bounds are all at most `magnitude`
+    /// in absolute value: the rounding bounds computed once.
+    pub(crate) fn for_boxes_within(mut self, magnitude: f64) -> Self {
+        self.box_magnitude = magnitude;
+        self.normal_bound = rounding_bound(magnitude, self.normal_magnitude, self.normal_shape_magnitude);
+        for j in 0..3 {
+            for i in 0..self.count {
+                self.edge_bound[j][i] =
+                    rounding_bound(magnitude, self.edge_magnitude[j][i], self.edge_shape_magnitude[j][i]);
+            }
+        }
+        self
     }
 
     /// `true` when the vertices are coplanar in `f64` (their shadow on the
@@ -130,31 +195,42 @@ impl PolygonBoxTest {
                 return false;
             }
         }
-        self.overlaps_run_axes(0, lo, hi) && self.overlaps_cell_axes(0, lo, hi)
+        let test = self.for_boxes_within(box_magnitude(&lo, &hi));
+        test.overlaps_run_axes(0, lo, hi) && test.overlaps_cell_axes(0, lo, hi)
     }
 
     /// The axes `edge_i × unit_q`, which do not involve the box's extent
     /// along `q`: one test decides them for a whole run of cells along `q`.
     #[inline]
     pub(crate) fn overlaps_run_axes(&self, q: usize, lo: [f64; 3], hi: [f64; 3]) -> bool {
+        debug_assert!(
+            box_magnitude(&lo, &hi) <= self.box_magnitude,
+            "bounds prepared for smaller boxes"
+        );
         let (c, h) = center_half(lo, hi);
-        (0..self.count).all(|i| !self.edge_axis_separates(q, i, &c, &h))
+        (0..self.count).all(|i| !self.edge_axis_separates(q, i, &c, &h, &lo, &hi))
     }
 
     /// The other non-box axes: the normal and `edge_i × unit_j`, j ≠ q.
     #[inline]
     pub(crate) fn overlaps_cell_axes(&self, q: usize, lo: [f64; 3], hi: [f64; 3]) -> bool {
+        debug_assert!(
+            box_magnitude(&lo, &hi) <= self.box_magnitude,
+            "bounds prepared for smaller boxes"
+        );
         let (c, h) = center_half(lo, hi);
         let n = &self.normal;
         let na = &self.normal_abs;
         let p = c[0] * n[0] + c[1] * n[1] + c[2] * n[2];
         let r = h[0] * na[0] + h[1] * na[1] + h[2] * na[2];
-        if p - r > self.normal_shadow[1] || p + r < self.normal_shadow[0] {
+        let gap = (p - r - self.normal_shadow[1]).max(self.normal_shadow[0] - p - r);
+        let bound = self.normal_bound;
+        if gap > bound || (gap >= -bound && exact_sat::normal_separates(&self.vertices[..self.count], &lo, &hi)) {
             return false;
         }
         for j in (0..3).filter(|&j| j != q) {
             for i in 0..self.count {
-                if self.edge_axis_separates(j, i, &c, &h) {
+                if self.edge_axis_separates(j, i, &c, &h, &lo, &hi) {
                     return false;
                 }
             }
@@ -164,12 +240,22 @@ impl PolygonBoxTest {
 
     /// `true` when `edge_i × unit_j` separates the box `c ± h` from the polygon.
     #[inline(always)]
-    fn edge_axis_separates(&self, j: usize, i: usize, c: &[f64; 3], h: &[f64; 3]) -> bool {
+    fn edge_axis_separates(
+        &self,
+        j: usize,
+        i: usize,
+        c: &[f64; 3],
+        h: &[f64; 3],
+        lo: &[f64; 3],
+        hi: &[f64; 3],
+    ) -> bool {
         let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
         let (a1, a2) = (self.first[j][i], self.second[j][i]);
         let p = c[j1] * a1 + c[j2] * a2;
         let r = h[j1] * a1.abs() + h[j2] * a2.abs();
-        p - r > self.shadow_max[j][i] || p + r < self.shadow_min[j][i]
+        let gap = (p - r - self.shadow_max[j][i]).max(self.shadow_min[j][i] - p - r);
+        let bound = self.edge_bound[j][i];
+        gap > bound || (gap >= -bound && exact_sat::edge_axis_separates(&self.vertices[..self.count], i, j, lo, hi))
     }
 }
 

@@ -126,7 +126,16 @@ impl TriangleBoxTest {
                 let x = 3 * j + i;
                 // edge × unit_j = (…, edge[j2] at j1, −edge[j1] at j2).
                 let (a1, a2) = (edge[j2], -edge[j1]);
-                let [lo, hi] = shadow(v.map(|p| p[j1] * a1 + p[j2] * a2));
+                let [lo, hi] = if a1 == 0.0 || a2 == 0.0 {
+                    // An edge parallel to a coordinate axis (a zero component,
+                    // exact: a difference of floats is zero only for equal ones)
+                    // gives a box normal or a zero axis, which the box's overlap
+                    // with the bounding box (or the cell range) has decided: an
+                    // unbounded shadow never separates and needs no fallback.
+                    [f64::NEG_INFINITY, f64::INFINITY]
+                } else {
+                    shadow(v.map(|p| p[j1] * a1 + p[j2] * a2))
+                };
                 (t.first[x], t.second[x]) = (a1, a2);
                 (t.shadow_min[x], t.shadow_max[x]) = (lo, hi);
                 let (from, to) = (abs[i], abs[(i + 1) % 3]);
@@ -176,7 +185,7 @@ impl TriangleBoxTest {
     /// The three axes `edge_i × unit_q`, which do not involve the box's
     /// extent along `q`: one test decides them for a whole run of cells along
     /// `q` (`lo[q]`, `hi[q]` are ignored).
-    #[inline]
+    #[inline(always)]
     pub(crate) fn overlaps_run_axes(&self, q: usize, lo: [f64; 3], hi: [f64; 3]) -> bool {
         debug_assert!(
             box_magnitude(&lo, &hi) <= self.box_magnitude,
@@ -187,7 +196,7 @@ impl TriangleBoxTest {
     }
 
     /// The other seven non-box axes: the normal and `edge_i × unit_j`, j ≠ q.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn overlaps_cell_axes(&self, q: usize, lo: [f64; 3], hi: [f64; 3]) -> bool {
         debug_assert!(
             box_magnitude(&lo, &hi) <= self.box_magnitude,
