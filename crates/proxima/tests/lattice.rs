@@ -389,9 +389,21 @@ fn voxel_meshes_on_the_grid_planes() {
             Vec3::splat(-half),
             Vec3::splat(cell),
         );
+        check_polygon_grid(
+            &format!("voxel surface ±{half}"),
+            &tris,
+            Vec3::splat(-half),
+            Vec3::splat(cell),
+        );
         let decimal = voxel_surface(n as i64, 8, decimal_planes(-half as f64, 2.0 * half as f64 / n as f64));
         check_voxelize(&format!("decimal voxel surface ±{half}"), &decimal, &bounds, n);
         check_grid(
+            &format!("decimal voxel surface ±{half}"),
+            &decimal,
+            Vec3::splat(-half),
+            Vec3::splat(cell),
+        );
+        check_polygon_grid(
             &format!("decimal voxel surface ±{half}"),
             &decimal,
             Vec3::splat(-half),
