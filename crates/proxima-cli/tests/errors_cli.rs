@@ -805,3 +805,25 @@ fn ray_direction_extreme_but_finite() {
         "{text}"
     );
 }
+
+#[test]
+fn ray_origin_too_far() {
+    let mesh = triangle_file("ray_origin_too_far");
+    let out = proxima(&["raycast", &mesh, "--origin", "0.2,0.2,1e30", "--dir", "0,0,-1"]);
+    assert_one_line_error(&out, 1, &["ray origin lies too far from the mesh"]);
+    let out = proxima(&[
+        "raycast",
+        &mesh,
+        "--origin",
+        "0.2,0.2,1e30",
+        "--dir",
+        "0,0,-1",
+        "--method",
+        "grid",
+        "--cell",
+        "0.5",
+    ]);
+    assert_one_line_error(&out, 1, &["out of range"]);
+    let out = proxima(&["raycast", &mesh, "--origin", "0.2,0.2,1e8", "--dir", "0,0,-1"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+}

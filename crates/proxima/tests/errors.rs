@@ -866,3 +866,23 @@ impl std::io::Read for RandomReader {
         Ok(buf.len())
     }
 }
+
+#[test]
+fn ray_origin_too_far() {
+    let tree = AabbTree::build(
+        vec![proxima::Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y)],
+        &BuildConfig::default(),
+    )
+    .unwrap();
+    let far = Vec3::new(0.2, 0.2, 1e30);
+    assert_eq!(
+        tree.first_hit(far, -Vec3::Z, 0.0, f32::INFINITY),
+        Err(proxima::RayError::OriginTooFar)
+    );
+    // 2^29 times the size is still answered, at the right face.
+    let hit = tree
+        .first_hit(Vec3::new(0.2, 0.2, 5e8), -Vec3::Z, 0.0, f32::INFINITY)
+        .unwrap()
+        .unwrap();
+    assert_eq!(hit.primitive, 0);
+}

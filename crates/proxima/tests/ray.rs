@@ -541,3 +541,117 @@ fn shared_meshes_match_brute_force_and_grid_and_never_leak() {
         );
     }
 }
+
+/// A ray from far away (2^27 units before a mesh of size about 2) must hit
+/// the same face as the same ray started near the mesh, at `t` shifted by
+/// the distance: in `f32` alone the parameters near 1.3e8 (a step of 16)
+/// cannot tell the near face from the far one. Origins beyond 2^30 times the
+/// mesh size are refused (tree) or out of range (grid), not answered wrongly.
+#[test]
+fn far_origins_hit_the_near_face() {
+    let mesh = common::bumpy_sphere(4, 11);
+    let set = mesh.triangles();
+    let tree = AabbTree::build_set(set.clone(), &BuildConfig::default()).unwrap();
+    let wide = WideTree::from_tree(tree.clone());
+    let grid: HashGrid<Triangle, FastHash> = HashGrid::build(set, &GridConfig::cubic(0.2)).unwrap();
+    let far = (1u32 << 27) as f32;
+    let mut rng = Rng::new(3);
+    for _ in 0..200 {
+        // Axis-aligned directions keep `near - far · d` exact in f32.
+        let axis = (rng.range(0.0, 3.0) as usize).min(2);
+        let sign = if rng.range(0.0, 1.0) < 0.5 { 1.0 } else { -1.0 };
+        let mut d = Vec3::ZERO;
+        d[axis] = sign;
+        let mut near = Vec3::new(rng.range(-0.8, 0.8), rng.range(-0.8, 0.8), rng.range(-0.8, 0.8));
+        near[axis] = -16.0 * sign;
+        let origin = near - d * far;
+        assert_eq!(origin + d * far, near, "the far origin is exact");
+        let want = tree.first_hit(near, d, 0.0, f32::INFINITY).unwrap();
+        let hits = [
+            tree.first_hit(origin, d, 0.0, f32::INFINITY).unwrap(),
+            wide.first_hit(origin, d, 0.0, f32::INFINITY).unwrap(),
+            grid.first_hit(origin, d, 0.0, f32::INFINITY).unwrap().map(|h| RayHit {
+                primitive: h.primitive,
+                source: h.source,
+                t: h.t,
+                point: h.point,
+                u: h.u,
+                v: h.v,
+            }),
+        ];
+        for (name, got) in ["tree", "wide", "grid"].iter().zip(hits) {
+            match (want, got) {
+                (None, None) => {}
+                (Some(w), Some(g)) => {
+                    assert_eq!(g.source, w.source, "{name}: near {near:?} dir {d:?}");
+                    // t at 2^27 has a step of 16: the sum rounds once.
+                    assert!(
+                        (g.t as f64 - (far as f64 + w.t as f64)).abs() <= 16.0,
+                        "{name}: t {} vs {}",
+                        g.t,
+                        w.t
+                    );
+                }
+                _ => panic!("{name}: hit {got:?}, the near ray {want:?}"),
+            }
+        }
+        assert_eq!(tree.any_hit(origin, d, 0.0, f32::INFINITY).unwrap(), want.is_some());
+        assert_eq!(wide.any_hit(origin, d, 0.0, f32::INFINITY).unwrap(), want.is_some());
+    }
+    // 1e30 away: beyond what f64 can place finely.
+    let (o, d) = (Vec3::new(0.1, 0.2, 1e30), -Vec3::Z);
+    assert_eq!(tree.first_hit(o, d, 0.0, f32::INFINITY), Err(RayError::OriginTooFar));
+    assert_eq!(wide.first_hit(o, d, 0.0, f32::INFINITY), Err(RayError::OriginTooFar));
+    assert!(grid.first_hit(o, d, 0.0, f32::INFINITY).is_err());
+}
+
+/// A mesh with coordinates near 1e17 (inside the documented bound 2^60):
+/// the watertight test's products overflow `f32` although `t` does not, and
+/// the hit must still be found, with `t` scaled like the mesh.
+#[test]
+fn huge_coordinates_keep_their_hits() {
+    let mesh = common::bumpy_sphere(3, 5);
+    let scale = 1e17f32;
+    let huge = Mesh::from_triangles(
+        mesh.positions().iter().map(|&p| p * scale).collect(),
+        &mesh.faces().map(|f| [f[0], f[1], f[2]]).collect::<Vec<_>>(),
+    )
+    .unwrap();
+    let small_tree = AabbTree::build_set(mesh.triangles(), &BuildConfig::default()).unwrap();
+    let tree = AabbTree::build_set(huge.triangles(), &BuildConfig::default()).unwrap();
+    let wide = WideTree::from_tree(tree.clone());
+    let grid: HashGrid<Triangle, FastHash> =
+        HashGrid::build(huge.triangles(), &GridConfig::cubic(0.3 * scale)).unwrap();
+    let mut rng = Rng::new(9);
+    let mut hits = 0;
+    for _ in 0..300 {
+        let o = Vec3::new(rng.range(-3.0, 3.0), rng.range(-3.0, 3.0), rng.range(-3.0, 3.0));
+        let aim = Vec3::new(rng.range(-0.5, 0.5), rng.range(-0.5, 0.5), rng.range(-0.5, 0.5));
+        let d = aim - o;
+        let Some(want) = small_tree.first_hit(o, d, 0.0, f32::INFINITY).unwrap() else {
+            continue;
+        };
+        hits += 1;
+        let got = [
+            tree.first_hit(o * scale, d, 0.0, f32::INFINITY)
+                .unwrap()
+                .map(|h| (h.source, h.t)),
+            wide.first_hit(o * scale, d, 0.0, f32::INFINITY)
+                .unwrap()
+                .map(|h| (h.source, h.t)),
+            grid.first_hit(o * scale, d, 0.0, f32::INFINITY)
+                .unwrap()
+                .map(|h| (h.source, h.t)),
+        ];
+        for (name, g) in ["tree", "wide", "grid"].iter().zip(got) {
+            let (source, t) = g.unwrap_or_else(|| panic!("{name}: no hit for {o:?} {d:?}"));
+            assert_eq!(source, want.source, "{name}");
+            assert!(
+                t.is_finite() && ((t / scale) - want.t).abs() <= 1e-4 * want.t.max(1.0),
+                "{name}: t {t} vs {}",
+                want.t
+            );
+        }
+    }
+    assert!(hits > 100, "{hits} rays hit");
+}

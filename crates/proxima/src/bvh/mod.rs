@@ -26,6 +26,7 @@ pub use config::{BuildConfig, MAX_COORDINATE, MAX_DEPTH, MAX_QUERY_COORDINATE, S
 pub use knn::KnnScratch;
 pub use node::Node;
 use node::NodePair;
+pub(crate) use ray::FarRay;
 pub use ray::RayHit;
 pub use traverse::QueryStats;
 pub use validate::TreeStats;

@@ -118,6 +118,86 @@ impl RaySlabs {
     }
 }
 
+/// How many box diagonals (along the ray) an origin may lie outside the
+/// structure's bounds before the ray is moved in `f64` ([`FarRay`]).
+const FAR_RAY_DIAGONALS: f64 = 1024.0;
+
+/// A ray whose origin lies far outside the bounds it is cast at, moved in
+/// `f64` to one box diagonal before it enters them. In `f32`, a parameter
+/// near `1e8` has a step of 8: the front and back faces of a mesh of size 10
+/// round to one `t`, and the tree could not tell them apart (a ray from
+/// `z = 1e8` hit the bunny's back face). The moved ray is the same line up to
+/// the `f32` rounding of its new origin, at the mesh's scale.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct FarRay {
+    /// The origin to cast from.
+    pub origin: Vec3,
+    /// Parameter range relative to `origin`.
+    pub t_min: f32,
+    pub t_max: f32,
+    /// The parameter of `origin` on the original ray (0 when not moved).
+    pub shift: f64,
+}
+
+impl FarRay {
+    /// The ray `origin + t · direction`, `t ∈ [t_min, t_max]`, cast at the box
+    /// `[min, max]`: moved when it starts more than [`FAR_RAY_DIAGONALS`]
+    /// diagonals before entering it, as it is otherwise (and when it misses);
+    /// `None` when the origin lies more than 2^30 diagonals from the box, where
+    /// the `f64` rounding of the move would exceed the box's `f32` resolution.
+    pub(crate) fn new(origin: Vec3, direction: Vec3, t_min: f32, t_max: f32, min: Vec3, max: Vec3) -> Option<Self> {
+        let unmoved = Self {
+            origin,
+            t_min,
+            t_max,
+            shift: 0.0,
+        };
+        let (o, d) = (
+            origin.to_array().map(|x| x as f64),
+            direction.to_array().map(|x| x as f64),
+        );
+        let (lo, hi) = (min.to_array().map(|x| x as f64), max.to_array().map(|x| x as f64));
+        let mut enter = f64::NEG_INFINITY;
+        for k in 0..3 {
+            if d[k] != 0.0 {
+                let (a, b) = ((lo[k] - o[k]) / d[k], (hi[k] - o[k]) / d[k]);
+                enter = enter.max(a.min(b));
+            }
+        }
+        let length = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        let diagonal = ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2) + (hi[2] - lo[2]).powi(2)).sqrt();
+        let back = diagonal.max(f64::MIN_POSITIVE) / length;
+        let shift = enter - back;
+        if !(shift.is_finite() && shift > FAR_RAY_DIAGONALS * back && shift > t_min as f64) {
+            return Some(unmoved);
+        }
+        let reach = o.iter().chain(&lo).chain(&hi).fold(0.0f64, |m, x| m.max(x.abs()));
+        if reach > diagonal * (1u64 << 30) as f64 {
+            return None;
+        }
+        let moved = Vec3::from_array(std::array::from_fn(|k| (o[k] + shift * d[k]) as f32));
+        if !moved.is_finite() {
+            return Some(unmoved);
+        }
+        Some(Self {
+            origin: moved,
+            t_min: (t_min as f64 - shift) as f32,
+            t_max: (t_max as f64 - shift) as f32,
+            shift,
+        })
+    }
+
+    /// A parameter of the moved ray on the original one.
+    #[inline]
+    pub(crate) fn original_t(&self, t: f32) -> f32 {
+        if self.shift == 0.0 {
+            t
+        } else {
+            (self.shift + t as f64) as f32
+        }
+    }
+}
+
 /// Checks a ray's input and prepares it; shared by every tree's ray queries.
 pub(crate) fn prepare_ray(origin: Vec3, direction: Vec3, t_min: f32, t_max: f32) -> Result<WatertightRay, RayError> {
     if !origin.is_finite() {
@@ -257,9 +337,15 @@ impl<T: RayIntersect> AabbTree<T> {
     /// Errors as [`first_hit`](Self::first_hit).
     #[inline]
     pub fn any_hit(&self, origin: Vec3, direction: Vec3, t_min: f32, t_max: f32) -> Result<bool, RayError> {
-        let ray = prepare_ray(origin, direction, t_min, t_max)?;
-        let mut any = AnyHit { t_max, found: false };
-        self.ray_walk(&ray, direction, t_min, &mut any, &mut ());
+        prepare_ray(origin, direction, t_min, t_max)?;
+        let Some(root) = self.root() else { return Ok(false) };
+        let far = FarRay::new(origin, direction, t_min, t_max, root.min, root.max).ok_or(RayError::OriginTooFar)?;
+        let ray = prepare_ray(far.origin, direction, far.t_min, far.t_max)?;
+        let mut any = AnyHit {
+            t_max: far.t_max,
+            found: false,
+        };
+        self.ray_walk(&ray, direction, far.t_min, &mut any, &mut ());
         Ok(any.found)
     }
 
@@ -301,14 +387,21 @@ impl<T: RayIntersect> AabbTree<T> {
         t_max: f32,
         counter: &mut C,
     ) -> Result<Option<RayHit>, RayError> {
-        let ray = prepare_ray(origin, direction, t_min, t_max)?;
+        prepare_ray(origin, direction, t_min, t_max)?;
+        let Some(root) = self.root() else { return Ok(None) };
+        let far = FarRay::new(origin, direction, t_min, t_max, root.min, root.max).ok_or(RayError::OriginTooFar)?;
+        let ray = prepare_ray(far.origin, direction, far.t_min, far.t_max)?;
         let mut first = FirstHit {
             indices: &self.indices,
-            t_hi: t_max,
+            t_hi: far.t_max,
             best: None,
         };
-        self.ray_walk(&ray, direction, t_min, &mut first, counter);
-        Ok(first.best.map(|(slot, hit)| self.ray_hit(slot, &hit)))
+        self.ray_walk(&ray, direction, far.t_min, &mut first, counter);
+        Ok(first.best.map(|(slot, hit)| {
+            let mut answer = self.ray_hit(slot, &hit);
+            answer.t = far.original_t(answer.t);
+            answer
+        }))
     }
 
     /// The answer for a hit of the primitive at leaf-order slot `slot`.

@@ -12,6 +12,7 @@
 
 use super::HashGrid;
 use crate::aabb::Aabb;
+use crate::bvh::FarRay;
 use crate::error::GridError;
 use crate::math::Vec3;
 use crate::primitive::{Triangle, WatertightRay};
@@ -83,6 +84,16 @@ impl<S: BuildHasher> HashGrid<Triangle, S> {
         );
         let margin = 1e-5 * (lo.abs().max(hi.abs()).max_element() + layout.cell_size().max_element());
         let world = Aabb::new(lo, hi).inflate(margin);
+        // A far origin is moved close in f64 (see `FarRay`): in f32 the hit
+        // tests could not tell the near face from the far one.
+        // Farther than f64 can place it finely: out of range, as documented.
+        let far = FarRay::new(origin, direction, t_min, t_max, world.min, world.max).ok_or(GridError::OutOfRange)?;
+        let (origin, t_min, t_max) = (far.origin, far.t_min, far.t_max);
+        let ray = if far.shift == 0.0 {
+            ray
+        } else {
+            WatertightRay::new(origin, direction).ok_or(GridError::RayDirection)?
+        };
         // Clipped in f64: a ray whose direction is long compared with the
         // cells (a fuzzed one started 3e15 away, with t = 1 at the hit)
         // crosses the whole grid within one f32 ulp of t.
@@ -134,6 +145,7 @@ impl<S: BuildHasher> HashGrid<Triangle, S> {
         }
         Ok(best.map(|b| GridRayHit {
             cells_visited: visited,
+            t: far.original_t(b.t),
             ..b
         }))
     }

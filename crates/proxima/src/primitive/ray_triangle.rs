@@ -132,7 +132,16 @@ impl WatertightRay {
             return None;
         }
         let (az, bz, cz) = (self.sz * a[kz], self.sz * b[kz], self.sz * c[kz]);
-        let t = (u * az + v * bz + w * cz) / det;
+        let mut t = (u * az + v * bz + w * cz) / det;
+        if !t.is_finite() {
+            // Products of coordinates near 1e17 overflow f32 although t does
+            // not: the same expression in f64 (a hit at t = ∞ is no hit).
+            let wide = |x: f32| x as f64;
+            t = ((wide(u) * wide(az) + wide(v) * wide(bz) + wide(w) * wide(cz)) / wide(det)) as f32;
+            if !t.is_finite() {
+                return None;
+            }
+        }
         if !(t >= t_min && t <= t_max) {
             return None;
         }

@@ -13,7 +13,7 @@
 use super::packet::TrianglePacket;
 use super::{LEAF, WideNode, WideTree};
 use crate::bvh::config::MAX_DEPTH;
-use crate::bvh::ray::{AnyHit, FirstHit, RayHit, RaySlabs, RayVisitor, prepare_ray};
+use crate::bvh::ray::{AnyHit, FarRay, FirstHit, RayHit, RaySlabs, RayVisitor, prepare_ray};
 use crate::bvh::traverse::{Counter, QueryStats};
 use crate::error::RayError;
 use crate::math::Vec3;
@@ -72,7 +72,8 @@ impl WideSlabs {
 }
 
 /// Which lanes of a packet a ray hits within `[t_min, t_max]`, with their hit,
-/// and which lanes need the scalar test (an edge function exactly zero).
+/// and which lanes need the scalar test (an edge function exactly zero, or a
+/// `t` beyond `f32`).
 #[inline(always)]
 fn packet_hits(packet: &TrianglePacket, ray: &WatertightRay, t_min: f32, t_max: f32) -> (u32, [TriangleHit; 4], u32) {
     let ([kx, ky, kz], [sx, sy, sz]) = ray.shear();
@@ -105,6 +106,12 @@ fn packet_hits(packet: &TrianglePacket, ray: &WatertightRay, t_min: f32, t_max: 
     let t = (u * (sz * a_z) + v * (sz * b_z) + w * (sz * c_z)) / det;
     let inside =
         !(negative & positive) & det.simd_ne(zero) & t.simd_ge(f32x4::splat(t_min)) & t.simd_le(f32x4::splat(t_max));
+    // Lanes whose t overflowed f32 (coordinates near 1e17) go to the scalar
+    // test too, which computes t again in f64.
+    let overflow = (t.simd_ne(t) | t.abs().simd_eq(f32x4::splat(f32::INFINITY))).to_bitmask()
+        & lanes
+        & det.simd_ne(zero).to_bitmask();
+    let exact_zero = exact_zero | overflow;
     let hit_lanes = inside.to_bitmask() & lanes & !exact_zero;
     let (t, bu, bv) = (t.to_array(), (v / det).to_array(), (w / det).to_array());
     let hits = std::array::from_fn(|lane| TriangleHit {
@@ -143,9 +150,15 @@ impl<T: RayIntersect> WideTree<T> {
     /// the same answer as [`AabbTree::any_hit`](crate::AabbTree::any_hit).
     #[inline]
     pub fn any_hit(&self, origin: Vec3, direction: Vec3, t_min: f32, t_max: f32) -> Result<bool, RayError> {
-        let ray = prepare_ray(origin, direction, t_min, t_max)?;
-        let mut any = AnyHit { t_max, found: false };
-        self.ray_walk(&ray, direction, t_min, &mut any, &mut ());
+        prepare_ray(origin, direction, t_min, t_max)?;
+        let Some(root) = self.tree.root() else { return Ok(false) };
+        let far = FarRay::new(origin, direction, t_min, t_max, root.min, root.max).ok_or(RayError::OriginTooFar)?;
+        let ray = prepare_ray(far.origin, direction, far.t_min, far.t_max)?;
+        let mut any = AnyHit {
+            t_max: far.t_max,
+            found: false,
+        };
+        self.ray_walk(&ray, direction, far.t_min, &mut any, &mut ());
         Ok(any.found)
     }
 
@@ -158,14 +171,21 @@ impl<T: RayIntersect> WideTree<T> {
         t_max: f32,
         counter: &mut C,
     ) -> Result<Option<RayHit>, RayError> {
-        let ray = prepare_ray(origin, direction, t_min, t_max)?;
+        prepare_ray(origin, direction, t_min, t_max)?;
+        let Some(root) = self.tree.root() else { return Ok(None) };
+        let far = FarRay::new(origin, direction, t_min, t_max, root.min, root.max).ok_or(RayError::OriginTooFar)?;
+        let ray = prepare_ray(far.origin, direction, far.t_min, far.t_max)?;
         let mut first = FirstHit {
             indices: &self.tree.indices,
-            t_hi: t_max,
+            t_hi: far.t_max,
             best: None,
         };
-        self.ray_walk(&ray, direction, t_min, &mut first, counter);
-        Ok(first.best.map(|(slot, hit)| self.tree.ray_hit(slot, &hit)))
+        self.ray_walk(&ray, direction, far.t_min, &mut first, counter);
+        Ok(first.best.map(|(slot, hit)| {
+            let mut answer = self.tree.ray_hit(slot, &hit);
+            answer.t = far.original_t(answer.t);
+            answer
+        }))
     }
 
     /// Depth-first, nearest entry first, on a fixed stack, as the binary
