@@ -20,7 +20,7 @@ use super::{Cell, CellRange, InsertMethod, scanline};
 use crate::aabb::Aabb;
 use crate::error::GridError;
 use crate::math::Vec3;
-use crate::primitive::exact_sat::{self, box_magnitude, rounding_bound};
+use crate::primitive::exact_sat::{self, box_magnitude, shape_bounds};
 use crate::primitive::sat::to64;
 use crate::primitive::segment_aabb::segment_overlaps as segment_aabb_overlap;
 use crate::primitive::{Bounded, BoxOverlap, LineSegment, Point, Triangle, TriangleBoxTest};
@@ -195,9 +195,9 @@ pub(crate) struct FlatTest {
     second: [f64; 3],
     min: [f64; 3],
     max: [f64; 3],
-    /// Rounding-bound scales of each axis and the vertices, for the exact
+    /// The rounding bound of the three axes and the vertices, for the exact
     /// fallback (as in [`TriangleBoxTest`]).
-    bound: [f64; 3],
+    bound: f64,
     box_magnitude: f64,
     vertices: [[f64; 3]; 3],
 }
@@ -212,13 +212,14 @@ impl FlatTest {
             second: [0.0; 3],
             min: [0.0; 3],
             max: [0.0; 3],
-            bound: [0.0; 3],
+            bound: 0.0,
             box_magnitude,
             vertices: *v,
         };
         let min = |a: f64, b: f64| if a < b { a } else { b };
         let max = |a: f64, b: f64| if a > b { a } else { b };
-        let abs = v.map(|p| p.map(f64::abs));
+        let magnitude = v.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+        t.bound = shape_bounds(magnitude, box_magnitude, 3).0;
         for i in 0..3 {
             let (p, q) = (v[i], v[(i + 1) % 3]);
             // (q − p) × unit_s: components (q − p)[s2] at s1, −(q − p)[s1] at s2.
@@ -231,10 +232,6 @@ impl FlatTest {
             } else {
                 (min(min(proj[0], proj[1]), proj[2]), max(max(proj[0], proj[1]), proj[2]))
             };
-            let (from, to) = (abs[i], abs[(i + 1) % 3]);
-            let (m1, m2) = (to[s2] + from[s2], to[s1] + from[s1]);
-            let triangle_magnitude = abs.iter().map(|x| x[s1] * m1 + x[s2] * m2).fold(0.0, max);
-            t.bound[i] = rounding_bound(box_magnitude, m1 + m2, triangle_magnitude);
         }
         t
     }
@@ -254,7 +251,7 @@ impl CellTest for FlatTest {
             let p = c1 * self.first[i] + c2 * self.second[i];
             let r = h1 * self.first[i].abs() + h2 * self.second[i].abs();
             let gap = (p - r - self.max[i]).max(self.min[i] - p - r);
-            let bound = self.bound[i];
+            let bound = self.bound;
             gap < -bound || (gap <= bound && !exact_sat::edge_axis_separates(&self.vertices, i, self.s, &lo, &hi))
         })
     }

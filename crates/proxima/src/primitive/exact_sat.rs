@@ -46,6 +46,21 @@ pub(crate) fn rounding_bound(box_magnitude: f64, axis_magnitude: f64, triangle_m
     ROUNDING_FACTOR * (2.0 * box_magnitude * axis_magnitude + triangle_magnitude)
 }
 
+/// The rounding bounds of every edge axis and of the normal of a shape of
+/// `count` vertices whose coordinates are at most `shape` in absolute value,
+/// against boxes of magnitude at most `boxes`: one number each, from the
+/// coordinates' magnitude instead of per axis (computing those cost more than
+/// the tests they guard). An edge axis's components have absolute forms of at
+/// most `2 · shape` each (`4 · shape` in all) and its shadow at most
+/// `4 · shape²`; the normal, a sum of `count − 2` cross products, at most
+/// `24 (count − 2) shape²` and its shadow `24 (count − 2) shape³`.
+#[inline]
+pub(crate) fn shape_bounds(shape: f64, boxes: f64, count: usize) -> (f64, f64) {
+    let edge = rounding_bound(boxes, 4.0 * shape, 4.0 * shape * shape);
+    let fan = 24.0 * (count - 2) as f64 * shape * shape;
+    (edge, rounding_bound(boxes, fan, fan * shape))
+}
+
 /// `true` when the closed intervals `[a_min, a_max]` and `[b_min, b_max]` are disjoint.
 fn disjoint<T: Exact>(a: (&T, &T), b: (&T, &T)) -> bool {
     a.1 < b.0 || b.1 < a.0

@@ -19,7 +19,7 @@
 //! (an edge parallel to a box axis) project everything to `[0, 0]` and never
 //! separate.
 
-use super::exact_sat::{self, box_magnitude, rounding_bound};
+use super::exact_sat::{self, box_magnitude, shape_bounds};
 use super::polygon::{ConvexPolygon, MAX_POLYGON_VERTICES};
 use super::sat::{Interval, Project, project_points, to64};
 use super::{BoxOverlap, Triangle};
@@ -60,16 +60,12 @@ pub struct PolygonBoxTest {
     shadow_max: [[f64; MAX_POLYGON_VERTICES]; 3],
     /// The vertices, for the exact fallback.
     vertices: [[f64; 3]; MAX_POLYGON_VERTICES],
-    /// Rounding-bound scales (as in [`TriangleBoxTest`](super::TriangleBoxTest)):
-    /// per edge axis the sum of its components' absolute forms and the
-    /// polygon's absolute shadow; the same for the normal.
-    edge_magnitude: [[f64; MAX_POLYGON_VERTICES]; 3],
-    edge_shape_magnitude: [[f64; MAX_POLYGON_VERTICES]; 3],
-    normal_magnitude: f64,
-    normal_shape_magnitude: f64,
+    /// The largest coordinate magnitude, which scales the rounding bounds
+    /// (as in [`TriangleBoxTest`](super::TriangleBoxTest)).
+    magnitude: f64,
     /// The bounds for boxes of magnitude at most `box_magnitude`.
     box_magnitude: f64,
-    edge_bound: [[f64; MAX_POLYGON_VERTICES]; 3],
+    edge_bound: f64,
     normal_bound: f64,
 }
 
@@ -113,34 +109,13 @@ impl PolygonBoxTest {
             shadow_min: [[0.0; MAX_POLYGON_VERTICES]; 3],
             shadow_max: [[0.0; MAX_POLYGON_VERTICES]; 3],
             vertices: [[0.0; 3]; MAX_POLYGON_VERTICES],
-            edge_magnitude: [[0.0; MAX_POLYGON_VERTICES]; 3],
-            edge_shape_magnitude: [[0.0; MAX_POLYGON_VERTICES]; 3],
-            normal_magnitude: 0.0,
-            normal_shape_magnitude: 0.0,
+            magnitude: 0.0,
             box_magnitude: f64::NAN,
-            edge_bound: [[0.0; MAX_POLYGON_VERTICES]; 3],
+            edge_bound: 0.0,
             normal_bound: 0.0,
         };
         t.vertices[..count].copy_from_slice(v);
-        let mut abs = [[0.0f64; 3]; MAX_POLYGON_VERTICES];
-        for (slot, p) in abs.iter_mut().zip(v) {
-            *slot = p.map(f64::abs);
-        }
-        let abs = &abs[..count];
-        let mut normal_abs_form = [0.0; 3];
-        for i in 1..count - 1 {
-            let a: [f64; 3] = std::array::from_fn(|k| abs[i][k] + abs[0][k]);
-            let b: [f64; 3] = std::array::from_fn(|k| abs[i + 1][k] + abs[0][k]);
-            for (k, n) in normal_abs_form.iter_mut().enumerate() {
-                let (k1, k2) = ((k + 1) % 3, (k + 2) % 3);
-                *n += a[k1] * b[k2] + a[k2] * b[k1];
-            }
-        }
-        t.normal_magnitude = normal_abs_form.iter().sum();
-        t.normal_shape_magnitude = abs
-            .iter()
-            .map(|p| p[0] * normal_abs_form[0] + p[1] * normal_abs_form[1] + p[2] * normal_abs_form[2])
-            .fold(0.0, max);
+        t.magnitude = box_magnitude(&t.lo, &t.hi);
         for j in 0..3 {
             let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
             for i in 0..count {
@@ -156,10 +131,6 @@ impl PolygonBoxTest {
                 };
                 (t.first[j][i], t.second[j][i]) = (a1, a2);
                 (t.shadow_min[j][i], t.shadow_max[j][i]) = (lo, hi);
-                let (from, to) = (abs[i], abs[(i + 1) % count]);
-                let (m1, m2) = (to[j2] + from[j2], to[j1] + from[j1]);
-                t.edge_magnitude[j][i] = m1 + m2;
-                t.edge_shape_magnitude[j][i] = abs.iter().map(|p| p[j1] * m1 + p[j2] * m2).fold(0.0, max);
             }
         }
         t
@@ -169,13 +140,7 @@ impl PolygonBoxTest {
     /// in absolute value: the rounding bounds computed once.
     pub(crate) fn for_boxes_within(mut self, magnitude: f64) -> Self {
         self.box_magnitude = magnitude;
-        self.normal_bound = rounding_bound(magnitude, self.normal_magnitude, self.normal_shape_magnitude);
-        for j in 0..3 {
-            for i in 0..self.count {
-                self.edge_bound[j][i] =
-                    rounding_bound(magnitude, self.edge_magnitude[j][i], self.edge_shape_magnitude[j][i]);
-            }
-        }
+        (self.edge_bound, self.normal_bound) = shape_bounds(self.magnitude, magnitude, self.count);
         self
     }
 
@@ -254,7 +219,7 @@ impl PolygonBoxTest {
         let p = c[j1] * a1 + c[j2] * a2;
         let r = h[j1] * a1.abs() + h[j2] * a2.abs();
         let gap = (p - r - self.shadow_max[j][i]).max(self.shadow_min[j][i] - p - r);
-        let bound = self.edge_bound[j][i];
+        let bound = self.edge_bound;
         gap > bound || (gap >= -bound && exact_sat::edge_axis_separates(&self.vertices[..self.count], i, j, lo, hi))
     }
 }

@@ -20,7 +20,7 @@
 //! decided again in integer arithmetic, where every `f32` is exact. Touching
 //! counts, whatever the coordinates' magnitudes.
 
-use super::exact_sat::{self, box_magnitude, rounding_bound};
+use super::exact_sat::{self, box_magnitude, shape_bounds};
 use super::sat::to64;
 use super::{BoxOverlap, Triangle};
 use crate::aabb::Aabb;
@@ -57,17 +57,12 @@ pub struct TriangleBoxTest {
     shadow_max: [f64; 9],
     /// The vertices, for the exact fallback.
     vertices: [[f64; 3]; 3],
-    /// Per edge axis: the sum of its components' absolute forms
-    /// (`|to| + |from|` per component) and the triangle's absolute shadow,
-    /// which scale the axis's rounding bound; the same for the normal.
-    edge_magnitude: [f64; 9],
-    edge_triangle_magnitude: [f64; 9],
-    normal_magnitude: f64,
-    normal_triangle_magnitude: f64,
+    /// The largest coordinate magnitude, which scales the rounding bounds.
+    magnitude: f64,
     /// The rounding bounds for boxes of magnitude at most `box_magnitude`
     /// ([`TriangleBoxTest::for_boxes_within`]).
     box_magnitude: f64,
-    edge_bound: [f64; 9],
+    edge_bound: f64,
     normal_bound: f64,
 }
 
@@ -99,27 +94,12 @@ impl TriangleBoxTest {
             shadow_min: [0.0; 9],
             shadow_max: [0.0; 9],
             vertices: v,
-            edge_magnitude: [0.0; 9],
-            edge_triangle_magnitude: [0.0; 9],
-            normal_magnitude: 0.0,
-            normal_triangle_magnitude: 0.0,
+            magnitude: 0.0,
             box_magnitude: f64::NAN,
-            edge_bound: [0.0; 9],
+            edge_bound: 0.0,
             normal_bound: 0.0,
         };
-        let abs = v.map(|p| p.map(f64::abs));
-        // |e0|, |e1| in absolute form (e1 = v2 − v0 as in the normal).
-        let e0_abs: [f64; 3] = std::array::from_fn(|k| abs[1][k] + abs[0][k]);
-        let e1_abs: [f64; 3] = std::array::from_fn(|k| abs[2][k] + abs[0][k]);
-        let normal_abs_form: [f64; 3] = std::array::from_fn(|k| {
-            let (k1, k2) = ((k + 1) % 3, (k + 2) % 3);
-            e0_abs[k1] * e1_abs[k2] + e0_abs[k2] * e1_abs[k1]
-        });
-        t.normal_magnitude = normal_abs_form.iter().sum();
-        t.normal_triangle_magnitude = abs
-            .iter()
-            .map(|p| p[0] * normal_abs_form[0] + p[1] * normal_abs_form[1] + p[2] * normal_abs_form[2])
-            .fold(0.0, max);
+        t.magnitude = box_magnitude(&t.lo, &t.hi);
         for j in 0..3 {
             let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
             for (i, edge) in e.iter().enumerate() {
@@ -138,10 +118,6 @@ impl TriangleBoxTest {
                 };
                 (t.first[x], t.second[x]) = (a1, a2);
                 (t.shadow_min[x], t.shadow_max[x]) = (lo, hi);
-                let (from, to) = (abs[i], abs[(i + 1) % 3]);
-                let (m1, m2) = (to[j2] + from[j2], to[j1] + from[j1]);
-                t.edge_magnitude[x] = m1 + m2;
-                t.edge_triangle_magnitude[x] = abs.iter().map(|p| p[j1] * m1 + p[j2] * m2).fold(0.0, max);
             }
         }
         t
@@ -152,10 +128,7 @@ impl TriangleBoxTest {
     /// bounds of every axis are computed once here instead of per box.
     pub(crate) fn for_boxes_within(mut self, magnitude: f64) -> Self {
         self.box_magnitude = magnitude;
-        self.normal_bound = rounding_bound(magnitude, self.normal_magnitude, self.normal_triangle_magnitude);
-        for x in 0..9 {
-            self.edge_bound[x] = rounding_bound(magnitude, self.edge_magnitude[x], self.edge_triangle_magnitude[x]);
-        }
+        (self.edge_bound, self.normal_bound) = shape_bounds(self.magnitude, magnitude, 3);
         self
     }
 
@@ -240,7 +213,7 @@ impl TriangleBoxTest {
         let p = c[j1] * self.first[x] + c[j2] * self.second[x];
         let r = h[j1] * self.first[x].abs() + h[j2] * self.second[x].abs();
         let gap = (p - r - self.shadow_max[x]).max(self.shadow_min[x] - p - r);
-        let bound = self.edge_bound[x];
+        let bound = self.edge_bound;
         gap > bound || (gap >= -bound && exact_sat::edge_axis_separates(&self.vertices, i, j, lo, hi))
     }
 }
