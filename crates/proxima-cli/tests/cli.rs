@@ -1,6 +1,9 @@
 //! The `proxima` binary: output formats, and one clear line for every kind of
 //! bad input (never a panic, always a non-zero exit).
 
+mod common;
+
+use common::temp_dir;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -17,27 +20,6 @@ fn stdout(o: &Output) -> String {
 
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-/// A fresh temporary directory for one test.
-/// A fresh directory in the system temp folder, removed when dropped
-/// (`tempfile`); reads as a `Path`.
-struct TempDir(tempfile::TempDir);
-
-impl std::ops::Deref for TempDir {
-    type Target = Path;
-    fn deref(&self) -> &Path {
-        self.0.path()
-    }
-}
-
-fn temp_dir(name: &str) -> TempDir {
-    TempDir(
-        tempfile::Builder::new()
-            .prefix(&format!("proxima-cli-{name}-"))
-            .tempdir()
-            .unwrap(),
-    )
 }
 
 fn write(dir: &Path, name: &str, content: &str) -> String {

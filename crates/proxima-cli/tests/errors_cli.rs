@@ -4,6 +4,9 @@
 //! one line, `proxima: FILE[:LINE]: what`, never "panicked", and exits with 1;
 //! usage errors (clap) exit with 2.
 
+mod common;
+
+use common::{TempDir, temp_dir};
 use std::io::Write;
 use std::path::Path;
 use std::process::{Command, Output};
@@ -19,26 +22,6 @@ fn proxima_env(args: &[&str], env: &[(&str, &str)]) -> Output {
         command.env(key, value);
     }
     command.output().expect("run proxima")
-}
-
-/// A fresh directory in the system temp folder, removed when dropped
-/// (`tempfile`); reads as a `Path`.
-struct TempDir(tempfile::TempDir);
-
-impl std::ops::Deref for TempDir {
-    type Target = Path;
-    fn deref(&self) -> &Path {
-        self.0.path()
-    }
-}
-
-fn temp_dir(name: &str) -> TempDir {
-    TempDir(
-        tempfile::Builder::new()
-            .prefix(&format!("proxima-errors-cli-{name}-"))
-            .tempdir()
-            .unwrap(),
-    )
 }
 
 /// Exit status `code`, no panic, and (for status 1) exactly one line on

@@ -2,6 +2,9 @@
 //! exactly planar quads (up to f32 rounding), the fallback note on stderr for
 //! faces that are not planar or convex, and the grid, bench and info rows.
 
+mod common;
+
+use common::temp_dir;
 use std::path::Path;
 use std::process::{Command, Output};
 
@@ -14,26 +17,6 @@ fn proxima(args: &[&str]) -> Output {
 
 fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
-}
-
-/// A fresh directory in the system temp folder, removed when dropped
-/// (`tempfile`); reads as a `Path`.
-struct TempDir(tempfile::TempDir);
-
-impl std::ops::Deref for TempDir {
-    type Target = Path;
-    fn deref(&self) -> &Path {
-        self.0.path()
-    }
-}
-
-fn temp_dir(name: &str) -> TempDir {
-    TempDir(
-        tempfile::Builder::new()
-            .prefix(&format!("proxima-cli-polygons-{name}-"))
-            .tempdir()
-            .unwrap(),
-    )
 }
 
 fn write(dir: &Path, name: &str, content: &str) -> String {

@@ -3,6 +3,9 @@
 //! the path in the message, and the text the catalogue quotes. The CLI side is
 //! `crates/proxima-cli/tests/errors_cli.rs`, with the same test names.
 
+mod common;
+
+use common::temp_dir;
 use proxima::bvh::{MAX_COORDINATE, WideTree};
 use proxima::grid::{GridConfig, HashGrid, VoxelConfig, voxelize};
 use proxima::io::LoadOptions;
@@ -10,26 +13,6 @@ use proxima::traversal::{GridTraversal, TraversalConfig};
 use proxima::{AabbTree, BuildConfig, BuildError, GridError, LinearSearch, LoadError, LoadErrorKind, MeshError, Vec3};
 use std::io::Write;
 use std::path::Path;
-
-/// A fresh directory in the system temp folder, removed when dropped
-/// (`tempfile`); reads as a `Path`.
-struct TempDir(tempfile::TempDir);
-
-impl std::ops::Deref for TempDir {
-    type Target = Path;
-    fn deref(&self) -> &Path {
-        self.0.path()
-    }
-}
-
-fn temp_dir(name: &str) -> TempDir {
-    TempDir(
-        tempfile::Builder::new()
-            .prefix(&format!("proxima-errors-{name}-"))
-            .tempdir()
-            .unwrap(),
-    )
-}
 
 fn assert_load_error(
     e: &LoadError,

@@ -121,3 +121,24 @@ pub fn queries(mesh: &Mesh, n: usize, seed: u64) -> Vec<Vec3> {
     out.push(b.center());
     out
 }
+
+/// A fresh directory in the system temp folder, removed when dropped
+/// (`tempfile`); reads as a `Path`.
+pub struct TempDir(tempfile::TempDir);
+
+impl std::ops::Deref for TempDir {
+    type Target = std::path::Path;
+    fn deref(&self) -> &std::path::Path {
+        self.0.path()
+    }
+}
+
+/// A fresh temporary directory for the test `name`.
+pub fn temp_dir(name: &str) -> TempDir {
+    TempDir(
+        tempfile::Builder::new()
+            .prefix(&format!("proxima-{name}-"))
+            .tempdir()
+            .unwrap(),
+    )
+}
