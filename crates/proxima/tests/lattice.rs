@@ -6,8 +6,10 @@
 
 mod common;
 
-use common::exact::{points_touch_box_by_clipping, triangle_touches_box, triangle_touches_box_by_clipping};
-use proxima::grid::{Cell, FastHash, GridConfig, GridLayout, HashGrid, InsertMethod, VoxelConfig, voxelize};
+use common::exact::{triangle_touches_box, triangle_touches_box_by_clipping};
+use proxima::grid::{
+    Cell, FastHash, GridConfig, GridInsert, GridLayout, HashGrid, InsertMethod, VoxelConfig, voxelize,
+};
 use proxima::primitive::PrimitiveSet;
 use proxima::sample::Rng;
 use proxima::{Aabb, ConvexPolygon, LineSegment, Triangle, Vec3};
@@ -99,135 +101,94 @@ fn check_voxelize(name: &str, tris: &[Triangle], bounds: &Aabb, resolution: u32)
     }
 }
 
-/// Builds the hash grid with both insertion methods and compares the cell
-/// set of every triangle with the oracle's.
-fn check_grid(name: &str, tris: &[Triangle], origin: Vec3, cell: Vec3) {
-    let config = GridConfig {
-        origin,
-        ..GridConfig::new(cell)
-    };
-    let layout = config.layout().unwrap();
-    let want: Vec<BTreeSet<Cell>> = (0..tris.len())
+/// The oracle's cell sets of `shapes` (each a triangle, possibly degenerate),
+/// cross-checked by exact clipping one time in 64.
+fn oracle_sets(shapes: &[Triangle], layout: &GridLayout) -> Vec<BTreeSet<Cell>> {
+    (0..shapes.len())
         .into_par_iter()
-        .map(|p| oracle_cells(&tris[p], &layout, p % 64 == 0).into_iter().collect())
-        .collect();
+        .map(|p| oracle_cells(&shapes[p], layout, p % 64 == 0).into_iter().collect())
+        .collect()
+}
+
+/// Builds the hash grid of `primitives` with both insertion methods and
+/// compares the cell set of every primitive with `want`.
+fn check_grid_of<T: GridInsert + Clone + Send + Sync>(
+    name: &str,
+    kind: &str,
+    primitives: &[T],
+    want: &[BTreeSet<Cell>],
+    config: GridConfig,
+) {
     for insert in [InsertMethod::Classic, InsertMethod::Scanline] {
-        let grid: HashGrid<Triangle, FastHash> = HashGrid::build(
-            PrimitiveSet::from_primitives(tris.to_vec()),
+        let grid: HashGrid<T, FastHash> = HashGrid::build(
+            PrimitiveSet::from_primitives(primitives.to_vec()),
             &GridConfig { insert, ..config },
         )
         .unwrap();
-        let mut got: Vec<BTreeSet<Cell>> = vec![BTreeSet::new(); tris.len()];
+        let mut got: Vec<BTreeSet<Cell>> = vec![BTreeSet::new(); primitives.len()];
         for (cell, members) in grid.occupied() {
             for &p in members {
                 got[p as usize].insert(cell);
             }
         }
-        let bad: Vec<String> = (0..tris.len())
+        let bad: Vec<String> = (0..primitives.len())
             .filter(|&p| got[p] != want[p])
-            .map(|p| describe(name, &format!("grid {insert:?} triangle {p}"), &got[p], &want[p]))
+            .map(|p| {
+                describe(
+                    name,
+                    &format!("grid of {kind} {insert:?}, number {p}"),
+                    &got[p],
+                    &want[p],
+                )
+            })
             .collect();
-        assert!(bad.is_empty(), "{} triangles differ; first: {}", bad.len(), bad[0]);
+        assert!(bad.is_empty(), "{} {kind} differ; first: {}", bad.len(), bad[0]);
     }
 }
 
-/// The grid of the triangles' edges (segments), both insertion methods,
-/// against the exact oracle for each segment and each candidate cell.
+fn grid_config(origin: Vec3, cell: Vec3) -> GridConfig {
+    GridConfig {
+        origin,
+        ..GridConfig::new(cell)
+    }
+}
+
+/// The grid of the triangles, against the exact oracle.
+fn check_grid(name: &str, tris: &[Triangle], origin: Vec3, cell: Vec3) {
+    let config = grid_config(origin, cell);
+    let want = oracle_sets(tris, &config.layout().unwrap());
+    check_grid_of(name, "triangles", tris, &want, config);
+}
+
+/// The grid of the triangles' edges (segments): the oracle tests each as the
+/// degenerate triangle a, b, b, which is the segment (cross-checked by
+/// clipping the segment itself).
 fn check_edge_grid(name: &str, tris: &[Triangle], origin: Vec3, cell: Vec3) {
     let edges: Vec<LineSegment> = tris
         .iter()
         .flat_map(|t| [LineSegment::new(t.a, t.b), LineSegment::new(t.b, t.c)])
         .collect();
-    for insert in [InsertMethod::Classic, InsertMethod::Scanline] {
-        let config = GridConfig {
-            origin,
-            insert,
-            ..GridConfig::new(cell)
-        };
-        let grid: HashGrid<LineSegment, FastHash> =
-            HashGrid::build(PrimitiveSet::from_primitives(edges.clone()), &config).unwrap();
-        let layout = *grid.layout();
-        let mut got: Vec<BTreeSet<Cell>> = vec![BTreeSet::new(); edges.len()];
-        for (c, members) in grid.occupied() {
-            for &p in members {
-                got[p as usize].insert(c);
-            }
-        }
-        let bad: Vec<String> = (0..edges.len())
-            .into_par_iter()
-            .filter_map(|p| {
-                let s = &edges[p];
-                let b = Aabb::from_points([s.a, s.b]);
-                let (o, size) = (layout.origin(), layout.cell_size());
-                let index = |x: f32, a: usize| ((x as f64 - o[a] as f64) / size[a] as f64).floor() as i64;
-                let mut want = BTreeSet::new();
-                for k in index(b.min.z, 2) - 1..=index(b.max.z, 2) + 1 {
-                    for j in index(b.min.y, 1) - 1..=index(b.max.y, 1) + 1 {
-                        for i in index(b.min.x, 0) - 1..=index(b.max.x, 0) + 1 {
-                            let cell_box = layout.cell_box([i, j, k]);
-                            let outside = (0..3).any(|a| b.max[a] < cell_box.min[a] || cell_box.max[a] < b.min[a]);
-                            // The integer test of the degenerate triangle a, b, b (which is
-                            // the segment), cross-checked by exact clipping one time in 16.
-                            let touches = !outside && triangle_touches_box(&Triangle::new(s.a, s.b, s.b), &cell_box);
-                            if p % 16 == 0 && !outside {
-                                assert_eq!(
-                                    touches,
-                                    points_touch_box_by_clipping(&[s.a, s.b], &cell_box),
-                                    "{s:?} {cell_box:?}"
-                                );
-                            }
-                            if touches {
-                                want.insert([i, j, k]);
-                            }
-                        }
-                    }
-                }
-                (got[p] != want).then(|| describe(name, &format!("edge grid {insert:?} segment {p}"), &got[p], &want))
-            })
-            .collect();
-        assert!(bad.is_empty(), "{} segments differ; first: {}", bad.len(), bad[0]);
-    }
+    let as_triangles: Vec<Triangle> = edges.iter().map(|s| Triangle::new(s.a, s.b, s.b)).collect();
+    let config = grid_config(origin, cell);
+    let want = oracle_sets(&as_triangles, &config.layout().unwrap());
+    check_grid_of(name, "segments", &edges, &want, config);
 }
 
 /// The grid of convex polygons (the quads formed by consecutive triangle
-/// pairs a, b, c / a, c, d of a voxel surface), both insertion methods: a
-/// quad touches a cell exactly when one of its two triangles does.
+/// pairs a, b, c / a, c, d of a voxel surface): a quad touches a cell exactly
+/// when one of its two triangles does.
 fn check_polygon_grid(name: &str, tris: &[Triangle], origin: Vec3, cell: Vec3) {
     let quads: Vec<ConvexPolygon> = tris
         .chunks_exact(2)
         .map(|p| ConvexPolygon::new(&[p[0].a, p[0].b, p[0].c, p[1].c]).expect("a planar square"))
         .collect();
-    let config = GridConfig {
-        origin,
-        ..GridConfig::new(cell)
-    };
-    let layout = config.layout().unwrap();
-    let want: Vec<BTreeSet<Cell>> = (0..quads.len())
-        .into_par_iter()
-        .map(|q| {
-            let mut cells: BTreeSet<Cell> = oracle_cells(&tris[2 * q], &layout, false).into_iter().collect();
-            cells.extend(oracle_cells(&tris[2 * q + 1], &layout, false));
-            cells
-        })
+    let config = grid_config(origin, cell);
+    let halves = oracle_sets(tris, &config.layout().unwrap());
+    let want: Vec<BTreeSet<Cell>> = halves
+        .chunks_exact(2)
+        .map(|h| h[0].union(&h[1]).copied().collect())
         .collect();
-    for insert in [InsertMethod::Classic, InsertMethod::Scanline] {
-        let grid: HashGrid<ConvexPolygon, FastHash> = HashGrid::build(
-            PrimitiveSet::from_primitives(quads.clone()),
-            &GridConfig { insert, ..config },
-        )
-        .unwrap();
-        let mut got: Vec<BTreeSet<Cell>> = vec![BTreeSet::new(); quads.len()];
-        for (c, members) in grid.occupied() {
-            for &p in members {
-                got[p as usize].insert(c);
-            }
-        }
-        let bad: Vec<String> = (0..quads.len())
-            .filter(|&q| got[q] != want[q])
-            .map(|q| describe(name, &format!("polygon grid {insert:?} quad {q}"), &got[q], &want[q]))
-            .collect();
-        assert!(bad.is_empty(), "{} quads differ; first: {}", bad.len(), bad[0]);
-    }
+    check_grid_of(name, "quads", &quads, &want, config);
 }
 
 // ------------------------------------------------------------ generators ---

@@ -198,6 +198,23 @@ impl FarRay {
     }
 }
 
+/// Checks a ray's input and prepares it for the tree whose root is `root`,
+/// moved near the root's box when it starts far out ([`FarRay`]); `None` for
+/// an empty tree. Shared by the binary and the wide tree's ray queries.
+pub(crate) fn prepare_tree_ray(
+    origin: Vec3,
+    direction: Vec3,
+    t_min: f32,
+    t_max: f32,
+    root: Option<&Node>,
+) -> Result<Option<(WatertightRay, FarRay)>, RayError> {
+    prepare_ray(origin, direction, t_min, t_max)?;
+    let Some(root) = root else { return Ok(None) };
+    let far = FarRay::new(origin, direction, t_min, t_max, root.min, root.max).ok_or(RayError::OriginTooFar)?;
+    let ray = prepare_ray(far.origin, direction, far.t_min, far.t_max)?;
+    Ok(Some((ray, far)))
+}
+
 /// Checks a ray's input and prepares it; shared by every tree's ray queries.
 pub(crate) fn prepare_ray(origin: Vec3, direction: Vec3, t_min: f32, t_max: f32) -> Result<WatertightRay, RayError> {
     if !origin.is_finite() {
@@ -337,10 +354,9 @@ impl<T: RayIntersect> AabbTree<T> {
     /// Errors as [`first_hit`](Self::first_hit).
     #[inline]
     pub fn any_hit(&self, origin: Vec3, direction: Vec3, t_min: f32, t_max: f32) -> Result<bool, RayError> {
-        prepare_ray(origin, direction, t_min, t_max)?;
-        let Some(root) = self.root() else { return Ok(false) };
-        let far = FarRay::new(origin, direction, t_min, t_max, root.min, root.max).ok_or(RayError::OriginTooFar)?;
-        let ray = prepare_ray(far.origin, direction, far.t_min, far.t_max)?;
+        let Some((ray, far)) = prepare_tree_ray(origin, direction, t_min, t_max, self.root())? else {
+            return Ok(false);
+        };
         let mut any = AnyHit {
             t_max: far.t_max,
             found: false,
@@ -387,10 +403,9 @@ impl<T: RayIntersect> AabbTree<T> {
         t_max: f32,
         counter: &mut C,
     ) -> Result<Option<RayHit>, RayError> {
-        prepare_ray(origin, direction, t_min, t_max)?;
-        let Some(root) = self.root() else { return Ok(None) };
-        let far = FarRay::new(origin, direction, t_min, t_max, root.min, root.max).ok_or(RayError::OriginTooFar)?;
-        let ray = prepare_ray(far.origin, direction, far.t_min, far.t_max)?;
+        let Some((ray, far)) = prepare_tree_ray(origin, direction, t_min, t_max, self.root())? else {
+            return Ok(None);
+        };
         let mut first = FirstHit {
             indices: &self.indices,
             t_hi: far.t_max,

@@ -13,7 +13,7 @@
 use super::packet::TrianglePacket;
 use super::{LEAF, WideNode, WideTree};
 use crate::bvh::config::MAX_DEPTH;
-use crate::bvh::ray::{AnyHit, FarRay, FirstHit, RayHit, RaySlabs, RayVisitor, prepare_ray};
+use crate::bvh::ray::{AnyHit, FirstHit, RayHit, RaySlabs, RayVisitor, prepare_tree_ray};
 use crate::bvh::traverse::{Counter, QueryStats};
 use crate::error::RayError;
 use crate::math::Vec3;
@@ -150,10 +150,9 @@ impl<T: RayIntersect> WideTree<T> {
     /// the same answer as [`AabbTree::any_hit`](crate::AabbTree::any_hit).
     #[inline]
     pub fn any_hit(&self, origin: Vec3, direction: Vec3, t_min: f32, t_max: f32) -> Result<bool, RayError> {
-        prepare_ray(origin, direction, t_min, t_max)?;
-        let Some(root) = self.tree.root() else { return Ok(false) };
-        let far = FarRay::new(origin, direction, t_min, t_max, root.min, root.max).ok_or(RayError::OriginTooFar)?;
-        let ray = prepare_ray(far.origin, direction, far.t_min, far.t_max)?;
+        let Some((ray, far)) = prepare_tree_ray(origin, direction, t_min, t_max, self.tree.root())? else {
+            return Ok(false);
+        };
         let mut any = AnyHit {
             t_max: far.t_max,
             found: false,
@@ -171,10 +170,9 @@ impl<T: RayIntersect> WideTree<T> {
         t_max: f32,
         counter: &mut C,
     ) -> Result<Option<RayHit>, RayError> {
-        prepare_ray(origin, direction, t_min, t_max)?;
-        let Some(root) = self.tree.root() else { return Ok(None) };
-        let far = FarRay::new(origin, direction, t_min, t_max, root.min, root.max).ok_or(RayError::OriginTooFar)?;
-        let ray = prepare_ray(far.origin, direction, far.t_min, far.t_max)?;
+        let Some((ray, far)) = prepare_tree_ray(origin, direction, t_min, t_max, self.tree.root())? else {
+            return Ok(None);
+        };
         let mut first = FirstHit {
             indices: &self.tree.indices,
             t_hi: far.t_max,
