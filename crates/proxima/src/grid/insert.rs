@@ -240,19 +240,25 @@ impl FlatTest {
 impl CellTest for FlatTest {
     #[inline(always)]
     fn cell(&self, _q: usize, lo: [f64; 3], hi: [f64; 3]) -> bool {
-        let (s1, s2) = ((self.s + 1) % 3, (self.s + 2) % 3);
-        let (c1, c2) = ((lo[s1] + hi[s1]) * 0.5, (lo[s2] + hi[s2]) * 0.5);
-        let (h1, h2) = ((hi[s1] - lo[s1]) * 0.5, (hi[s2] - lo[s2]) * 0.5);
+        let (c, h) = (
+            std::array::from_fn(|k| (lo[k] + hi[k]) * 0.5),
+            std::array::from_fn(|k| (hi[k] - lo[k]) * 0.5),
+        );
         debug_assert!(
             box_magnitude(&lo, &hi) <= self.box_magnitude,
             "bounds prepared for smaller cells"
         );
         (0..3).all(|i| {
-            let p = c1 * self.first[i] + c2 * self.second[i];
-            let r = h1 * self.first[i].abs() + h2 * self.second[i].abs();
-            let gap = (p - r - self.max[i]).max(self.min[i] - p - r);
-            let bound = self.bound;
-            gap < -bound || (gap <= bound && !exact_sat::edge_axis_separates(&self.vertices, i, self.s, &lo, &hi))
+            !exact_sat::edge_axis_gap_separates(
+                self.s,
+                (self.first[i], self.second[i]),
+                (self.min[i], self.max[i]),
+                self.bound,
+                (&c, &h),
+                (&lo, &hi),
+                &self.vertices,
+                i,
+            )
         })
     }
 }

@@ -46,6 +46,30 @@ pub(crate) fn rounding_bound(box_magnitude: f64, axis_magnitude: f64, triangle_m
     ROUNDING_FACTOR * (2.0 * box_magnitude * axis_magnitude + triangle_magnitude)
 }
 
+/// Does the axis `edge_i × unit_j` (components `axis` at `(j + 1) % 3` and
+/// `(j + 2) % 3`) separate the box `c ± h` (bounds `lo`, `hi`) from the shape
+/// with vertices `v`, whose shadow on it is `shadow`? Decided in `f64` when
+/// the gap between the shadows exceeds `bound`, exactly otherwise. Shared by
+/// the triangle, polygon and 2D tests.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub(crate) fn edge_axis_gap_separates(
+    j: usize,
+    axis: (f64, f64),
+    shadow: (f64, f64),
+    bound: f64,
+    (c, h): (&[f64; 3], &[f64; 3]),
+    (lo, hi): (&[f64; 3], &[f64; 3]),
+    v: &[[f64; 3]],
+    i: usize,
+) -> bool {
+    let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
+    let p = c[j1] * axis.0 + c[j2] * axis.1;
+    let r = h[j1] * axis.0.abs() + h[j2] * axis.1.abs();
+    let gap = (p - r - shadow.1).max(shadow.0 - p - r);
+    gap > bound || (gap >= -bound && edge_axis_separates(v, i, j, lo, hi))
+}
+
 /// The rounding bounds of every edge axis and of the normal of a shape of
 /// `count` vertices whose coordinates are at most `shape` in absolute value,
 /// against boxes of magnitude at most `boxes`: one number each, from the

@@ -214,13 +214,16 @@ impl PolygonBoxTest {
         lo: &[f64; 3],
         hi: &[f64; 3],
     ) -> bool {
-        let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
-        let (a1, a2) = (self.first[j][i], self.second[j][i]);
-        let p = c[j1] * a1 + c[j2] * a2;
-        let r = h[j1] * a1.abs() + h[j2] * a2.abs();
-        let gap = (p - r - self.shadow_max[j][i]).max(self.shadow_min[j][i] - p - r);
-        let bound = self.edge_bound;
-        gap > bound || (gap >= -bound && exact_sat::edge_axis_separates(&self.vertices[..self.count], i, j, lo, hi))
+        exact_sat::edge_axis_gap_separates(
+            j,
+            (self.first[j][i], self.second[j][i]),
+            (self.shadow_min[j][i], self.shadow_max[j][i]),
+            self.edge_bound,
+            (c, h),
+            (lo, hi),
+            &self.vertices[..self.count],
+            i,
+        )
     }
 }
 

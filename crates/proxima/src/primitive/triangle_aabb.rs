@@ -208,13 +208,17 @@ impl TriangleBoxTest {
         lo: &[f64; 3],
         hi: &[f64; 3],
     ) -> bool {
-        let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
         let x = 3 * j + i;
-        let p = c[j1] * self.first[x] + c[j2] * self.second[x];
-        let r = h[j1] * self.first[x].abs() + h[j2] * self.second[x].abs();
-        let gap = (p - r - self.shadow_max[x]).max(self.shadow_min[x] - p - r);
-        let bound = self.edge_bound;
-        gap > bound || (gap >= -bound && exact_sat::edge_axis_separates(&self.vertices, i, j, lo, hi))
+        exact_sat::edge_axis_gap_separates(
+            j,
+            (self.first[x], self.second[x]),
+            (self.shadow_min[x], self.shadow_max[x]),
+            self.edge_bound,
+            (c, h),
+            (lo, hi),
+            &self.vertices,
+            i,
+        )
     }
 }
 
