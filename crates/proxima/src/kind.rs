@@ -1,0 +1,170 @@
+//! The kinds of primitive a mesh gives, and generic code run on one kind.
+//!
+//! A command or a view that works on "vertices, edges, faces or polygons, as
+//! the user chose" writes its work once, generic over the primitive type, as
+//! a [`KindTask`]; [`PrimitiveKind::run`] extracts that kind's primitives
+//! and calls it with the concrete type. No virtual call per query: the task
+//! is monomorphized for each of the four types.
+
+use crate::frustum::FrustumOverlap;
+use crate::grid::GridInsert;
+use crate::mesh::Mesh;
+use crate::primitive::{BoundingPoints, ClosestPoint, ConvexPolygon, LineSegment, Point, PrimitiveSet, Triangle};
+use std::fmt;
+use std::str::FromStr;
+
+/// Which primitives of a mesh a query works on.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum PrimitiveKind {
+    /// The mesh's vertices, as [`Point`]s (source: vertex index).
+    Vertices,
+    /// The mesh's unique undirected edges, as [`LineSegment`]s (source: edge index).
+    Edges,
+    /// The mesh's faces as [`Triangle`]s, polygons fan-triangulated (source:
+    /// face index). The default.
+    #[default]
+    Faces,
+    /// The mesh's faces as [`ConvexPolygon`]s where convex and planar within
+    /// a tolerance, fan-triangulated otherwise (source: face index).
+    Polygons,
+}
+
+impl PrimitiveKind {
+    /// Every kind, in display order.
+    pub const ALL: [PrimitiveKind; 4] = [Self::Vertices, Self::Edges, Self::Faces, Self::Polygons];
+
+    /// The lowercase names, in the order of [`ALL`](Self::ALL).
+    pub const NAMES: [&'static str; 4] = ["vertices", "edges", "faces", "polygons"];
+
+    /// The lowercase name, as on the command line and in output.
+    ///
+    /// ```
+    /// use proxima::PrimitiveKind;
+    /// assert_eq!(PrimitiveKind::Edges.name(), "edges");
+    /// assert_eq!("edges".parse::<PrimitiveKind>(), Ok(PrimitiveKind::Edges));
+    /// ```
+    pub fn name(self) -> &'static str {
+        Self::NAMES[self as usize]
+    }
+
+    /// How many primitives of this kind `mesh` gives, at most (edges and
+    /// polygons come from faces: 0 faces, none of them).
+    pub fn available(self, mesh: &Mesh) -> usize {
+        match self {
+            Self::Vertices => mesh.vertex_count(),
+            Self::Edges | Self::Faces | Self::Polygons => mesh.face_count(),
+        }
+    }
+
+    /// Runs `task` on this kind's primitives of `mesh`; polygons are taken
+    /// with the relative planarity tolerance `planarity` (see
+    /// [`Mesh::extract_polygons`]).
+    ///
+    /// ```
+    /// use proxima::kind::{KindTask, MeshPrimitive};
+    /// use proxima::{Mesh, PrimitiveKind, PrimitiveSet, Vec3};
+    /// struct Count;
+    /// impl KindTask for Count {
+    ///     type Output = usize;
+    ///     fn run<T: MeshPrimitive>(self, set: PrimitiveSet<T>) -> usize {
+    ///         set.primitives.len()
+    ///     }
+    /// }
+    /// let mesh = Mesh::from_triangles(vec![Vec3::ZERO, Vec3::X, Vec3::Y], &[[0, 1, 2]]).unwrap();
+    /// assert_eq!(PrimitiveKind::Edges.run(&mesh, 0.0, Count), 3);
+    /// ```
+    pub fn run<F: KindTask>(self, mesh: &Mesh, planarity: f32, task: F) -> F::Output {
+        match self {
+            Self::Vertices => task.run(mesh.vertices()),
+            Self::Edges => task.run(mesh.edges()),
+            Self::Faces => task.run(mesh.triangles()),
+            Self::Polygons => task.run(mesh.extract_polygons(planarity).set),
+        }
+    }
+}
+
+impl fmt::Display for PrimitiveKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A name that is not one of [`PrimitiveKind::NAMES`].
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("'{0}' is not a primitive kind (vertices, edges, faces or polygons)")]
+pub struct UnknownKind(pub String);
+
+impl FromStr for PrimitiveKind {
+    type Err = UnknownKind;
+    fn from_str(text: &str) -> Result<Self, UnknownKind> {
+        Self::NAMES
+            .iter()
+            .position(|name| name.eq_ignore_ascii_case(text))
+            .map(|i| Self::ALL[i])
+            .ok_or_else(|| UnknownKind(text.to_string()))
+    }
+}
+
+/// Everything each of the four primitive types can do: the bound of generic
+/// code over kinds. Implemented for [`Point`], [`LineSegment`], [`Triangle`]
+/// and [`ConvexPolygon`].
+pub trait MeshPrimitive:
+    ClosestPoint + BoundingPoints + FrustumOverlap + GridInsert + Clone + fmt::Debug + Send + Sync + 'static
+{
+    /// The kind of primitive this type is.
+    const KIND: PrimitiveKind;
+}
+
+impl MeshPrimitive for Point {
+    const KIND: PrimitiveKind = PrimitiveKind::Vertices;
+}
+impl MeshPrimitive for LineSegment {
+    const KIND: PrimitiveKind = PrimitiveKind::Edges;
+}
+impl MeshPrimitive for Triangle {
+    const KIND: PrimitiveKind = PrimitiveKind::Faces;
+}
+impl MeshPrimitive for ConvexPolygon {
+    const KIND: PrimitiveKind = PrimitiveKind::Polygons;
+}
+
+/// Work written once for every primitive type, run by [`PrimitiveKind::run`].
+pub trait KindTask {
+    /// What the work gives.
+    type Output;
+    /// Does the work on the primitives of one kind.
+    fn run<T: MeshPrimitive>(self, primitives: PrimitiveSet<T>) -> Self::Output;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip_and_unknown_names_are_refused() {
+        for kind in PrimitiveKind::ALL {
+            assert_eq!(kind.name().parse::<PrimitiveKind>(), Ok(kind));
+            assert_eq!(kind.to_string(), kind.name());
+        }
+        assert_eq!("FACES".parse::<PrimitiveKind>(), Ok(PrimitiveKind::Faces));
+        assert!("face".parse::<PrimitiveKind>().is_err());
+        assert!("".parse::<PrimitiveKind>().is_err());
+    }
+
+    #[test]
+    fn each_type_names_its_kind() {
+        struct Kind;
+        impl KindTask for Kind {
+            type Output = PrimitiveKind;
+            fn run<T: MeshPrimitive>(self, _: PrimitiveSet<T>) -> PrimitiveKind {
+                T::KIND
+            }
+        }
+        let mesh =
+            crate::mesh::Mesh::from_triangles(vec![crate::Vec3::ZERO, crate::Vec3::X, crate::Vec3::Y], &[[0, 1, 2]])
+                .unwrap();
+        for kind in PrimitiveKind::ALL {
+            assert_eq!(kind.run(&mesh, 0.0, Kind), kind);
+        }
+    }
+}
