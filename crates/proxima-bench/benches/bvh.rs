@@ -7,8 +7,8 @@
 
 use criterion::{BatchSize, BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use parry3d::shape::TriMesh;
-use proxima::bvh::{BatchOptions, WideTree};
 use proxima::frustum::Frustum;
+use proxima::prelude::*;
 use proxima::{AabbTree, BuildConfig, LinearSearch, Mesh, SphereTree, Vec3};
 use proxima_bench::{load_named, parry_distance, parry_input, parry_trimesh};
 use std::hint::black_box;

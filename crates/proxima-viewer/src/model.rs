@@ -5,6 +5,7 @@
 use crate::scene::{self, MeshBuffers};
 use proxima::frustum::Frustum;
 use proxima::math::Vec3;
+use proxima::prelude::*;
 use proxima::{
     Aabb, AabbTree, BuildConfig, ClosestHit, ConvexPolygon, LineSegment, LinearSearch, Mesh, Point, PrimitiveSet,
     Sphere, SphereTree, TreeStats, Triangle,

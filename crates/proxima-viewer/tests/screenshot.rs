@@ -20,6 +20,7 @@
 //! with neither it prints a `skipped:` line and passes.
 
 use proxima::math::Vec3;
+use proxima::prelude::*;
 use proxima::{AabbTree, BuildConfig, Mesh};
 use proxima_viewer::scene::colors;
 use proxima_viewer::{

@@ -439,3 +439,16 @@ pub enum FrustumError {
     #[error("look-at camera needs finite vectors, eye != target, and up not parallel to the view direction")]
     View,
 }
+
+/// A ray the grid refuses, for the same reasons as the trees
+/// ([`Ray::with_range`](crate::Ray::with_range)).
+impl From<RayError> for GridError {
+    fn from(error: RayError) -> Self {
+        match error {
+            RayError::Origin => GridError::RayOrigin,
+            RayError::Direction => GridError::RayDirection,
+            RayError::Range { t_min, t_max } => GridError::RayRange { t_min, t_max },
+            RayError::OriginTooFar => GridError::OutOfRange,
+        }
+    }
+}

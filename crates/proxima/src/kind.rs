@@ -10,6 +10,7 @@ use crate::frustum::FrustumOverlap;
 use crate::grid::GridInsert;
 use crate::mesh::Mesh;
 use crate::primitive::{BoundingPoints, ClosestPoint, ConvexPolygon, LineSegment, Point, PrimitiveSet, Triangle};
+use crate::wide_tree::WidePrimitive;
 use std::fmt;
 use std::str::FromStr;
 
@@ -109,7 +110,7 @@ impl FromStr for PrimitiveKind {
 /// code over kinds. Implemented for [`Point`], [`LineSegment`], [`Triangle`]
 /// and [`ConvexPolygon`].
 pub trait MeshPrimitive:
-    ClosestPoint + BoundingPoints + FrustumOverlap + GridInsert + Clone + fmt::Debug + Send + Sync + 'static
+    ClosestPoint + BoundingPoints + FrustumOverlap + GridInsert + WidePrimitive + Copy + fmt::Debug + Send + Sync + 'static
 {
     /// The kind of primitive this type is.
     const KIND: PrimitiveKind;

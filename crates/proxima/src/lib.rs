@@ -1,32 +1,32 @@
 //! # proxima
 //!
 //! Spatial acceleration structures for 3D meshes, exact in their answers:
-//!
-//! - [`AabbTree`]: a bounding volume hierarchy of axis-aligned boxes with
-//!   closest-primitive and k-nearest queries;
-//! - [`SphereTree`]: the same hierarchy and queries with bounding spheres;
-//! - primitives taken from a [`Mesh`]: [`Point`] (vertices), [`LineSegment`]
-//!   (edges), [`Triangle`] (faces) and [`ConvexPolygon`] (faces as they
-//!   are, when convex and planar), described by small traits
-//!   ([`Bounded`], [`ClosestPoint`]);
-//! - view [`Frustum`] queries ([`AabbTree::frustum`]), exact for every
-//!   primitive ([`FrustumOverlap`]);
-//! - mesh loading from OBJ, PLY, STL and OFF files, optionally gzip-compressed
-//!   ([`io::load`]).
+//! every query equals brute force, field for field.
 //!
 //! ```
-//! use proxima::{AabbTree, Mesh, Vec3};
+//! use proxima::prelude::*;
 //! let mesh = Mesh::from_triangles(
 //!     vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z],
 //!     &[[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]],
 //! )
 //! .unwrap();
-//! let tree = AabbTree::build_set(mesh.triangles(), &Default::default()).unwrap();
+//! let tree = WideTree::build_set(mesh.triangles(), &Default::default()).unwrap();
 //! let hit = tree.closest(Vec3::new(0.2, 0.2, -1.0)).unwrap();
-//! assert_eq!(hit.source, 0); // face 0 lies in the z = 0 plane
-//! assert_eq!(hit.distance, 1.0);
+//! assert_eq!((hit.source, hit.distance), (0, 1.0)); // face 0 lies in the z = 0 plane
 //! ```
-// No unsafe code, except in one module (bvh/wide/avx2.rs) that calls AVX2
+//!
+//! ## Contents
+//!
+//! | Layer | Modules |
+//! |---|---|
+//! | Input | [`io`] (OBJ, PLY, STL, OFF, gzip; limits), [`mesh`] ([`Mesh`]), [`kind`] ([`PrimitiveKind`]: vertices, edges, faces, polygons) |
+//! | Primitives | [`primitive`] ([`Point`], [`LineSegment`], [`Triangle`], [`ConvexPolygon`]; traits [`Bounded`], [`ClosestPoint`], [`BoxOverlap`], [`RayIntersect`]), [`frustum`] ([`Frustum`], [`FrustumOverlap`]), [`ray`] ([`Ray`]) |
+//! | Queries | [`query`]: [`NearestQuery`], [`RayQuery`], [`FrustumQuery`], each written once over a structure's walk; answers [`ClosestHit`], [`RayHit`] |
+//! | Structures | [`bvh`] ([`AabbTree`]), [`wide_tree`] ([`WideTree`], 4-wide, SIMD leaves), [`sphere_tree`] ([`SphereTree`]), [`linear`] ([`LinearSearch`], brute force), [`grid`] ([`HashGrid`]), [`traversal`] ([`GridTraversal`]) |
+//! | Support | [`aabb`], [`sphere`], [`math`], [`memory`], [`budget`] (memory and work limits), [`error`] (typed errors), [`sample`] (seeded test and benchmark inputs) |
+//!
+//! `use proxima::prelude::*;` brings the structures, primitives and query traits.
+// No unsafe code, except in one module (wide_tree/avx2.rs) that calls AVX2
 // functions once the CPU has been seen to have AVX2; it allows it for itself.
 #![deny(unsafe_code)]
 #![deny(missing_docs)]
@@ -46,13 +46,16 @@ pub mod memory;
 pub mod mesh;
 pub mod prelude;
 pub mod primitive;
+pub mod query;
+pub mod ray;
 pub mod sample;
 pub mod sphere;
 pub mod sphere_tree;
 pub mod traversal;
+pub mod wide_tree;
 
 pub use aabb::Aabb;
-pub use bvh::{AabbTree, BuildConfig, ClosestHit, RayHit, TreeStats, WideTree};
+pub use bvh::{AabbTree, BuildConfig, TreeStats};
 pub use error::FrustumError;
 pub use error::GridError;
 pub use error::RayError;
@@ -67,6 +70,12 @@ pub use primitive::{
     Bounded, BoundingPoints, BoxOverlap, ClosestPoint, ConvexPolygon, LineSegment, Point, PrimitiveSet, RayIntersect,
     Triangle,
 };
+pub use query::{
+    BatchOptions, ClosestHit, FrustumQuery, KnnScratch, Leaves, NearestQuery, QueryStats, RayHit, RayQuery,
+    SpatialIndex,
+};
+pub use ray::Ray;
 pub use sphere::Sphere;
 pub use sphere_tree::SphereTree;
 pub use traversal::{GridTraversal, TraversalConfig, TraversalStep};
+pub use wide_tree::WideTree;

@@ -1,101 +1,100 @@
 //! Brute force: every query tests every primitive. The reference answer for
 //! the trees, and the baseline they are measured against.
 
-use crate::bvh::ClosestHit;
+use crate::aabb::Aabb;
 use crate::frustum::{Frustum, FrustumOverlap};
 use crate::math::{Vec3, Vec3A};
-use crate::primitive::{ClosestPoint, PrimitiveSet};
+use crate::primitive::{Bounded, ClosestPoint, PrimitiveSet, RayIntersect, WatertightRay};
+use crate::query::{Counter, FrustumQuery, Leaves, NearestQuery, NearestVisitor, RayQuery, RayVisitor, SpatialIndex};
 
-/// A linear scan over primitives, answering the same queries as the trees.
+/// A linear scan over primitives, answering the same queries as the trees
+/// ([`NearestQuery`], [`RayQuery`], [`FrustumQuery`]): its "walk" hands the
+/// visitor every primitive, in input order.
+///
+/// ```
+/// use proxima::prelude::*;
+/// let linear = LinearSearch::new(PrimitiveSet::from_primitives(vec![Point(Vec3::ZERO), Point(Vec3::X)]));
+/// assert_eq!(linear.closest(Vec3::new(0.8, 0.0, 0.0)).unwrap().primitive, 1);
+/// ```
 #[derive(Clone, Debug)]
 pub struct LinearSearch<T> {
-    set: PrimitiveSet<T>,
+    /// The primitives in input order (slot = input index).
+    leaves: Leaves<T>,
+    bounds: Aabb,
 }
 
-impl<T: ClosestPoint> LinearSearch<T> {
-    /// A scan over `set`.
+impl<T: Bounded> LinearSearch<T> {
+    /// A scan over `set`, in its order.
     pub fn new(set: PrimitiveSet<T>) -> Self {
-        Self { set }
-    }
-
-    /// The scanned primitives.
-    pub fn primitives(&self) -> &[T] {
-        &self.set.primitives
-    }
-
-    /// The closest primitive, ties to the lowest index; `None` when empty or
-    /// when `p` is not finite or beyond
-    /// [`MAX_QUERY_COORDINATE`](crate::bvh::MAX_QUERY_COORDINATE).
-    pub fn closest(&self, p: Vec3) -> Option<ClosestHit> {
-        if !crate::bvh::answerable(p) {
-            return None;
+        let bounds = set.primitives.iter().fold(Aabb::EMPTY, |b, p| b.merge(&p.bounds()));
+        let indices = (0..set.primitives.len() as u32).collect();
+        Self {
+            leaves: Leaves::new(set.primitives, indices, set.sources),
+            bounds,
         }
-        let pa = Vec3A::from(p);
-        let mut best: Option<(usize, Vec3A, f32)> = None;
-        for (i, prim) in self.set.primitives.iter().enumerate() {
-            let q = prim.closest_point(pa);
-            let d2 = (q - pa).length_squared();
-            if best.is_none_or(|(_, _, bd)| d2 < bd) {
-                best = Some((i, q, d2));
+    }
+}
+
+impl<T> LinearSearch<T> {
+    /// The primitives, in input order.
+    pub fn primitives(&self) -> &[T] {
+        self.leaves.primitives()
+    }
+
+    /// Number of primitives.
+    pub fn len(&self) -> usize {
+        self.leaves.len()
+    }
+
+    /// `true` when there is no primitive.
+    pub fn is_empty(&self) -> bool {
+        self.leaves.is_empty()
+    }
+}
+
+impl<T> SpatialIndex<T> for LinearSearch<T> {
+    #[inline(always)]
+    fn leaves(&self) -> &Leaves<T> {
+        &self.leaves
+    }
+    fn bounds(&self) -> Aabb {
+        self.bounds
+    }
+}
+
+impl<T: ClosestPoint> NearestQuery<T> for LinearSearch<T> {
+    fn nearest_walk<V: NearestVisitor<T>, C: Counter>(&self, p: Vec3A, visitor: &mut V, counter: &mut C) {
+        counter.primitives(self.len() as u64);
+        for (slot, primitive) in self.primitives().iter().enumerate() {
+            visitor.visit(slot, primitive, p);
+        }
+    }
+}
+
+impl<T: RayIntersect> RayQuery<T> for LinearSearch<T> {
+    fn ray_walk<V: RayVisitor<T>, C: Counter>(
+        &self,
+        ray: &WatertightRay,
+        _direction: Vec3,
+        t_min: f32,
+        visitor: &mut V,
+        counter: &mut C,
+    ) {
+        counter.primitives(self.len() as u64);
+        for (slot, primitive) in self.primitives().iter().enumerate() {
+            if visitor.visit(slot, primitive, ray, t_min) {
+                return;
             }
         }
-        best.filter(|b| b.2.is_finite()).map(|(i, q, d2)| ClosestHit {
-            primitive: i as u32,
-            source: self.set.sources[i],
-            point: q.into(),
-            distance: d2.sqrt(),
-        })
-    }
-
-    /// The `k` closest primitives, nearest first, ties by index.
-    pub fn k_nearest(&self, p: Vec3, k: usize) -> Vec<ClosestHit> {
-        if !crate::bvh::answerable(p) {
-            return Vec::new();
-        }
-        let pa = Vec3A::from(p);
-        let mut all: Vec<(f32, usize, Vec3A)> = self
-            .set
-            .primitives
-            .iter()
-            .enumerate()
-            .map(|(i, prim)| {
-                let q = prim.closest_point(pa);
-                ((q - pa).length_squared(), i, q)
-            })
-            .collect();
-        let order = |a: &(f32, usize, Vec3A), b: &(f32, usize, Vec3A)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1));
-        if k < all.len() {
-            // Selection first: only the k kept need sorting.
-            all.select_nth_unstable_by(k, order);
-            all.truncate(k);
-        }
-        all.sort_unstable_by(order);
-        all.into_iter()
-            .map(|(d2, i, q)| ClosestHit {
-                primitive: i as u32,
-                source: self.set.sources[i],
-                point: q.into(),
-                distance: d2.sqrt(),
-            })
-            .collect()
     }
 }
 
-impl<T: FrustumOverlap> LinearSearch<T> {
-    /// The indices of the primitives overlapping `frustum` (touching counts),
-    /// ascending: every primitive tested exactly.
-    pub fn frustum(&self, frustum: &Frustum) -> Vec<u32> {
-        let mut out = Vec::new();
-        self.frustum_into(frustum, &mut out);
-        out
-    }
-
-    /// [`frustum`](Self::frustum) into a caller-owned vector (cleared first).
-    pub fn frustum_into(&self, frustum: &Frustum, out: &mut Vec<u32>) {
+impl<T: FrustumOverlap> FrustumQuery<T> for LinearSearch<T> {
+    fn frustum_walk<C: Counter>(&self, frustum: &Frustum, out: &mut Vec<u32>, counter: &mut C) {
+        counter.primitives(self.len() as u64);
         out.clear();
         out.extend(
-            self.set
-                .primitives
+            self.primitives()
                 .iter()
                 .enumerate()
                 .filter(|(_, p)| p.overlaps_frustum(frustum))

@@ -262,6 +262,17 @@ pub fn huge_page_bytes() -> Option<u64> {
     Some(kib * 1024)
 }
 
+/// Asks for the cache line holding `x` without waiting for it, so that the
+/// miss overlaps with work already at hand. A no-op where there is no
+/// prefetch instruction.
+#[inline(always)]
+pub(crate) fn prefetch<T>(x: &T) {
+    #[cfg(all(target_arch = "x86_64", target_feature = "sse"))]
+    safe_arch::prefetch_t0(x);
+    #[cfg(not(all(target_arch = "x86_64", target_feature = "sse")))]
+    let _ = x;
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -3,8 +3,9 @@
 //! answer the queries.
 
 pub use crate::kind::{KindTask, MeshPrimitive, PrimitiveKind};
+pub use crate::query::{FrustumQuery, NearestQuery, RayQuery, SpatialIndex};
 pub use crate::{
-    Aabb, AabbTree, Bounded, BoundingPoints, BoxOverlap, BuildConfig, ClosestHit, ClosestPoint, ConvexPolygon, Frustum,
-    FrustumOverlap, GridConfig, HashGrid, LineSegment, LinearSearch, Mat4, Mesh, Point, PrimitiveSet, RayHit,
-    RayIntersect, SphereTree, Triangle, Vec3, Vec3A, WideTree,
+    Aabb, AabbTree, BatchOptions, Bounded, BoundingPoints, BoxOverlap, BuildConfig, ClosestHit, ClosestPoint,
+    ConvexPolygon, Frustum, FrustumOverlap, GridConfig, HashGrid, KnnScratch, LineSegment, LinearSearch, Mat4, Mesh,
+    Point, PrimitiveSet, QueryStats, RayHit, RayIntersect, SphereTree, Triangle, Vec3, Vec3A, WideTree,
 };

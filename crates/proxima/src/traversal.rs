@@ -150,8 +150,8 @@ pub struct GridTraversal {
 impl GridTraversal {
     /// The walk of `origin + t · direction` through the grid of `config`.
     ///
-    /// Errors: a zero or non-finite direction ([`GridError::RayDirection`]), a
-    /// non-finite origin ([`GridError::RayOrigin`]), an invalid cell size or
+    /// Errors: a ray that [`Ray::with_range`](crate::Ray::with_range) refuses
+    /// ([`GridError::RayOrigin`], [`GridError::RayDirection`]), an invalid cell size or
     /// grid origin, a non-finite `t_min` or `t_min > t_max`
     /// ([`GridError::RayRange`]), a start cell beyond the supported indices
     /// ([`GridError::OutOfRange`]).
@@ -172,15 +172,7 @@ impl GridTraversal {
         t_min: f32,
         t_max: f32,
     ) -> Result<Self, GridError> {
-        if !direction.is_finite() || direction == Vec3::ZERO {
-            return Err(GridError::RayDirection);
-        }
-        if !origin.is_finite() {
-            return Err(GridError::RayOrigin);
-        }
-        if !(t_min.is_finite() && t_min <= t_max) {
-            return Err(GridError::RayRange { t_min, t_max });
-        }
+        crate::ray::Ray::with_range(origin, direction, t_min, t_max)?;
         Self::in_layout_f64(layout, origin, direction, t_min as f64, t_max as f64)
     }
 

@@ -6,6 +6,7 @@ mod common;
 
 use common::{bumpy_sphere, queries, random_soup, shared_meshes};
 use proxima::bvh::SplitMethod;
+use proxima::prelude::*;
 use proxima::{AabbTree, BuildConfig, ClosestPoint, LinearSearch, Mesh, PrimitiveSet, Vec3};
 
 fn configs() -> Vec<BuildConfig> {
@@ -37,6 +38,7 @@ fn check<T: ClosestPoint + Copy + Send + Sync + std::fmt::Debug>(
     for &p in points {
         let expected = linear.closest(p);
         assert_eq!(tree.closest(p), expected, "closest at {p}, config {config:?}");
+        #[cfg(feature = "experimental")]
         assert_eq!(tree.closest_best_first(p), expected, "best-first at {p}");
         for &k in ks {
             assert_eq!(tree.k_nearest(p, k), linear.k_nearest(p, k), "k = {k} at {p}");
@@ -189,6 +191,7 @@ fn non_finite_queries_answer_nothing() {
         Vec3::new(0.0, f32::NAN, 1.0),
     ] {
         assert_eq!(tree.closest(p), None);
+        #[cfg(feature = "experimental")]
         assert_eq!(tree.closest_best_first(p), None);
         assert!(tree.k_nearest(p, 3).is_empty());
         // Between finite queries, whose answers seed the next search.

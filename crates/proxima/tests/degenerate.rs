@@ -17,8 +17,9 @@ mod bodies;
 mod common;
 
 use common::degenerate::{Case, cases};
-use proxima::bvh::{MAX_COORDINATE, SplitMethod, WideTree};
+use proxima::bvh::{MAX_COORDINATE, SplitMethod};
 use proxima::grid::{GridConfig, GridLayout, HashGrid, VoxelConfig, voxelize};
+use proxima::prelude::*;
 use proxima::traversal::GridTraversal;
 use proxima::{AabbTree, BuildConfig, BuildError, GridError, LinearSearch, Point, PrimitiveSet, Triangle, Vec3};
 

@@ -6,9 +6,10 @@
 mod common;
 
 use common::temp_dir;
-use proxima::bvh::{MAX_COORDINATE, WideTree};
+use proxima::bvh::MAX_COORDINATE;
 use proxima::grid::{GridConfig, HashGrid, VoxelConfig, voxelize};
 use proxima::io::LoadOptions;
+use proxima::prelude::*;
 use proxima::traversal::{GridTraversal, TraversalConfig};
 use proxima::{AabbTree, BuildConfig, BuildError, GridError, LinearSearch, LoadError, LoadErrorKind, MeshError, Vec3};
 use std::io::Write;

@@ -16,6 +16,7 @@ use proptest::prelude::*;
 use proxima::frustum::{Cull, Frustum, FrustumOverlap, PlaneMask};
 use proxima::math::Vec4;
 use proxima::math::camera;
+use proxima::prelude::*;
 use proxima::sample::Rng;
 use proxima::{
     Aabb, AabbTree, BuildConfig, FrustumError, LineSegment, LinearSearch, Mat4, Mesh, Point, PrimitiveSet, Triangle,

@@ -14,9 +14,10 @@
 
 mod common;
 
-use proxima::bvh::{MAX_DEPTH, SplitMethod, WideTree};
+use proxima::bvh::{MAX_DEPTH, SplitMethod};
 use proxima::grid::{GridConfig, HashGrid, VoxelConfig, voxelize};
 use proxima::io::{Format, LoadOptions, parse};
+use proxima::prelude::*;
 use proxima::traversal::{GridTraversal, TraversalConfig};
 use proxima::{AabbTree, BuildConfig, GridError, LinearSearch, LoadErrorKind, Point, PrimitiveSet, Vec3};
 use std::io::Write;

@@ -6,6 +6,7 @@ mod common;
 use common::{bumpy_sphere, queries, random_soup, shared_meshes};
 use parry3d::query::PointQuery;
 use parry3d::shape::TriMesh;
+use proxima::prelude::*;
 use proxima::{AabbTree, BuildConfig, Mesh};
 
 fn parry_mesh(mesh: &Mesh) -> TriMesh {

@@ -20,9 +20,10 @@ mod common;
 use common::oracle::{D3, Num, Q, clip_by_box, d3, dist, triangle_distance};
 use common::{data_dir, queries};
 use proptest::prelude::*;
-use proxima::bvh::WideTree;
+use proxima::WideTree;
 use proxima::grid::{Cell, GridConfig, GridInsert, GridLayout, HashGrid, InsertMethod, InsertParams};
 use proxima::mesh::PolygonExtraction;
+use proxima::prelude::*;
 use proxima::primitive::polygon::{DEFAULT_PLANARITY_TOLERANCE, MAX_POLYGON_VERTICES};
 use proxima::primitive::{PolygonBoxTest, WatertightRay};
 use proxima::sample::Rng;
@@ -206,10 +207,7 @@ fn clip_oracle<N: Num>(points: &[Vec3], b: &Aabb) -> bool {
 // ----------------------------------------------------------- comparisons ---
 
 /// Trees (binary, wide and sphere) against brute force over the same set, every field.
-fn check_tree<T: ClosestPoint + proxima::BoundingPoints + Copy + Send + Sync + std::fmt::Debug + 'static>(
-    set: PrimitiveSet<T>,
-    points: &[Vec3],
-) {
+fn check_tree<T: proxima::MeshPrimitive>(set: PrimitiveSet<T>, points: &[Vec3]) {
     let tree = AabbTree::build_set(set.clone(), &BuildConfig::default()).unwrap();
     tree.validate().unwrap();
     let spheres = proxima::SphereTree::build_set(set.clone(), &BuildConfig::default()).unwrap();

@@ -8,8 +8,9 @@
 mod common;
 
 use proptest::prelude::*;
-use proxima::bvh::{RayHit, SplitMethod, WideTree};
+use proxima::bvh::SplitMethod;
 use proxima::grid::{FastHash, GridConfig, HashGrid};
+use proxima::prelude::*;
 use proxima::primitive::{RayIntersect, WatertightRay};
 use proxima::sample::Rng;
 use proxima::{AabbTree, BuildConfig, Mesh, PrimitiveSet, RayError, Triangle, Vec3};

@@ -7,7 +7,8 @@ mod common;
 
 use common::{bumpy_sphere, queries, random_soup, shared_meshes};
 use proptest::prelude::*;
-use proxima::bvh::{KnnScratch, SplitMethod};
+use proxima::bvh::SplitMethod;
+use proxima::prelude::*;
 use proxima::{
     AabbTree, BoundingPoints, BuildConfig, ClosestPoint, LineSegment, LinearSearch, Mesh, Point, PrimitiveSet, Sphere,
     SphereTree, Triangle, Vec3,

@@ -5,8 +5,10 @@
 mod common;
 
 use common::{bumpy_sphere, queries, random_soup, shared_meshes};
-use proxima::bvh::{SplitMethod, WideChild, WideTree};
-use proxima::{AabbTree, BuildConfig, ClosestPoint, LinearSearch, Mesh, Point, PrimitiveSet, Triangle, Vec3};
+use proxima::bvh::SplitMethod;
+use proxima::prelude::*;
+use proxima::wide_tree::WideChild;
+use proxima::{AabbTree, BuildConfig, LinearSearch, Mesh, Point, PrimitiveSet, Triangle, Vec3};
 
 fn configs() -> Vec<BuildConfig> {
     let d = BuildConfig::default();
@@ -86,12 +88,7 @@ fn check_structure<T>(wide: &WideTree<T>, merged_leaves: bool) {
     assert!(wide.depth() <= tree.depth());
 }
 
-fn check<T: ClosestPoint + Copy + Send + Sync + std::fmt::Debug + 'static>(
-    set: PrimitiveSet<T>,
-    points: &[Vec3],
-    config: &BuildConfig,
-    ks: &[usize],
-) {
+fn check<T: proxima::MeshPrimitive>(set: PrimitiveSet<T>, points: &[Vec3], config: &BuildConfig, ks: &[usize]) {
     let wide = WideTree::build_set(set.clone(), config).unwrap();
     // As on a CPU without AVX2; and AVX2's eight-triangle leaves tested four
     // at a time (the same as the default where this CPU lacks AVX2).
@@ -121,6 +118,16 @@ fn check<T: ClosestPoint + Copy + Send + Sync + std::fmt::Debug + 'static>(
     // Every batch configuration gives the same answers.
     for options in common::batch_options() {
         assert_eq!(wide.closest_batch_with(points, options), batch, "{options:?}");
+    }
+    #[cfg(feature = "experimental")]
+    for walks in common::INTERLEAVED_WALKS {
+        for reorder in [false, true] {
+            assert_eq!(
+                wide.closest_batch_interleaved(points, reorder, walks),
+                batch,
+                "{walks} walks"
+            );
+        }
     }
     if let Some(&k) = ks.iter().max() {
         let batch = wide.k_nearest_batch(points, k);
@@ -252,6 +259,14 @@ fn non_finite_queries_answer_nothing() {
         assert!(expected[0].is_some() && expected[1].is_none());
         for options in common::batch_options() {
             assert_eq!(wide.closest_batch_with(&mixed, options), expected, "{options:?}");
+        }
+        #[cfg(feature = "experimental")]
+        for walks in common::INTERLEAVED_WALKS {
+            assert_eq!(
+                wide.closest_batch_interleaved(&mixed, true, walks),
+                expected,
+                "{walks} walks"
+            );
         }
     }
 }

@@ -25,7 +25,8 @@
 //! steadier than the ratio of best times when the load drifts between rounds.
 
 use parry3d::shape::TriMesh;
-use proxima::bvh::{BatchOptions, SplitMethod, WideTree};
+use proxima::bvh::SplitMethod;
+use proxima::prelude::*;
 use proxima::{AabbTree, BuildConfig, LinearSearch, Mesh};
 use proxima_bench::{Ray, aimed_rays, load_named, parry_distance, parry_input, parry_ray, parry_trimesh, ray_sets};
 use std::time::Instant;
@@ -160,17 +161,13 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &
                 round_wide = t;
                 // Batches on one thread, in Morton order: one query after the
                 // other (the default), and 8 interleaved walks.
-                for (options, best) in [
-                    (BatchOptions::default(), &mut t_wide_batch),
-                    (
-                        BatchOptions {
-                            interleave: 8,
-                            ..BatchOptions::default()
-                        },
-                        &mut t_wide_morton,
-                    ),
-                ] {
-                    let (b, t) = warm(|| one_thread.install(|| wide.closest_batch_with(&points, options)));
+                for (walks, best) in [(1, &mut t_wide_batch), (8, &mut t_wide_morton)] {
+                    let (b, t) = warm(|| {
+                        one_thread.install(|| match walks {
+                            1 => wide.closest_batch_with(&points, BatchOptions::default()),
+                            _ => wide.closest_batch_interleaved(&points, true, walks),
+                        })
+                    });
                     assert!(b.iter().zip(&ours).all(|(h, &d)| h.unwrap().distance == d));
                     *best = best.min(t);
                     if round_batch.is_nan() {

@@ -13,6 +13,7 @@
 //! alike. The answers of the two trees are checked equal.
 
 use proxima::bvh::SplitMethod;
+use proxima::prelude::*;
 use proxima::{AabbTree, BuildConfig, ClosestHit, Mesh, SphereTree, Vec3};
 use proxima_bench::load_named;
 use std::time::Instant;

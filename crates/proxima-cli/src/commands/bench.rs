@@ -5,10 +5,8 @@
 use crate::common::{Primitives, Split, load_mesh, parse_planarity, read_points};
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
-use proxima::bvh::WideTree;
-use proxima::{
-    AabbTree, BoundingPoints, BuildConfig, ClosestPoint, LinearSearch, Mesh, PrimitiveSet, SphereTree, Vec3,
-};
+use proxima::prelude::*;
+use proxima::{AabbTree, BuildConfig, LinearSearch, Mesh, PrimitiveSet, SphereTree, Vec3};
 use rayon::prelude::*;
 use serde_json::json;
 use std::path::PathBuf;
@@ -96,7 +94,7 @@ const BYTES_PER_QUERY: u64 = 96;
 const LINEAR_BUDGET: usize = 100_000_000;
 
 /// Benchmarks one primitive type: tree build, linear and tree queries.
-fn bench_set<T: ClosestPoint + BoundingPoints + Copy + Send + Sync + 'static>(
+fn bench_set<T: MeshPrimitive>(
     set: PrimitiveSet<T>,
     kind: Primitives,
     points: &[Vec3],

@@ -6,7 +6,7 @@ use crate::common::{
 };
 use crate::with_tree;
 use anyhow::{Context, bail};
-use proxima::bvh::WideTree;
+use proxima::prelude::*;
 use proxima::{ClosestHit, ClosestPoint, LinearSearch, PrimitiveSet, Vec3};
 use std::io::{BufWriter, Write};
 use std::path::PathBuf;

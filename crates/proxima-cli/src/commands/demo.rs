@@ -2,6 +2,7 @@
 
 use crate::common::{Primitives, build_tree, load_or_default};
 use crate::with_tree;
+use proxima::prelude::*;
 use proxima::{BuildConfig, Vec3};
 
 /// Arguments of `proxima demo`.

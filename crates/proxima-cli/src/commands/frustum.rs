@@ -8,6 +8,7 @@ use crate::common::{Primitives, Split, load_mesh, parse_planarity, polygons, req
 use anyhow::{Context, Result};
 use proxima::bvh::QueryStats;
 use proxima::frustum::Frustum;
+use proxima::prelude::*;
 use proxima::{
     AabbTree, BoundingPoints, BuildConfig, ClosestPoint, FrustumOverlap, LinearSearch, Mat4, PrimitiveSet, SphereTree,
     Vec3,

@@ -6,6 +6,7 @@ use super::grid::parse_cell;
 use crate::common::{load_mesh, parse_vec3};
 use anyhow::{Context, Result, bail};
 use proxima::grid::{FastHash, GridConfig, HashGrid};
+use proxima::prelude::*;
 use proxima::{AabbTree, BuildConfig, RayError, Triangle, Vec3};
 use serde_json::json;
 use std::path::PathBuf;

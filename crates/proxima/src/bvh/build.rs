@@ -200,7 +200,7 @@ impl<T: Bounded + Copy + Send + Sync> AabbTree<T> {
             .enumerate()
             .map(|(k, &i)| {
                 if let Some(&next) = indices.get(k + GATHER_AHEAD) {
-                    super::wide::prefetch(&primitives[next as usize]);
+                    crate::memory::prefetch(&primitives[next as usize]);
                 }
                 (primitives[i as usize], sources[i as usize])
             })
@@ -208,9 +208,7 @@ impl<T: Bounded + Copy + Send + Sync> AabbTree<T> {
         refit(nodes.as_mut_slice(), &ordered);
         Ok(Self {
             nodes: nodes.finish(),
-            primitives: ordered,
-            indices,
-            sources,
+            leaves: crate::query::Leaves::new(ordered, indices, sources),
             depth,
         })
     }

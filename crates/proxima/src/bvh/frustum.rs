@@ -1,51 +1,10 @@
-//! Frustum queries: every primitive sharing a point with a view frustum.
+//! The frustum walk of the binary trees: every primitive sharing a point
+//! with a view frustum.
 
-use super::AabbTree;
 use super::config::MAX_DEPTH;
-use super::traverse::{Counter, PairedNode, QueryStats};
+use super::walk::PairedNode;
 use crate::frustum::{Cull, Frustum, FrustumOverlap, PlaneMask};
-
-impl<T: FrustumOverlap> AabbTree<T> {
-    /// The build-input indices of the primitives overlapping `frustum`
-    /// (closed sets: touching counts), sorted ascending: the same set as
-    /// [`LinearSearch::frustum`](crate::LinearSearch::frustum).
-    ///
-    /// ```
-    /// use proxima::frustum::Frustum;
-    /// use proxima::{AabbTree, Point, Vec3};
-    /// let points: Vec<Point> = (0..10).map(|i| Point(Vec3::new(0.0, 0.0, -(i as f32)))).collect();
-    /// let tree = AabbTree::build(points, &Default::default()).unwrap();
-    /// let camera = Frustum::look_at(Vec3::ZERO, -Vec3::Z, Vec3::Y, 60.0, 1.0, 1.5, 5.5).unwrap();
-    /// assert_eq!(tree.frustum(&camera), [2, 3, 4, 5]);
-    /// ```
-    pub fn frustum(&self, frustum: &Frustum) -> Vec<u32> {
-        let mut out = Vec::new();
-        self.frustum_counted(frustum, &mut out, &mut ());
-        out
-    }
-
-    /// [`frustum`](Self::frustum) into a caller-owned vector (cleared first),
-    /// so a loop of queries allocates only while the vector grows. (Large
-    /// answers are radix-sorted in the vector's own spare capacity, up to
-    /// twice the answer's length.)
-    pub fn frustum_into(&self, frustum: &Frustum, out: &mut Vec<u32>) {
-        self.frustum_counted(frustum, out, &mut ());
-    }
-
-    /// [`frustum`](Self::frustum), also counting the nodes classified and the
-    /// primitives tested exactly (primitives of subtrees entirely inside are
-    /// reported without a test).
-    pub fn frustum_with_stats(&self, frustum: &Frustum) -> (Vec<u32>, QueryStats) {
-        let mut out = Vec::new();
-        let mut stats = QueryStats::default();
-        self.frustum_counted(frustum, &mut out, &mut stats);
-        (out, stats)
-    }
-
-    fn frustum_counted<C: Counter>(&self, frustum: &Frustum, out: &mut Vec<u32>, counter: &mut C) {
-        frustum_walk::<super::Node, T, C>(&self.nodes, &self.primitives, &self.indices, frustum, out, counter);
-    }
-}
+use crate::query::Counter;
 
 /// The frustum query of a tree stored as sibling pairs (the AABB tree and the
 /// sphere tree share it; only the node classification differs).

@@ -42,7 +42,7 @@ impl AsRef<[Node; 2]> for NodePair {
     }
 }
 
-impl super::traverse::PairedNode for Node {
+impl super::walk::PairedNode for Node {
     type Pair = NodePair;
     #[inline(always)]
     fn is_leaf(&self) -> bool {

@@ -2,7 +2,7 @@
 
 use super::AabbTree;
 use super::Node;
-use super::traverse::PairedNode;
+use super::walk::PairedNode;
 use crate::primitive::Bounded;
 
 /// Shape of a built tree.
@@ -69,9 +69,7 @@ impl<T: Bounded> AabbTree<T> {
             self.len(),
             self.node_count(),
             self.depth,
-            std::mem::size_of_val(&self.nodes[..])
-                + std::mem::size_of_val(&self.primitives[..])
-                + 4 * (self.indices.len() + self.sources.len()),
+            std::mem::size_of_val(&self.nodes[..]) + self.leaves.memory_bytes(),
         )
     }
 
@@ -83,9 +81,9 @@ impl<T: Bounded> AabbTree<T> {
     pub fn validate(&self) -> Result<(), String> {
         check_structure::<Node>(
             &self.nodes,
-            self.primitives.len(),
+            self.len(),
             self.depth,
-            &self.indices,
+            self.leaves.indices(),
             |i, ancestors| {
                 let n = self.node(i);
                 if let Some(&parent) = ancestors.last()
@@ -95,7 +93,7 @@ impl<T: Bounded> AabbTree<T> {
                 }
                 let outside = n.is_leaf().then(|| {
                     n.primitive_range()
-                        .find(|&slot| !n.bounds().contains(&self.primitives[slot].bounds()))
+                        .find(|&slot| !n.bounds().contains(&self.leaves.primitives()[slot].bounds()))
                 });
                 match outside.flatten() {
                     Some(slot) => Err(format!("leaf {i} does not hold primitive slot {slot}")),

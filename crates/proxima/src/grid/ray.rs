@@ -12,10 +12,10 @@
 
 use super::HashGrid;
 use crate::aabb::Aabb;
-use crate::bvh::FarRay;
 use crate::error::GridError;
 use crate::math::Vec3;
 use crate::primitive::{Triangle, WatertightRay};
+use crate::query::FarRay;
 use crate::traversal::GridTraversal;
 use std::hash::BuildHasher;
 
@@ -63,13 +63,8 @@ impl<S: BuildHasher> HashGrid<Triangle, S> {
         t_min: f32,
         t_max: f32,
     ) -> Result<Option<GridRayHit>, GridError> {
-        if !origin.is_finite() {
-            return Err(GridError::RayOrigin);
-        }
+        crate::ray::Ray::with_range(origin, direction, t_min, t_max)?;
         let ray = WatertightRay::new(origin, direction).ok_or(GridError::RayDirection)?;
-        if !(t_min.is_finite() && t_min <= t_max) {
-            return Err(GridError::RayRange { t_min, t_max });
-        }
         let Some(bounds) = self.bounds else { return Ok(None) };
         let layout = &self.layout;
         let lo = Vec3::new(

@@ -128,12 +128,9 @@ impl<T: BoundingPoints + Copy + Send + Sync> SphereTree<T> {
             })
             .collect();
         let depth = tree.depth();
-        let (primitives, indices, sources) = tree.into_leaf_order();
         Self {
             nodes,
-            primitives,
-            indices,
-            sources,
+            leaves: tree.into_leaves(),
             depth,
         }
     }

@@ -1,10 +1,10 @@
 //! The bounding-sphere tree: the same hierarchy and queries as the
 //! [`AabbTree`](crate::AabbTree), with a sphere instead of a box per node.
 //!
-//! One file per operation: the build (a conversion of the AABB tree's
-//! topology) in `build.rs`, closest-primitive queries in `closest.rs`,
-//! k-nearest in `knn.rs`, frustum queries in `frustum.rs` (the AABB tree's
-//! walk, classifying spheres), invariant checks in `validate.rs`.
+//! The build (a conversion of the AABB tree's topology) is in `build.rs`,
+//! the node in `node.rs`, invariant checks in `validate.rs`; the queries
+//! are the shared ones ([`NearestQuery`], [`FrustumQuery`]) on the AABB
+//! tree's walks, classifying spheres instead of boxes.
 //!
 //! # Exactness
 //!
@@ -21,17 +21,18 @@
 //!    visitors, so ties go to the lowest input index.
 
 mod build;
-mod closest;
-mod frustum;
-mod knn;
 mod node;
 mod validate;
 
 pub use node::SphereNode;
 use node::SpherePair;
 
-use crate::bvh::ClosestHit;
-use crate::math::Vec3A;
+use crate::aabb::Aabb;
+use crate::bvh::{frustum_walk, nearest_walk};
+use crate::frustum::{Frustum, FrustumOverlap};
+use crate::math::{Vec3, Vec3A};
+use crate::primitive::ClosestPoint;
+use crate::query::{Counter, FrustumQuery, Leaves, NearestQuery, NearestVisitor, SpatialIndex};
 
 /// A bounding volume hierarchy of spheres over primitives of type `T`.
 ///
@@ -41,7 +42,7 @@ use crate::math::Vec3A;
 /// array of 64-byte sibling pairs (node 0 is the root, node 1 padding).
 ///
 /// ```
-/// use proxima::{Point, SphereTree, Vec3};
+/// use proxima::prelude::*;
 /// let points = vec![Point(Vec3::ZERO), Point(Vec3::X), Point(Vec3::Y)];
 /// let tree = SphereTree::build(points, &Default::default()).unwrap();
 /// assert_eq!(tree.closest(Vec3::new(0.9, 0.2, 0.0)).unwrap().primitive, 1);
@@ -49,12 +50,8 @@ use crate::math::Vec3A;
 #[derive(Clone, Debug)]
 pub struct SphereTree<T> {
     nodes: Vec<SpherePair>,
-    /// Primitives in leaf order.
-    primitives: Vec<T>,
-    /// `indices[i]`: position in the build input of `primitives[i]`.
-    indices: Vec<u32>,
-    /// `sources[i]`: mesh element `primitives[i]` came from.
-    sources: Vec<u32>,
+    /// Primitives in leaf order, with their input indices and sources.
+    leaves: Leaves<T>,
     depth: u32,
 }
 
@@ -87,17 +84,17 @@ impl<T> SphereTree<T> {
 
     /// The primitives in leaf order.
     pub fn primitives(&self) -> &[T] {
-        &self.primitives
+        self.leaves.primitives()
     }
 
     /// Number of primitives.
     pub fn len(&self) -> usize {
-        self.primitives.len()
+        self.leaves.len()
     }
 
     /// `true` when the tree holds no primitive.
     pub fn is_empty(&self) -> bool {
-        self.primitives.is_empty()
+        self.leaves.is_empty()
     }
 
     /// Depth of the deepest leaf (0 when the root is a leaf).
@@ -108,22 +105,51 @@ impl<T> SphereTree<T> {
     /// The build-input index of the primitive at leaf-order slot `slot`.
     #[inline]
     pub fn input_index(&self, slot: usize) -> u32 {
-        self.indices[slot]
+        self.leaves.indices()[slot]
     }
 
     /// The source of the primitive at leaf-order slot `slot`.
     #[inline]
     pub fn source(&self, slot: usize) -> u32 {
-        self.sources[slot]
+        self.leaves.sources()[slot]
     }
+}
 
+impl<T> SpatialIndex<T> for SphereTree<T> {
+    #[inline(always)]
+    fn leaves(&self) -> &Leaves<T> {
+        &self.leaves
+    }
+    fn bounds(&self) -> Aabb {
+        self.root().map_or(Aabb::EMPTY, |n| {
+            let sphere = n.sphere();
+            Aabb::new(
+                sphere.center - Vec3::splat(sphere.radius),
+                sphere.center + Vec3::splat(sphere.radius),
+            )
+        })
+    }
+}
+
+/// The AABB tree's walk over sphere nodes.
+impl<T: ClosestPoint> NearestQuery<T> for SphereTree<T> {
     #[inline]
-    fn hit(&self, slot: usize, point: Vec3A, distance_squared: f32) -> ClosestHit {
-        ClosestHit {
-            primitive: self.indices[slot],
-            source: self.sources[slot],
-            point: point.into(),
-            distance: distance_squared.sqrt(),
-        }
+    fn nearest_walk<V: NearestVisitor<T>, C: Counter>(&self, p: Vec3A, visitor: &mut V, counter: &mut C) {
+        nearest_walk::<SphereNode, T, V, C>(&self.nodes, self.depth, self.leaves.primitives(), p, visitor, counter);
+    }
+}
+
+/// The AABB tree's frustum walk, with each node's sphere classified against
+/// the planes instead of its box.
+impl<T: FrustumOverlap> FrustumQuery<T> for SphereTree<T> {
+    fn frustum_walk<C: Counter>(&self, frustum: &Frustum, out: &mut Vec<u32>, counter: &mut C) {
+        frustum_walk::<SphereNode, T, C>(
+            &self.nodes,
+            self.leaves.primitives(),
+            self.leaves.indices(),
+            frustum,
+            out,
+            counter,
+        );
     }
 }

@@ -22,9 +22,7 @@ impl<T: BoundingPoints> SphereTree<T> {
             self.len(),
             self.node_count(),
             self.depth,
-            std::mem::size_of_val(&self.nodes[..])
-                + std::mem::size_of_val(&self.primitives[..])
-                + 4 * (self.indices.len() + self.sources.len()),
+            std::mem::size_of_val(&self.nodes[..]) + self.leaves.memory_bytes(),
         )
     }
 
@@ -38,9 +36,9 @@ impl<T: BoundingPoints> SphereTree<T> {
         let mut points: Vec<Vec3> = Vec::new();
         check_structure::<SphereNode>(
             &self.nodes,
-            self.primitives.len(),
+            self.len(),
             self.depth,
-            &self.indices,
+            self.leaves.indices(),
             |i, ancestors| {
                 let n = self.node(i);
                 if !(n.center.is_finite() && n.radius.is_finite() && n.radius >= 0.0) {
@@ -51,7 +49,7 @@ impl<T: BoundingPoints> SphereTree<T> {
                 }
                 for slot in n.primitive_range() {
                     points.clear();
-                    self.primitives[slot].push_bounding_points(&mut points);
+                    self.leaves.primitives()[slot].push_bounding_points(&mut points);
                     for &node in ancestors.iter().chain([&i]) {
                         let s = self.node(node).sphere();
                         let slack = (s.center.abs().max_element() + s.radius) * CHECK_ULPS * f32::EPSILON;

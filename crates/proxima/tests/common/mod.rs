@@ -84,20 +84,19 @@ pub fn mixed_with(bad: Vec3) -> [Vec3; 5] {
 }
 
 /// Every batch configuration worth checking: input and Morton order, with
-/// and without radius seeding, one to sixteen interleaved walks.
-pub fn batch_options() -> Vec<proxima::bvh::BatchOptions> {
+/// and without radius seeding.
+pub fn batch_options() -> Vec<proxima::BatchOptions> {
     let mut out = Vec::new();
     for reorder in [false, true] {
-        for (seed_radius, interleave) in [(false, 1), (true, 1), (false, 2), (false, 8), (false, 16), (true, 8)] {
-            out.push(proxima::bvh::BatchOptions {
-                reorder,
-                seed_radius,
-                interleave,
-            });
+        for seed_radius in [false, true] {
+            out.push(proxima::BatchOptions { reorder, seed_radius });
         }
     }
     out
 }
+
+/// The numbers of interleaved walks worth checking (`experimental` feature).
+pub const INTERLEAVED_WALKS: [usize; 4] = [1, 2, 8, 16];
 
 /// Query points of every kind: far away, near the surface, uniform in the box,
 /// exactly on vertices, on edge midpoints, at the center (inside closed meshes).

@@ -23,31 +23,30 @@
 //! triangles and their two packets are tested at once on 256-bit lanes, with
 //! the same bits.
 //!
-//! The traversal ([`WideTree::closest`]) is depth-first with a fixed stack:
-//! at each wide node one `f32x4` computation gives the four box distances,
-//! the children within the radius are visited nearest first, the farther ones
-//! wait on the stack with their distances and are dropped when popped if the
-//! radius has shrunk. Every child within reach is prefetched as soon as its
-//! node is read, so that the cache misses of a step overlap; an inner child's
-//! leaf packets are prefetched with it, a level ahead.
+//! One walk serves every query (`walk.rs`): distance queries (`nearest.rs`)
+//! and rays (`ray.rs`) differ only in the keys they give a node's four
+//! children and in what they do at a leaf. The collapse from the binary tree
+//! is in `convert.rs`, the triangle packets in `packet.rs`, their AVX2 test
+//! in `avx2.rs` (the crate's only `unsafe` code).
 
 #[cfg(target_arch = "x86_64")]
 mod avx2;
+#[cfg(feature = "experimental")]
 mod batch;
-mod closest;
 mod convert;
-mod knn;
+mod nearest;
 mod packet;
 mod ray;
-mod traverse;
+mod walk;
 
-pub use knn::WideKnnScratch;
-pub(crate) use traverse::prefetch;
+pub use packet::WidePrimitive;
 
-use super::AabbTree;
 use crate::aabb::Aabb;
+use crate::bvh::AabbTree;
+use crate::frustum::{Frustum, FrustumOverlap};
 use crate::math::Vec3;
 use crate::memory::HugePageArray;
+use crate::query::{Counter, FrustumQuery, Leaves, SpatialIndex};
 use packet::TrianglePacket;
 use wide::f32x4;
 
@@ -57,7 +56,7 @@ const LEAF: u32 = 1 << 31;
 /// For an inner lane, [`WideNode::counts`] holds 1 + the index of the first
 /// triangle packet of that wide node's own leaf lanes (0: none), so that a
 /// walk can prefetch the packets together with the node
-/// ([`PREFETCHED_PACKETS`](traverse::PREFETCHED_PACKETS) of them). This gives
+/// ([`PREFETCHED_PACKETS`](walk::PREFETCHED_PACKETS) of them). This gives
 /// the packet's index, or `usize::MAX` (which no slice holds) for none.
 #[inline(always)]
 fn packet_hint(count: u32) -> usize {
@@ -178,8 +177,7 @@ impl WideNode {
 /// indices and sources its leaves refer to.
 ///
 /// ```
-/// use proxima::bvh::WideTree;
-/// use proxima::{AabbTree, Point, Vec3};
+/// use proxima::prelude::*;
 /// let points = (0..100).map(|i| Point(Vec3::new(i as f32, 0.0, 0.0))).collect();
 /// let tree = AabbTree::build(points, &Default::default()).unwrap();
 /// let wide = WideTree::from_tree(tree);
@@ -200,7 +198,7 @@ pub struct WideTree<T> {
     /// Depth of the deepest wide node (the root has depth 0).
     depth: u32,
     /// Present when leaves are tested two packets at a time with AVX2.
-    avx2: Option<traverse::Avx2>,
+    avx2: Option<walk::Avx2>,
     /// How far outside its triangle's box a computed closest point may lie:
     /// 16 ulps of the largest coordinate of the tree (twice the slack of
     /// the node boxes' widening). A pair of triangle packets is skipped only
@@ -260,7 +258,7 @@ impl<T> WideTree<T> {
     /// is on by default), to compare the two; answers are identical. The
     /// leaves stay as they were made (see [`from_tree_portable`](Self::from_tree_portable)).
     pub fn set_avx2(&mut self, enabled: bool) {
-        self.avx2 = if enabled { traverse::detect_avx2() } else { None };
+        self.avx2 = if enabled { walk::detect_avx2() } else { None };
     }
 
     /// Bytes of the wide nodes and triangle packets, on top of the binary
@@ -290,8 +288,26 @@ impl<T> WideTree<T> {
     }
 }
 
-impl<T: 'static> From<AabbTree<T>> for WideTree<T> {
+impl<T: WidePrimitive> From<AabbTree<T>> for WideTree<T> {
     fn from(tree: AabbTree<T>) -> Self {
         Self::from_tree(tree)
+    }
+}
+
+impl<T> SpatialIndex<T> for WideTree<T> {
+    #[inline(always)]
+    fn leaves(&self) -> &Leaves<T> {
+        self.tree.leaves()
+    }
+    fn bounds(&self) -> Aabb {
+        self.tree.bounds()
+    }
+}
+
+/// The binary tree's frustum walk: a frustum query visits whole subtrees
+/// at once, which four-wide nodes do not speed up.
+impl<T: FrustumOverlap> FrustumQuery<T> for WideTree<T> {
+    fn frustum_walk<C: Counter>(&self, frustum: &Frustum, out: &mut Vec<u32>, counter: &mut C) {
+        self.tree.frustum_walk(frustum, out, counter);
     }
 }

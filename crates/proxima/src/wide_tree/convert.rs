@@ -1,24 +1,22 @@
 //! Collapsing a binary [`AabbTree`] into a [`WideTree`].
 
-use super::packet::TrianglePacket;
+use super::packet::{TrianglePacket, WidePrimitive};
+use super::walk::{Avx2, detect_avx2};
 use super::{WideNode, WideTree};
 use crate::aabb::Aabb;
-use crate::bvh::AabbTree;
-use crate::bvh::config::BuildConfig;
+use crate::bvh::{AabbTree, BuildConfig};
 use crate::error::BuildError;
 use crate::math::Vec3;
-use crate::memory::{HugePageArray, HugePageVec};
+use crate::memory::{HugePageArray, HugePageVec, prefetch};
 use crate::primitive::{Bounded, PrimitiveSet, Triangle};
-use std::any::{Any, TypeId};
+use crate::query::SpatialIndex;
 use std::ops::Range;
 
 /// The range of leaf-order slots below each binary node (a subtree covers
 /// a contiguous range: its leftmost leaf's start to its rightmost leaf's
 /// end), by node index, in one backward pass: children follow their parent
-/// in the node array. Walking down a subtree's two edges each time a node
-/// is considered instead made the whole collapse 1.19x (dragon) and 1.29x
-/// (ico1m) as long (one thread, median ratio of 15 alternating rounds; best
-/// times 69 against 54 ms and 66 against 44 ms).
+/// in the node array: cheaper than walking down a subtree's two edges each
+/// time a node is considered (docs/perf-log.md).
 fn subtree_ranges<T>(tree: &AabbTree<T>) -> Vec<Range<u32>> {
     // Index 1 is unused (the root has no sibling), so indices reach `node_count`.
     let mut ranges = vec![0..0; tree.node_count() + 1];
@@ -100,24 +98,21 @@ fn collapse<T>(
 }
 
 /// Binary subtrees of at most this many triangles become one leaf of the
-/// wide tree when leaves are tested with AVX2. Measured against leaves as
-/// built (4 by default), both with the prefetch of 4 packets per node: 1.09–1.25x on the
-/// dragon and ico1m, near and uniform queries; without AVX2, 8-leaves are
-/// 0.94–0.99x.
+/// wide tree when leaves are tested with AVX2: two packets tested at once
+/// cost about what one did (without AVX2, larger leaves are slower; see
+/// docs/perf-log.md).
 const WIDE_LEAF_AVX2: usize = 8;
 
 /// The most primitives of a binary subtree that the collapse merges into
 /// one wide leaf: eight triangles (two packets) where AVX2 tests them at
 /// once (one level less, and the leaf test costs about what four did);
 /// otherwise 1, which keeps the binary leaves as they are.
-fn merged_leaf<T: 'static>(avx2: Option<super::traverse::Avx2>) -> usize {
-    let packed = cfg!(target_arch = "x86_64") && TypeId::of::<T>() == TypeId::of::<Triangle>();
-    if packed && avx2.is_some() { WIDE_LEAF_AVX2 } else { 1 }
+fn merged_leaf<T: WidePrimitive>(avx2: Option<Avx2>) -> usize {
+    if T::PACKED && avx2.is_some() { WIDE_LEAF_AVX2 } else { 1 }
 }
 
 /// The leaves' triangles as packets of four, when the primitives are
-/// [`Triangle`]s and the target is x86-64 (where the packet arithmetic is
-/// known to repeat glam's bit for bit).
+/// packed ([`WidePrimitive`]).
 struct Packer<'a> {
     triangles: Option<&'a [Triangle]>,
     indices: &'a [u32],
@@ -130,18 +125,13 @@ struct Packer<'a> {
 }
 
 /// How many leaves past the one being packed ([`Packer::finish`]) the
-/// triangles are prefetched. Against packing each leaf as the collapse reaches
-/// it: the collapse took 0.86–0.90x as long with 4, 8, 16 or 32 ahead, and
-/// 0.98–1.01x with the same two passes but no prefetch (dragon and ico1m,
-/// one thread, median of 15 alternating rounds).
+/// triangles are prefetched, so that their misses overlap with the packing
+/// (docs/perf-log.md).
 const PACK_AHEAD: usize = 8;
 
 impl<'a> Packer<'a> {
-    fn new<T: 'static>(tree: &'a AabbTree<T>) -> Self {
-        let triangles = (tree as &dyn Any)
-            .downcast_ref::<AabbTree<Triangle>>()
-            .map(AabbTree::primitives)
-            .filter(|_| cfg!(target_arch = "x86_64"));
+    fn new<T: WidePrimitive>(tree: &'a AabbTree<T>) -> Self {
+        let triangles = T::as_triangles(tree.primitives());
         // Reserved in place, in the mapping advised for huge pages once
         // written: growing by doubling, or copying into the mapping
         // afterwards, would copy tens of megabytes. A leaf
@@ -156,7 +146,7 @@ impl<'a> Packer<'a> {
         let packets = HugePageVec::with_capacity(packets);
         Self {
             triangles,
-            indices: &tree.indices,
+            indices: tree.leaves().indices(),
             // At most one leaf per binary leaf.
             leaves: Vec::with_capacity(triangles.map_or(0, |_| tree.node_count().div_ceil(2))),
             count: 0,
@@ -195,9 +185,9 @@ impl<'a> Packer<'a> {
                     // Every other triangle (72 bytes apart) reaches all but
                     // about one in nine of the leaf's lines; the variant measured.
                     for triangle in triangles[next.clone()].iter().step_by(2) {
-                        super::traverse::prefetch(triangle);
+                        prefetch(triangle);
                     }
-                    super::traverse::prefetch(&indices[next.start]);
+                    prefetch(&indices[next.start]);
                 }
                 let (start, end) = (leaf.start as usize, leaf.end as usize);
                 for first in (start..end).step_by(4) {
@@ -214,7 +204,7 @@ impl<'a> Packer<'a> {
     }
 }
 
-impl<T: 'static> WideTree<T> {
+impl<T: WidePrimitive> WideTree<T> {
     /// Collapses the binary tree into wide nodes; the binary tree is kept and
     /// its primitives are shared, not copied. Linear in the number of nodes.
     ///
@@ -223,7 +213,7 @@ impl<T: 'static> WideTree<T> {
     /// Where the CPU has AVX2, binary subtrees of at most eight triangles
     /// become one wide leaf, whose two packets are tested at once.
     pub fn from_tree(tree: AabbTree<T>) -> Self {
-        Self::collapse(tree, super::traverse::detect_avx2())
+        Self::collapse(tree, detect_avx2())
     }
 
     /// [`from_tree`](Self::from_tree) as on a CPU without AVX2: the binary
@@ -233,7 +223,7 @@ impl<T: 'static> WideTree<T> {
         Self::collapse(tree, None)
     }
 
-    fn collapse(tree: AabbTree<T>, avx2: Option<super::traverse::Avx2>) -> Self {
+    fn collapse(tree: AabbTree<T>, avx2: Option<Avx2>) -> Self {
         // Each wide node stands for a distinct inner binary node, so there
         // are at most as many as those: (nodes + 1) / 2 of a full binary tree.
         let mut nodes = HugePageVec::with_capacity(tree.node_count().div_ceil(2));
@@ -292,7 +282,7 @@ impl<T: 'static> WideTree<T> {
     }
 }
 
-impl<T: Bounded + Copy + Send + Sync + 'static> WideTree<T> {
+impl<T: Bounded + WidePrimitive + Copy + Send + Sync> WideTree<T> {
     /// Builds the binary tree ([`AabbTree::build_set`]) and collapses it
     /// ([`from_tree`](Self::from_tree)).
     ///
@@ -302,13 +292,10 @@ impl<T: Bounded + Copy + Send + Sync + 'static> WideTree<T> {
     /// nodes further would only make nodes the collapse then merges. The
     /// wide tree is the same as from the binary tree of `config`: the same
     /// wide nodes and leaves, each leaf with the same triangles, whose order
-    /// within the leaf the paired test does not see. Against building with
-    /// `config` as given, build and collapse took 0.84x as long (dragon and
-    /// ico1m, one thread, median of 9 alternating rounds), with half the
-    /// binary nodes.
+    /// within the leaf the paired test does not see, built faster.
     pub fn build_set(set: PrimitiveSet<T>, config: &BuildConfig) -> Result<Self, BuildError> {
         config.validate()?;
-        let avx2 = super::traverse::detect_avx2();
+        let avx2 = detect_avx2();
         let merged = merged_leaf::<T>(avx2) as u32;
         let config = BuildConfig {
             min_size: config.min_size.max(merged),
@@ -321,7 +308,7 @@ impl<T: Bounded + Copy + Send + Sync + 'static> WideTree<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bvh::wide::{LEAF, packet_hint};
+    use crate::wide_tree::{LEAF, packet_hint};
 
     /// Each node's range is the span of the leaves found below it by a
     /// depth-first walk, and holds exactly their primitives.
@@ -362,8 +349,8 @@ mod tests {
     /// box against the union of its binary children's widened boxes.
     #[test]
     fn merged_leaves_make_the_same_wide_tree() {
-        use crate::bvh::config::SplitMethod;
-        use crate::bvh::wide::WideChild;
+        use crate::bvh::SplitMethod;
+        use crate::wide_tree::WideChild;
         for (n, seed) in [(1, 1), (9, 2), (3000, 3), (20_000, 4)] {
             let triangles = crate::sample::small_triangles(n, seed);
             for (min_size, split) in [
@@ -384,11 +371,11 @@ mod tests {
                 let given = WideTree::from_tree(AabbTree::build(triangles.clone(), &config).unwrap());
                 assert_eq!(merged.node_count(), given.node_count(), "{n} {config:?}");
                 // Where leaves are merged, the binary tree behind them stops earlier.
-                if super::super::traverse::detect_avx2().is_some() && min_size < 8 && n > 16 {
+                if detect_avx2().is_some() && min_size < 8 && n > 16 {
                     assert!(merged.tree().node_count() < given.tree().node_count());
                 }
                 let leaf = |tree: &WideTree<Triangle>, range: Range<usize>| {
-                    let mut indices = tree.tree().indices[range].to_vec();
+                    let mut indices = tree.leaves().indices()[range].to_vec();
                     indices.sort_unstable();
                     indices
                 };

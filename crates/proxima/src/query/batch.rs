@@ -1,10 +1,8 @@
 //! Queries over many points at once, on all cores.
 
-use super::knn::KnnScratch;
-use super::{AabbTree, ClosestHit};
+use super::ClosestHit;
 use crate::aabb::Aabb;
 use crate::math::Vec3;
-use crate::primitive::ClosestPoint;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Mutex, PoisonError};
@@ -26,26 +24,8 @@ pub struct BatchOptions {
     /// redone without a radius. Pays off with `reorder`, where consecutive
     /// queries are neighbours, and most for points far from the surface,
     /// where the nearest-first walk's first leaves are a poor bound. On by
-    /// default: counted over 20,000 queries in Morton order on the 4-wide
-    /// tree, it cut the nodes visited per uniform query by 13% on the dragon
-    /// (72.9 to 63.3) and 4% on ico1m, and the triangles tested by 18% and
-    /// 5%, near-surface queries by at most 2%. Measured on one thread
-    /// (alternating rounds in one process, median ratio): 1.19x and 1.10x
-    /// as many uniform queries per second on the 4-wide tree, 0.98–1.00x
-    /// near-surface ones; 1.19x and 1.02x, 1.03x and 0.99x on the binary
-    /// tree.
+    /// default (measurements in docs/perf-log.md).
     pub seed_radius: bool,
-    /// How many queries one thread walks at once in the wide tree's
-    /// batches (rounded down to 1, 2, 4, 8 or 16): it advances each walk by
-    /// one node or leaf in turn, so that while one waits for the memory it
-    /// asked for, the others compute. 1 (the default) answers one query
-    /// after the other. Measured on 1M triangles, one thread: in input order
-    /// 8 walks answer 1.13-1.29x as many near-surface queries per second as
-    /// 1, but in Morton order, where consecutive queries find their nodes in
-    /// cache anyway, 0.8-0.99x (0.72-1.04x with the leaves tested on AVX2).
-    /// `seed_radius` does not apply to interleaved walks. Ignored by the
-    /// binary tree.
-    pub interleave: usize,
 }
 
 impl Default for BatchOptions {
@@ -53,17 +33,15 @@ impl Default for BatchOptions {
         Self {
             reorder: true,
             seed_radius: true,
-            interleave: 1,
         }
     }
 }
 
 impl BatchOptions {
-    /// Input order, no radius seeding: each query as [`closest`](AabbTree::closest) alone would run it.
+    /// Input order, no radius seeding: each query as [`closest`](super::NearestQuery::closest) alone would run it.
     pub const PLAIN: Self = Self {
         reorder: false,
         seed_radius: false,
-        interleave: 1,
     };
 }
 
@@ -130,12 +108,8 @@ const CHUNK: usize = 1024;
 ///
 /// The threads so work on neighbouring chunks, whose queries walk
 /// neighbouring parts of the tree, and the shared cache serves both; each
-/// ends at most one chunk after the other. Rayon's own split of the chunks
-/// gave each thread a contiguous half, stealing five chunks at a time: one
-/// thread was often busy 30% longer than the other. Against it, two
-/// threads answered 1.02–1.13x as many queries per second on the dragon
-/// and ico1m, near-surface and uniform (15 alternating rounds, median
-/// ratio, two runs); smaller chunks (256, 512) gained nothing more.
+/// ends at most one chunk after the other (rayon's own split left one
+/// thread busy longer than the other: docs/perf-log.md).
 pub(crate) fn closest_in_chunks(
     points: &[Vec3],
     bounds: &Aabb,
@@ -247,10 +221,7 @@ pub(crate) fn unpermute<R>(order: &[u32], answers: Vec<R>) -> Vec<R> {
 }
 
 /// [`unpermute`] for plain values: one scatter into a copy, with no
-/// temporary slots. Putting the answers of any type in place by following
-/// the permutation's cycles, which would have served both, measured 0.3–0.5
-/// ms slower on 20,000 answers, of about 1.5 ms that a one-thread batch
-/// spends outside its queries.
+/// temporary slots (faster than following the permutation's cycles).
 fn unpermute_copied<R: Copy>(order: &[u32], answers: &[R]) -> Vec<R> {
     let mut out = answers.to_vec();
     for (&i, &answer) in order.iter().zip(answers) {
@@ -285,39 +256,11 @@ pub(crate) fn answer_batch<S, R: Send>(
     unpermute(&order, answers)
 }
 
-impl<T: ClosestPoint + Sync> AabbTree<T> {
-    fn root_bounds(&self) -> Aabb {
-        self.root().map_or(Aabb::EMPTY, |n| n.bounds())
-    }
-
-    /// [`closest`](Self::closest) for every point, in parallel on rayon's pool,
-    /// in Morton order; results in input order. No allocation per query.
-    pub fn closest_batch(&self, points: &[Vec3]) -> Vec<Option<ClosestHit>> {
-        self.closest_batch_with(points, BatchOptions::default())
-    }
-
-    /// [`closest_batch`](Self::closest_batch) with explicit options.
-    pub fn closest_batch_with(&self, points: &[Vec3], options: BatchOptions) -> Vec<Option<ClosestHit>> {
-        closest_in_chunks(points, &self.root_bounds(), options.reorder, |points, out| {
-            Seed::closest_each(points, out, options.seed_radius, |p, r| self.closest_within(p, r));
-        })
-    }
-
-    /// [`k_nearest`](Self::k_nearest) for every point, in parallel, in Morton
-    /// order; results in input order. Scratch memory is allocated once per
-    /// worker, not per query.
-    pub fn k_nearest_batch(&self, points: &[Vec3], k: usize) -> Vec<Vec<ClosestHit>> {
-        answer_batch(points, &self.root_bounds(), true, KnnScratch::new, |scratch, p| {
-            let mut out = Vec::with_capacity(k.min(self.len()));
-            self.k_nearest_into(p, k, scratch, &mut out);
-            out
-        })
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::AabbTree;
+    use crate::query::NearestQuery;
     use crate::sample::Rng;
 
     /// The radix sort gives the order of a stable comparison sort, on codes
@@ -364,7 +307,7 @@ mod tests {
         let triangles = crate::sample::small_triangles(400, 21);
         let linear = crate::LinearSearch::new(crate::PrimitiveSet::from_primitives(triangles.clone()));
         let tree = AabbTree::build(triangles, &Default::default()).unwrap();
-        let wide = crate::bvh::WideTree::from_tree(tree.clone());
+        let wide = crate::WideTree::from_tree(tree.clone());
         let mut rng = Rng::new(22);
         // Four full chunks and a partial one.
         let points: Vec<Vec3> = (0..4 * CHUNK + 37)

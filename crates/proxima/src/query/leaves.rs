@@ -1,0 +1,94 @@
+//! The primitives of a structure in leaf order, with where each came from.
+
+use super::ClosestHit;
+use crate::math::Vec3A;
+use crate::memory::prefetch;
+
+/// The primitives of a tree in leaf order (each leaf a contiguous range of
+/// slots), with for each slot its position in the build input and the mesh
+/// element it came from. Every structure keeps one, and every answer is made
+/// from it, so the fields of an answer mean the same whichever structure gave it.
+#[derive(Clone, Debug, Default)]
+pub struct Leaves<T> {
+    primitives: Vec<T>,
+    /// `indices[slot]`: position in the build input of `primitives[slot]`.
+    indices: Vec<u32>,
+    /// `sources[slot]`: the mesh element `primitives[slot]` came from.
+    sources: Vec<u32>,
+}
+
+impl<T> Leaves<T> {
+    /// Primitives already in leaf order, with their input indices and
+    /// sources; the three have the same length.
+    pub(crate) fn new(primitives: Vec<T>, indices: Vec<u32>, sources: Vec<u32>) -> Self {
+        debug_assert!(primitives.len() == indices.len() && indices.len() == sources.len());
+        Self {
+            primitives,
+            indices,
+            sources,
+        }
+    }
+
+    /// The primitives in leaf order.
+    #[inline(always)]
+    pub fn primitives(&self) -> &[T] {
+        &self.primitives
+    }
+
+    /// The build-input index of each slot.
+    #[inline(always)]
+    pub fn indices(&self) -> &[u32] {
+        &self.indices
+    }
+
+    /// The source (vertex, edge or face index) of each slot.
+    #[inline(always)]
+    pub fn sources(&self) -> &[u32] {
+        &self.sources
+    }
+
+    /// Number of primitives.
+    #[inline]
+    pub fn len(&self) -> usize {
+        self.primitives.len()
+    }
+
+    /// `true` when there is no primitive.
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.primitives.is_empty()
+    }
+
+    /// Bytes of the three arrays.
+    pub fn memory_bytes(&self) -> usize {
+        std::mem::size_of_val(&self.primitives[..]) + 4 * (self.indices.len() + self.sources.len())
+    }
+
+    /// The answer for the point `point` at squared distance `distance_squared`
+    /// of the primitive at `slot`.
+    #[inline]
+    pub(crate) fn hit(&self, slot: usize, point: Vec3A, distance_squared: f32) -> ClosestHit {
+        ClosestHit {
+            primitive: self.indices[slot],
+            source: self.sources[slot],
+            point: point.into(),
+            distance: distance_squared.sqrt(),
+        }
+    }
+
+    /// Replaces the slot that each answer of `hits` holds in `source` by
+    /// the slot's source. Looked up at the end of each query, the source was
+    /// a cache miss that the query waited on; here, prefetched a few answers
+    /// ahead, the misses of many queries overlap.
+    pub(crate) fn resolve_sources(&self, hits: &mut [Option<ClosestHit>]) {
+        const AHEAD: usize = 8;
+        for k in 0..hits.len() {
+            if let Some(Some(ahead)) = hits.get(k + AHEAD) {
+                prefetch(&self.sources[ahead.source as usize]);
+            }
+            if let Some(hit) = &mut hits[k] {
+                hit.source = self.sources[hit.source as usize];
+            }
+        }
+    }
+}

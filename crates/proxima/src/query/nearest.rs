@@ -1,0 +1,158 @@
+//! Closest-primitive and k-nearest queries, written once over any
+//! structure's nearest-first walk.
+
+use super::batch::{BatchOptions, Seed, answer_batch, closest_in_chunks};
+use super::knn::{KBest, KnnScratch, drain_sorted};
+use super::{Best, ClosestHit, Counter, NearestVisitor, QueryStats, SpatialIndex};
+use crate::math::{Vec3, Vec3A};
+use crate::primitive::ClosestPoint;
+
+/// Distance queries: the closest primitive, the `k` nearest, in batches on
+/// all cores. A structure provides one walk; every query is built on it, and
+/// answers equal a scan of every primitive field for field (ties to the
+/// lowest input index).
+///
+/// ```
+/// use proxima::prelude::*;
+/// let points = vec![Point(Vec3::ZERO), Point(Vec3::X), Point(Vec3::Y)];
+/// let tree = AabbTree::build(points, &Default::default()).unwrap();
+/// let hit = tree.closest(Vec3::new(0.9, 0.2, 0.0)).unwrap();
+/// assert_eq!(hit.primitive, 1);
+/// assert_eq!(tree.closest_within(Vec3::new(0.9, 0.2, 0.0), 0.1), None);
+/// ```
+pub trait NearestQuery<T: ClosestPoint>: SpatialIndex<T> {
+    /// Hands `visitor` every primitive that may lie within its
+    /// [`bound`](NearestVisitor::bound) of `p` (which shrinks as it finds
+    /// nearer ones), nearest subtrees first, and reports its work to
+    /// `counter`. `p` is finite.
+    fn nearest_walk<V: NearestVisitor<T>, C: Counter>(&self, p: Vec3A, visitor: &mut V, counter: &mut C);
+
+    /// The primitive closest to `p`, or `None` for an empty structure or a
+    /// `p` that is not finite or beyond
+    /// [`MAX_QUERY_COORDINATE`](crate::bvh::MAX_QUERY_COORDINATE). Ties go to
+    /// the lowest input index.
+    #[inline]
+    fn closest(&self, p: Vec3) -> Option<ClosestHit> {
+        self.closest_within(p, f32::INFINITY)
+    }
+
+    /// The closest primitive at distance at most `max_distance` from `p`, or
+    /// `None` if there is none. A good upper bound (for instance a
+    /// neighbouring query's answer plus the distance between the queries)
+    /// speeds the search up without changing its answer.
+    #[inline]
+    fn closest_within(&self, p: Vec3, max_distance: f32) -> Option<ClosestHit> {
+        let best = best_within(self, p, max_distance, &mut ())?;
+        Some(self.leaves().hit(best.slot, best.point, best.distance_squared))
+    }
+
+    /// [`closest`](Self::closest), also counting the nodes and primitives visited.
+    fn closest_with_stats(&self, p: Vec3) -> (Option<ClosestHit>, QueryStats) {
+        let mut stats = QueryStats::default();
+        let best = best_within(self, p, f32::INFINITY, &mut stats);
+        let hit = best.map(|best| self.leaves().hit(best.slot, best.point, best.distance_squared));
+        (hit, stats)
+    }
+
+    /// The `k` primitives closest to `p`, nearest first (ties by input
+    /// index). All primitives when `k` exceeds their number, none when
+    /// `k == 0` or `p` is not answerable (as for [`closest`](Self::closest)).
+    ///
+    /// ```
+    /// use proxima::prelude::*;
+    /// let points = (0..10).map(|i| Point(Vec3::new(i as f32, 0.0, 0.0))).collect();
+    /// let tree = AabbTree::build(points, &Default::default()).unwrap();
+    /// let hits = tree.k_nearest(Vec3::new(3.2, 1.0, 0.0), 3);
+    /// let order: Vec<u32> = hits.iter().map(|h| h.primitive).collect();
+    /// assert_eq!(order, [3, 4, 2]);
+    /// ```
+    fn k_nearest(&self, p: Vec3, k: usize) -> Vec<ClosestHit> {
+        let mut out = Vec::new();
+        self.k_nearest_into(p, k, &mut KnnScratch::new(), &mut out);
+        out
+    }
+
+    /// [`k_nearest`](Self::k_nearest) writing into `out` (cleared first) and
+    /// reusing `scratch`, so repeated queries do not allocate.
+    fn k_nearest_into(&self, p: Vec3, k: usize, scratch: &mut KnnScratch, out: &mut Vec<ClosestHit>) {
+        let leaves = self.leaves();
+        let k = k.min(leaves.len());
+        scratch.heap.clear();
+        if k > 0 && crate::bvh::answerable(p) {
+            let mut best = KBest::new(&mut scratch.heap, k, leaves.indices());
+            self.nearest_walk(Vec3A::from(p), &mut best, &mut ());
+        }
+        drain_sorted(&mut scratch.heap, out, leaves.sources());
+    }
+
+    /// [`closest`](Self::closest) for every point, on all cores of rayon's
+    /// pool, in Morton order, each query seeded with its neighbour's answer;
+    /// the answers come back in input order and are `closest`'s. No
+    /// allocation per query.
+    fn closest_batch(&self, points: &[Vec3]) -> Vec<Option<ClosestHit>>
+    where
+        Self: Sync,
+    {
+        self.closest_batch_with(points, BatchOptions::default())
+    }
+
+    /// [`closest_batch`](Self::closest_batch) with explicit options.
+    fn closest_batch_with(&self, points: &[Vec3], options: BatchOptions) -> Vec<Option<ClosestHit>>
+    where
+        Self: Sync,
+    {
+        closest_in_chunks(points, &self.bounds(), options.reorder, |points, out| {
+            Seed::closest_each(points, out, options.seed_radius, |p, r| closest_deferred(self, p, r));
+            // The sources are looked up once the chunk is answered, all together.
+            self.leaves().resolve_sources(out);
+        })
+    }
+
+    /// [`k_nearest`](Self::k_nearest) for every point, on all cores, in
+    /// Morton order; answers in input order. Scratch memory is allocated
+    /// once per worker, not per query.
+    fn k_nearest_batch(&self, points: &[Vec3], k: usize) -> Vec<Vec<ClosestHit>>
+    where
+        Self: Sync,
+    {
+        answer_batch(points, &self.bounds(), true, KnnScratch::new, |scratch, p| {
+            let mut out = Vec::with_capacity(k.min(self.leaves().len()));
+            self.k_nearest_into(p, k, scratch, &mut out);
+            out
+        })
+    }
+}
+
+/// The walk's best primitive within `max_distance` of `p`, if any.
+#[inline(always)]
+pub(crate) fn best_within<'a, T: ClosestPoint + 'a, S: NearestQuery<T> + ?Sized, C: Counter>(
+    structure: &'a S,
+    p: Vec3,
+    max_distance: f32,
+    counter: &mut C,
+) -> Option<Best<'a>> {
+    if !crate::bvh::answerable(p) {
+        return None;
+    }
+    let mut best = Best::new(structure.leaves().indices(), max_distance * max_distance);
+    structure.nearest_walk(Vec3A::from(p), &mut best, counter);
+    best.found.then_some(best)
+}
+
+/// [`NearestQuery::closest_within`], except that the answer's `source`
+/// holds its leaf-order slot, for [`Leaves::resolve_sources`](super::Leaves)
+/// to replace later; `primitive` is the input index the walk already knows.
+#[inline]
+fn closest_deferred<T: ClosestPoint, S: NearestQuery<T> + ?Sized>(
+    structure: &S,
+    p: Vec3,
+    max_distance: f32,
+) -> Option<ClosestHit> {
+    let best = best_within(structure, p, max_distance, &mut ())?;
+    Some(ClosestHit {
+        primitive: best.index(),
+        source: best.slot as u32,
+        point: best.point.into(),
+        distance: best.distance_squared.sqrt(),
+    })
+}

@@ -1,0 +1,213 @@
+//! Ray queries on the wide tree: the four child boxes of a node are slab
+//! tested at once, and the triangles of a leaf four at a time.
+//!
+//! Both repeat the binary tree's arithmetic lane by lane. The slab test uses
+//! the same per-ray widening and the same operations as
+//! `RaySlabs::interval`, on the binary tree's own boxes. The packet test
+//! repeats [`WatertightRay::intersect`] operation for operation (the same
+//! shear, edge functions, sums and divisions, none fused), so each lane's hit
+//! is bit for bit the scalar one; a lane whose edge function is exactly zero
+//! (the scalar test's `f64` path) is answered by the scalar test itself. The
+//! answers are therefore the binary tree's, and brute force's.
+
+use super::packet::TrianglePacket;
+use super::walk::{Pending, Slices, WideQuery};
+use super::{WideNode, WidePrimitive, WideTree};
+use crate::bvh::RaySlabs;
+use crate::math::Vec3;
+use crate::primitive::{RayIntersect, TriangleHit, WatertightRay};
+use crate::query::{Counter, RayQuery, RayVisitor};
+use std::ops::ControlFlow;
+use wide::f32x4;
+
+/// A ray's slab data splatted over four lanes, near and far planes chosen
+/// per axis by the direction's sign bit.
+struct WideSlabs {
+    origin: [f32x4; 3],
+    inv_direction: [f32x4; 3],
+    negative: [bool; 3],
+    near_shift: [f32x4; 3],
+    far_shift: [f32x4; 3],
+}
+
+impl WideSlabs {
+    fn new(slabs: &RaySlabs) -> Self {
+        let s = |v: crate::math::Vec3A| [f32x4::splat(v.x), f32x4::splat(v.y), f32x4::splat(v.z)];
+        let negative = slabs.negative.bitmask();
+        Self {
+            origin: s(slabs.origin),
+            inv_direction: s(slabs.inv_direction),
+            negative: [negative & 1 != 0, negative & 2 != 0, negative & 4 != 0],
+            near_shift: s(slabs.near_shift),
+            far_shift: s(slabs.far_shift),
+        }
+    }
+
+    /// Entry parameters into the four child boxes, and the lanes crossed
+    /// within `[t_lo, t_hi]`.
+    #[inline(always)]
+    fn entries(&self, node: &WideNode, t_lo: f32, t_hi: f32) -> (f32x4, u32) {
+        let mins = [&node.min_x, &node.min_y, &node.min_z];
+        let maxs = [&node.max_x, &node.max_y, &node.max_z];
+        let mut enter = f32x4::splat(t_lo);
+        let mut exit = f32x4::splat(t_hi);
+        for axis in 0..3 {
+            let (near, far) = if self.negative[axis] {
+                (maxs[axis], mins[axis])
+            } else {
+                (mins[axis], maxs[axis])
+            };
+            let o = self.origin[axis];
+            let inv = self.inv_direction[axis];
+            let t_near = ((f32x4::new(*near) - o) + self.near_shift[axis]) * inv;
+            let t_far = ((f32x4::new(*far) - o) + self.far_shift[axis]) * inv;
+            // 0 · ∞ is NaN: the origin lies on a plane the ray runs along.
+            let t_near = t_near.simd_eq(t_near).select(t_near, f32x4::splat(f32::NEG_INFINITY));
+            let t_far = t_far.simd_eq(t_far).select(t_far, f32x4::splat(f32::INFINITY));
+            enter = enter.fast_max(t_near);
+            exit = exit.fast_min(t_far);
+        }
+        (enter, enter.simd_le(exit).to_bitmask())
+    }
+}
+
+/// Which lanes of a packet a ray hits within `[t_min, t_max]`, with their hit,
+/// and which lanes need the scalar test (an edge function exactly zero, or a
+/// `t` beyond `f32`).
+#[inline(always)]
+fn packet_hits(packet: &TrianglePacket, ray: &WatertightRay, t_min: f32, t_max: f32) -> (u32, [TriangleHit; 4], u32) {
+    let ([kx, ky, kz], [sx, sy, sz]) = ray.shear();
+    let origin = ray.origin().to_array();
+    let o = [
+        f32x4::splat(origin[0]),
+        f32x4::splat(origin[1]),
+        f32x4::splat(origin[2]),
+    ];
+    let (sx, sy, sz) = (f32x4::splat(sx), f32x4::splat(sy), f32x4::splat(sz));
+    // (x, y, z) of one vertex in the ray's sheared frame, before z is scaled.
+    let sheared = |v: &[[f32; 4]; 3]| {
+        let px = f32x4::new(v[kx]) - o[kx];
+        let py = f32x4::new(v[ky]) - o[ky];
+        let pz = f32x4::new(v[kz]) - o[kz];
+        (px - sx * pz, py - sy * pz, pz)
+    };
+    let (ax, ay, a_z) = sheared(&packet.a);
+    let (bx, by, b_z) = sheared(&packet.b);
+    let (cx, cy, c_z) = sheared(&packet.c);
+    let u = cx * by - cy * bx;
+    let v = ax * cy - ay * cx;
+    let w = bx * ay - by * ax;
+    let zero = f32x4::ZERO;
+    let lanes = packet.fast | packet.slow;
+    let exact_zero = (u.simd_eq(zero) | v.simd_eq(zero) | w.simd_eq(zero)).to_bitmask() & lanes;
+    let negative = u.simd_lt(zero) | v.simd_lt(zero) | w.simd_lt(zero);
+    let positive = u.simd_gt(zero) | v.simd_gt(zero) | w.simd_gt(zero);
+    let det = u + v + w;
+    let t = (u * (sz * a_z) + v * (sz * b_z) + w * (sz * c_z)) / det;
+    let inside =
+        !(negative & positive) & det.simd_ne(zero) & t.simd_ge(f32x4::splat(t_min)) & t.simd_le(f32x4::splat(t_max));
+    // Lanes whose t overflowed f32 (coordinates near 1e17) go to the scalar
+    // test too, which computes t again in f64.
+    let overflow = (t.simd_ne(t) | t.abs().simd_eq(f32x4::splat(f32::INFINITY))).to_bitmask()
+        & lanes
+        & det.simd_ne(zero).to_bitmask();
+    let exact_zero = exact_zero | overflow;
+    let hit_lanes = inside.to_bitmask() & lanes & !exact_zero;
+    let (t, bu, bv) = (t.to_array(), (v / det).to_array(), (w / det).to_array());
+    let hits = std::array::from_fn(|lane| TriangleHit {
+        t: t[lane],
+        u: bu[lane],
+        v: bv[lane],
+        piece: 0,
+    });
+    (hit_lanes, hits, exact_zero)
+}
+
+/// A ray query on the wide tree: keys are the ray's entry parameters into
+/// the four (per-ray widened) child boxes; leaves are tested four triangles
+/// at a time where the tree has packets.
+struct Rays<'a, V> {
+    slabs: WideSlabs,
+    ray: &'a WatertightRay,
+    t_min: f32,
+    visitor: &'a mut V,
+}
+
+impl<T: RayIntersect, V: RayVisitor<T>> WideQuery<T> for Rays<'_, V> {
+    #[inline(always)]
+    fn keys(&self, node: &WideNode) -> (f32x4, u32) {
+        self.slabs.entries(node, self.t_min, self.visitor.t_hi())
+    }
+
+    #[inline(always)]
+    fn bound(&self) -> f32 {
+        self.visitor.t_hi()
+    }
+
+    /// Entry parameters may be negative (a range starting before the
+    /// origin): their bits, with the sign's order restored.
+    #[inline(always)]
+    fn order_bits(key: f32) -> u32 {
+        let bits = key.to_bits();
+        if bits >> 31 == 1 { !bits } else { bits | 1 << 31 }
+    }
+
+    #[inline(always)]
+    fn leaf<C: Counter>(&mut self, tree: &Slices<'_, T>, leaf: Pending, counter: &mut C) -> ControlFlow<()> {
+        let (primitives, packets) = (tree.primitives, tree.packets);
+        let n = leaf.leaf_len();
+        let child = leaf.child as usize;
+        counter.primitives(n as u64);
+        if packets.is_empty() {
+            for (slot, primitive) in (child..).zip(&primitives[child..child + n]) {
+                if self.visitor.visit(slot, primitive, self.ray, self.t_min) {
+                    return ControlFlow::Break(());
+                }
+            }
+            return ControlFlow::Continue(());
+        }
+        for packet in &packets[child..child + n.div_ceil(4)] {
+            let (mut bits, hits, mut scalar) = packet_hits(packet, self.ray, self.t_min, self.visitor.t_hi());
+            while bits != 0 {
+                let lane = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                if self.visitor.offer(packet.first as usize + lane, hits[lane]) {
+                    return ControlFlow::Break(());
+                }
+            }
+            while scalar != 0 {
+                let slot = packet.first as usize + scalar.trailing_zeros() as usize;
+                scalar &= scalar - 1;
+                if self.visitor.visit(slot, &primitives[slot], self.ray, self.t_min) {
+                    return ControlFlow::Break(());
+                }
+            }
+        }
+        ControlFlow::Continue(())
+    }
+}
+
+/// The same answers as the binary tree's, field for field.
+impl<T: RayIntersect + WidePrimitive> RayQuery<T> for WideTree<T> {
+    #[inline]
+    fn ray_walk<V: RayVisitor<T>, C: Counter>(
+        &self,
+        ray: &WatertightRay,
+        direction: Vec3,
+        t_min: f32,
+        visitor: &mut V,
+        counter: &mut C,
+    ) {
+        let Some(root) = self.tree.root() else { return };
+        let slabs = WideSlabs::new(&RaySlabs::new(ray.origin(), direction, root.min, root.max));
+        self.walk(
+            |_| Rays {
+                slabs,
+                ray,
+                t_min,
+                visitor,
+            },
+            counter,
+        );
+    }
+}
