@@ -145,13 +145,13 @@ pub fn run(args: Args) -> Result<()> {
                 .with_context(|| args.mesh.display().to_string())?;
             let build = start.elapsed().as_secs_f64();
             let start = Instant::now();
-            let hit = grid.first_hit(args.origin, direction, 0.0, f32::INFINITY)?;
+            let (hit, stats) = grid.first_hit_with_stats(args.origin, direction, 0.0, f32::INFINITY)?;
             let query = start.elapsed().as_secs_f64();
             let found = hit.map(|h| Found {
                 face: h.source,
                 t: h.t,
                 point: h.point,
-                visited: h.cells_visited.into(),
+                visited: stats.nodes_visited,
             });
             let any = found.is_some();
             let label = format!("grid cell {:?}", cell.to_array());

@@ -52,7 +52,6 @@ pub use hasher::{ClassicHash, ClassicHasher, FastHash, FastHasher};
 pub use insert::{GridInsert, InsertParams};
 pub(crate) use layout::last_true;
 pub use layout::{CellRange, GridLayout, MAX_CELL_INDEX};
-pub use ray::GridRayHit;
 pub use stats::GridStats;
 pub use voxelize::{VoxelConfig, VoxelGrid, voxelize};
 

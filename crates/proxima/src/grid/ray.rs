@@ -14,34 +14,18 @@ use super::HashGrid;
 use crate::aabb::Aabb;
 use crate::error::GridError;
 use crate::math::Vec3;
-use crate::primitive::{Triangle, WatertightRay};
-use crate::query::FarRay;
+use crate::primitive::{RayIntersect, TriangleHit, WatertightRay};
+use crate::query::{Counter, FarRay, QueryStats, RayHit};
 use crate::traversal::GridTraversal;
 use std::hash::BuildHasher;
 
-/// The first triangle a ray meets.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct GridRayHit {
-    /// Index of the triangle in the grid's primitives.
-    pub primitive: u32,
-    /// The mesh face it came from.
-    pub source: u32,
-    /// Ray parameter of the hit (a distance when the direction is unit length).
-    pub t: f32,
-    /// The hit point, `a + u (b − a) + v (c − a)` on the triangle.
-    pub point: Vec3,
-    /// Barycentric weight of the triangle's vertex `b`.
-    pub u: f32,
-    /// Barycentric weight of the triangle's vertex `c`.
-    pub v: f32,
-    /// Number of cells visited.
-    pub cells_visited: u32,
-}
-
-impl<S: BuildHasher> HashGrid<Triangle, S> {
-    /// The first triangle hit by `origin + t · direction` with `t` in
+impl<T: RayIntersect, S: BuildHasher> HashGrid<T, S> {
+    /// The first primitive hit by `origin + t · direction` with `t` in
     /// `[t_min, t_max]` (`None` when there is none). Of several triangles hit
-    /// at the same `t`, the one of smallest index is returned.
+    /// at the same `t`, the one of smallest index is returned: the answer of
+    /// the trees' [`RayQuery::first_hit`](crate::query::RayQuery::first_hit).
+    /// Errors as theirs, as [`GridError`]s, and
+    /// [`GridError::OutOfRange`] for a walk beyond the grid's cell indices.
     ///
     /// ```
     /// use proxima::grid::{GridConfig, HashGrid};
@@ -62,7 +46,32 @@ impl<S: BuildHasher> HashGrid<Triangle, S> {
         direction: Vec3,
         t_min: f32,
         t_max: f32,
-    ) -> Result<Option<GridRayHit>, GridError> {
+    ) -> Result<Option<RayHit>, GridError> {
+        self.first_hit_counted(origin, direction, t_min, t_max, &mut ())
+    }
+
+    /// [`first_hit`](Self::first_hit), also counting the cells visited
+    /// (`nodes_visited`) and the primitives tested.
+    pub fn first_hit_with_stats(
+        &self,
+        origin: Vec3,
+        direction: Vec3,
+        t_min: f32,
+        t_max: f32,
+    ) -> Result<(Option<RayHit>, QueryStats), GridError> {
+        let mut stats = QueryStats::default();
+        let hit = self.first_hit_counted(origin, direction, t_min, t_max, &mut stats)?;
+        Ok((hit, stats))
+    }
+
+    fn first_hit_counted<C: Counter>(
+        &self,
+        origin: Vec3,
+        direction: Vec3,
+        t_min: f32,
+        t_max: f32,
+        counter: &mut C,
+    ) -> Result<Option<RayHit>, GridError> {
         crate::ray::Ray::with_range(origin, direction, t_min, t_max)?;
         let ray = WatertightRay::new(origin, direction).ok_or(GridError::RayDirection)?;
         let Some(bounds) = self.bounds else { return Ok(None) };
@@ -109,39 +118,35 @@ impl<S: BuildHasher> HashGrid<Triangle, S> {
         // a cell boundary (the hit test itself still starts at t_min).
         let back = margin as f64 / direction.abs().max_element() as f64;
         let walk = GridTraversal::in_layout_f64(layout, origin, direction, t0 - back, t1)?;
-        let mut best: Option<GridRayHit> = None;
-        let mut visited = 0u32;
+        // (primitive, hit) of smallest t so far, ties to the lowest index.
+        let mut best: Option<(u32, TriangleHit)> = None;
         for step in walk {
-            visited += 1;
-            let t_best = best.map_or(t_max, |b| b.t);
-            for &p in self.cell(&step.cell) {
-                let tri = &self.primitives[p as usize];
-                if let Some(hit) = ray.intersect(tri, t_min, t_best)
-                    && best.is_none_or(|b| hit.t < b.t || (hit.t == b.t && p < b.primitive))
+            counter.nodes(1);
+            let t_best = best.map_or(t_max, |(_, b)| b.t);
+            let cell = self.cell(&step.cell);
+            counter.primitives(cell.len() as u64);
+            for &p in cell {
+                if let Some(hit) = self.primitives[p as usize].intersect_ray(&ray, t_min, t_best)
+                    && best.is_none_or(|(q, b)| hit.t < b.t || (hit.t == b.t && p < q))
                 {
-                    best = Some(GridRayHit {
-                        primitive: p,
-                        source: self.sources[p as usize],
-                        t: hit.t,
-                        point: tri.a + (tri.b - tri.a) * hit.u + (tri.c - tri.a) * hit.v,
-                        u: hit.u,
-                        v: hit.v,
-                        cells_visited: 0,
-                    });
+                    best = Some((p, hit));
                 }
             }
             // Stop once the best hit lies before the exit of this cell by more
             // than the rounding slack and an ulp (the exit is rounded to f32; a
             // fuzzed ray with 1e17 coordinates met two triangles at their
             // shared vertex, on a cell boundary): a tie beyond is still seen.
-            if best.is_some_and(|b| b.t < step.t_exit - slack && b.t.next_up() < step.t_exit) {
+            if best.is_some_and(|(_, b)| b.t < step.t_exit - slack && b.t.next_up() < step.t_exit) {
                 break;
             }
         }
-        Ok(best.map(|b| GridRayHit {
-            cells_visited: visited,
-            t: far.original_t(b.t),
-            ..b
+        Ok(best.map(|(p, hit)| RayHit {
+            primitive: p,
+            source: self.sources[p as usize],
+            t: far.original_t(hit.t),
+            point: self.primitives[p as usize].hit_point(&hit),
+            u: hit.u,
+            v: hit.v,
         }))
     }
 }

@@ -36,7 +36,7 @@ impl RayIntersect for Triangle {
         ray.intersect(self, t_min, t_max)
     }
 
-    /// `a + u (b − a) + v (c − a)`, the same formula as the hash grid's ray hits.
+    /// `a + u (b − a) + v (c − a)`.
     #[inline]
     fn hit_point(&self, hit: &TriangleHit) -> Vec3 {
         self.a + (self.b - self.a) * hit.u + (self.c - self.a) * hit.v

@@ -8,8 +8,8 @@ use crate::primitive::{RayIntersect, TriangleHit, WatertightRay};
 use crate::ray::Ray;
 use rayon::prelude::*;
 
-/// The first primitive a ray hits (the fields match the hash grid's
-/// [`GridRayHit`](crate::grid::GridRayHit), without its cell count).
+/// The first primitive a ray hits, as every structure answers it (the trees
+/// and [`HashGrid::first_hit`](crate::HashGrid::first_hit)).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RayHit {
     /// Index of the primitive in the build input.
