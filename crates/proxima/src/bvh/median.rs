@@ -340,9 +340,9 @@ fn ranked<const AXIS: usize, const V: usize>(source: &[Item], target: &mut [Item
 
 #[cfg(test)]
 mod tests {
+    use super::CentreItem as Item;
     use super::{Counts, SMALL_NODE, bounds_of, median_partition, median_small};
     use crate::aabb::Aabb;
-    use super::CentreItem as Item;
     use crate::math::Vec3;
     use proptest::prelude::*;
 
