@@ -33,31 +33,27 @@ pub const DEFAULT_MEMORY_BUDGET: u64 = 2 << 30;
 /// The smallest default budget, whatever the system reports: 64 MiB.
 pub const MIN_DEFAULT_MEMORY_BUDGET: u64 = 64 << 20;
 
-/// Default of the cell-test limits: 2^32 cells of cell ranges. Measured on
-/// the bunny (3,674 triangles, release build, one thread): a dense
-/// voxelization spends about 3 ns per range cell (8.8e7 at `--res 1024`,
-/// 0.27 s), so 2^32 is about 13 s; a sparse one or a hash grid spends 15–45
-/// ns per range cell in hash lookups, but their memory budget stops them
-/// first (13.6 million occupied cells, 0.7 GB, from 6.7e8 range cells).
+/// Default of the cell-test limits: 2^32 cells of cell ranges, some seconds
+/// of a dense voxelization at a few nanoseconds per range cell; sparse
+/// voxelizations and hash grids reach their memory budget first (figures in
+/// `docs/perf-log.md`).
 pub const DEFAULT_MAX_CELL_TESTS: u64 = 1 << 32;
 
 /// Peak bytes of a hash grid build per cell–primitive pair: the replay array
 /// (4 bytes, up to twice that while it grows) and the entry array (4 bytes),
-/// rounded up. Measured with the bytes per cell below: 12 bytes per entry
-/// and 70–72 bytes per occupied cell at the peak (bunny, cells of 0.02 and
-/// 0.005: 0.95 and 13.3 million entries, 75 MB and 1.05 GB).
+/// rounded up: 12 bytes per entry were measured at the peak (with the bytes
+/// per cell below; `docs/perf-log.md`).
 pub const GRID_BYTES_PER_ENTRY: u64 = 16;
 
-/// Peak bytes of a hash grid build per occupied cell: 70–72 measured (see
-/// [`GRID_BYTES_PER_ENTRY`]); budgeted for the worst moment, right after the
+/// Peak bytes of a hash grid build per occupied cell: 70–72 measured;
+/// budgeted for the worst moment, right after the
 /// hash map doubles while its old table is still held (33-byte slots at a
 /// load of 7/16 plus the old table at 7/8: about 113 bytes), plus the cell
 /// key (24), count, start and cursor (4 each).
 pub const GRID_BYTES_PER_CELL: u64 = 128;
 
-/// Peak bytes of a sparse voxelization per occupied cell: 54–55 measured
-/// (bunny at `--res 1025` and `2048`: 3.4 and 13.6 million cells, 188 and
-/// 734 MB); budgeted for the worst moment of the hash set's growth (25-byte
+/// Peak bytes of a sparse voxelization per occupied cell: 54–55 measured;
+/// budgeted for the worst moment of the hash set's growth (25-byte
 /// slots, old and new table) plus each chunk's sorted list and their
 /// concatenation (24 bytes each).
 pub const VOXEL_BYTES_PER_SPARSE_CELL: u64 = 128;

@@ -19,6 +19,13 @@ fn human64(bytes: &u64) -> String {
 }
 
 /// A mesh whose data breaks an invariant.
+///
+/// ```
+/// use proxima::{Mesh, MeshError, Vec3};
+/// let e = Mesh::from_triangles(vec![Vec3::ZERO, Vec3::X, Vec3::Y], &[[0, 1, 3]]).unwrap_err();
+/// assert_eq!(e, MeshError::IndexOutOfRange { face: 0, vertex: 3, vertex_count: 3 });
+/// assert_eq!(e.to_string(), "face 0 refers to vertex 3, but the mesh has 3 vertices");
+/// ```
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum MeshError {
     /// A vertex coordinate is NaN or infinite.

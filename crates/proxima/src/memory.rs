@@ -1,55 +1,66 @@
 //! Large arrays on transparent huge pages.
 //!
-//! A closest-point query on a big mesh is bound by memory latency: its nodes
-//! and triangles are spread over tens of megabytes, far more than the
-//! translation lookaside buffer covers with 4 KiB pages, so most cache misses
-//! also pay a page-table walk. With 2 MiB pages a miss costs about half as much
-//! on the machines we measure on (see `../shared/BENCHMARKS.md`: ~600 ns
-//! against ~330 ns at 512 MiB). Linux hands out such pages to anonymous
-//! mappings that ask for them with `madvise(MADV_HUGEPAGE)` when transparent
-//! huge pages are in `madvise` mode, the usual default; a `Vec` from the
-//! allocator never asks.
-//!
-//! [`HugePageArray`] is an immutable array of plain-old-data values that, when
-//! large, lives in its own anonymous mapping, aligned to 2 MiB and advised
-//! `MADV_HUGEPAGE`; elsewhere (small arrays, other systems, a refused mapping)
-//! it is an ordinary `Vec`. Either way it reads as a slice, and no code of
-//! ours is `unsafe`: the mapping comes from `memmap2`, the typed view from
+//! Contract: [`HugePageArray`] is an immutable array of plain-old-data values
+//! that reads as a slice. When it holds at least 8 MiB (on Linux) it lives in
+//! its own anonymous mapping, aligned to 2 MiB and advised `MADV_HUGEPAGE`;
+//! elsewhere (small arrays, other systems, a refused mapping) it is an
+//! ordinary `Vec`. Which of the two never changes what it reads back. No code
+//! of ours is `unsafe`: the mapping comes from `memmap2`, the typed view from
 //! `bytemuck`.
 //!
-//! The advice comes once the array is written, not before. Advised first,
-//! each first write to a 2 MiB page waits while the kernel finds a free huge
-//! page and zeroes it, and on virtual machines that return free memory to
-//! their host (free page reporting, as on the machines this project is
-//! measured on) that page is often memory the host must supply anew: the
-//! first wide-tree build of a process took a median 295 ms on ico1m and 216
-//! ms on the dragon, against 155 and 158 ms on 4 KiB pages (one thread, six
-//! processes each). Advised afterwards, the arrays are written on 4 KiB
-//! pages (159 and 160 ms) and the kernel's `khugepaged` moves them to huge
-//! pages in the background, within about a minute for the dragon's trees:
-//! a long-running process gets the huge pages, and no build waits for them.
-//! The price is paid by queries made before that: 20,000 near-surface
-//! queries right after the build took 1.02x (dragon) and 1.14x (ico1m) as
-//! long as on huge pages granted at once (same processes); `compare`'s
-//! `huge/4K pages` column, huge pages asked for before the writes against a
-//! tree in `Vec`s, measured 0.90–1.19x over seven runs.
+//! ```
+//! use proxima::memory::HugePageArray;
+//! let array = HugePageArray::new(vec![1u32, 2, 3]);
+//! assert_eq!(&array[..], &[1, 2, 3]);
+//! assert!(!array.is_mapped()); // small arrays stay in a `Vec`
+//! ```
+//!
+//! Why: a closest-point query on a big mesh is bound by memory latency, its
+//! nodes and triangles spread over tens of megabytes, far more than the TLB
+//! covers with 4 KiB pages; a `Vec` from the allocator never asks for huge
+//! pages (Linux's usual `madvise` mode).
+//!
+//! The advice comes once the array is written, not before: advised first,
+//! each first write to a 2 MiB page waits for the kernel to find and zero a
+//! huge page, which on virtual machines that return free memory to their host
+//! made builds much slower; advised afterwards, the kernel's `khugepaged`
+//! moves the arrays to huge pages in the background and no build waits
+//! (measurements in `docs/perf-log.md`, "Huge pages").
+//!
+//! With the `experimental` cargo feature, `set_huge_pages` switches huge
+//! pages off or on for the whole process: a measuring tool
+//! (`proxima-bench`'s `compare`), not part of the stable interface.
 
 use bytemuck::Pod;
 use std::fmt;
 use std::ops::Deref;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-/// Whether new large arrays ask for huge pages ([`set_huge_pages`]).
+/// Whether new large arrays ask for huge pages (`set_huge_pages`).
 static HUGE_PAGES: AtomicBool = AtomicBool::new(true);
 
 /// Turns the use of huge pages for arrays made from now on on or off, for the
-/// whole process (on by default). For measuring what they bring, or for
-/// systems where compacting memory for them costs more than it gains.
+/// whole process (on by default); arrays already made keep their storage.
+///
+/// Experimental (cargo feature `experimental`): a process-wide switch, kept
+/// for measuring what huge pages bring (`proxima-bench`'s `compare`).
+///
+/// ```
+/// proxima::memory::set_huge_pages(false);
+/// assert!(!proxima::memory::huge_pages());
+/// proxima::memory::set_huge_pages(true);
+/// ```
+#[cfg(feature = "experimental")]
 pub fn set_huge_pages(enabled: bool) {
     HUGE_PAGES.store(enabled, Ordering::Relaxed);
 }
 
-/// Whether arrays made now ask for huge pages ([`set_huge_pages`]).
+/// Whether arrays made now ask for huge pages: always, unless switched off
+/// by `set_huge_pages` (feature `experimental`).
+///
+/// ```
+/// assert!(proxima::memory::huge_pages()); // nothing switched them off
+/// ```
 pub fn huge_pages() -> bool {
     HUGE_PAGES.load(Ordering::Relaxed)
 }

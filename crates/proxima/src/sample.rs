@@ -61,7 +61,18 @@ impl Rng {
 }
 
 /// `n` points uniform in the mesh's bounding box enlarged by 10% of its size on
-/// every side (the `uniform` query set).
+/// every side (the `uniform` query set). The same seed gives the same points
+/// on every machine.
+///
+/// ```
+/// use proxima::mesh::generate::noisy_icosphere;
+/// use proxima::sample::uniform_in_box;
+/// let mesh = noisy_icosphere(4, 1);
+/// let points = uniform_in_box(&mesh, 100, 7);
+/// assert_eq!(points.len(), 100);
+/// assert_eq!(points, uniform_in_box(&mesh, 100, 7));
+/// assert_ne!(points, uniform_in_box(&mesh, 100, 8));
+/// ```
 pub fn uniform_in_box(mesh: &Mesh, n: usize, seed: u64) -> Vec<Vec3> {
     let b = mesh.bounds();
     if b.is_empty() {

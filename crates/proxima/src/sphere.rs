@@ -11,6 +11,14 @@ use crate::math::{Vec3, Vec3A};
 use glam::DVec3;
 
 /// A sphere: all points within `radius` of `center`.
+///
+/// ```
+/// use proxima::{Sphere, Vec3};
+/// let points = [Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::new(0.3, 0.4, 0.9)];
+/// let sphere = Sphere::from_points_tight(&points).unwrap();
+/// assert!(points.iter().all(|&p| sphere.contains_point(p))); // for certain, not within rounding
+/// assert!(Sphere::from_points(&[]).is_none());
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct Sphere {
     /// Center.

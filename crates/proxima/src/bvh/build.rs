@@ -3,7 +3,7 @@
 
 use super::AabbTree;
 use super::config::{BuildConfig, MAX_COORDINATE, SplitMethod};
-use super::median::{Counts, SMALL_NODE, median_partition, median_small};
+use super::median::{CentreItem, Counts, SMALL_NODE, median_partition, median_small};
 use super::node::{Node, NodePair};
 use crate::aabb::Aabb;
 use crate::error::BuildError;
@@ -11,36 +11,6 @@ use crate::math::{Vec3, Vec4};
 use crate::memory::HugePageVec;
 use crate::primitive::{Bounded, PrimitiveSet};
 use rayon::prelude::*;
-
-/// A primitive's centre and input index, moved around by the median split
-/// instead of the primitive itself: the partition step then touches 16
-/// contiguous bytes per primitive and never chases an index. The split needs
-/// only centres (its key, its axis, its histogram's range); node boxes are
-/// computed afterwards, from the leaves up ([`refit`]). Against moving
-/// 32-byte boxes: see `ARCHITECTURE.md`.
-#[derive(Clone, Copy, Debug, Default)]
-#[repr(C)]
-pub(super) struct CentreItem {
-    /// Twice the centre of the primitive's box (the factor 2 does not change
-    /// the order), and in `w` the input index (its bits).
-    pub(super) centre: Vec4,
-}
-
-const _: () = assert!(std::mem::size_of::<CentreItem>() == 16);
-
-impl CentreItem {
-    pub(super) fn new(bounds: Aabb, index: u32) -> Self {
-        Self {
-            centre: (bounds.min + bounds.max).extend(f32::from_bits(index)),
-        }
-    }
-
-    /// Twice the box centre along `axis`.
-    #[cfg(test)]
-    pub(super) fn key(&self, axis: usize) -> f32 {
-        self.centre[axis]
-    }
-}
 
 /// A primitive's box and input index, for the binned SAH split, which weighs
 /// the boxes of its bins. Two 16-byte lanes, so that an item moves in two
@@ -93,7 +63,7 @@ pub(super) trait BuildItem: Copy + Default + Send + Sync {
 impl BuildItem for CentreItem {
     #[inline(always)]
     fn index(&self) -> u32 {
-        self.centre.w.to_bits()
+        CentreItem::index(self)
     }
 
     /// The median split along the largest extent of the node's centres

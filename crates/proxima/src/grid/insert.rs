@@ -15,6 +15,7 @@
 //! a triangle is tested in 2D (three axes instead of ten, see `FlatTest`). Scan-line insertion
 //! (`scanline.rs`) takes the same shortcut, so both methods give the same cells.
 
+use super::cells::{CellTest, classic_cells, for_each_cell, for_each_cell_box};
 use super::layout::GridLayout;
 use super::{Cell, CellRange, InsertMethod, scanline};
 use crate::aabb::Aabb;
@@ -135,42 +136,8 @@ pub(crate) fn range_magnitude(layout: &GridLayout, range: &CellRange) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// Calls `f(cell, lo, hi)` for every cell of `range` with its closed box (as
-/// `f64`, exact), x fastest; each boundary is computed once per row.
-#[inline]
-pub(crate) fn for_each_cell_box(layout: &GridLayout, range: &CellRange, mut f: impl FnMut(Cell, [f64; 3], [f64; 3])) {
-    for k in range.min[2]..=range.max[2] {
-        let (z0, z1) = (layout.boundary64(2, k), layout.boundary64(2, k + 1));
-        for j in range.min[1]..=range.max[1] {
-            let (y0, y1) = (layout.boundary64(1, j), layout.boundary64(1, j + 1));
-            let mut x0 = layout.boundary64(0, range.min[0]);
-            for i in range.min[0]..=range.max[0] {
-                let x1 = layout.boundary64(0, i + 1);
-                f([i, j, k], [x0, y0, z0], [x1, y1, z1]);
-                x0 = x1;
-            }
-        }
-    }
-}
-
-/// An exact cell test split in two, so that the part that does not depend on
-/// a run's inner axis `q` is evaluated once per run of cells along `q`.
-/// Both parts see the same `f64` cell bounds, so a cell is accepted exactly
-/// when the unsplit test would accept it, whatever the axis and order.
-pub(crate) trait CellTest {
-    /// `false` when no cell of the run along `q` can overlap (`lo`, `hi` hold
-    /// the run's bounds on the other two axes).
-    #[inline]
-    fn run(&self, _q: usize, _lo: [f64; 3], _hi: [f64; 3]) -> bool {
-        true
-    }
-    /// The rest of the test for one cell of a run that passed [`CellTest::run`].
-    fn cell(&self, q: usize, lo: [f64; 3], hi: [f64; 3]) -> bool;
-}
-
 // Inlined into the cell loops: the hot path is a few multiply-adds per axis,
-// and a call per cell costs more than the test (measured: voxelize 256³ of
-// the 203k dragon 0.066 s with calls, see the commit).
+// and a call per cell costs more than the test (measured, see docs/perf-log.md).
 impl CellTest for TriangleBoxTest {
     #[inline(always)]
     fn run(&self, q: usize, lo: [f64; 3], hi: [f64; 3]) -> bool {
@@ -273,40 +240,6 @@ impl CellTest for SegmentTest {
     #[inline]
     fn cell(&self, _q: usize, lo: [f64; 3], hi: [f64; 3]) -> bool {
         segment_aabb_overlap(self.a, self.b, lo, hi)
-    }
-}
-
-/// The cells of `range` that `test` accepts, x fastest (runs along x).
-#[inline]
-pub(crate) fn classic_cells(layout: &GridLayout, range: &CellRange, test: &impl CellTest, mut visit: impl FnMut(Cell)) {
-    for k in range.min[2]..=range.max[2] {
-        let (z0, z1) = (layout.boundary64(2, k), layout.boundary64(2, k + 1));
-        for j in range.min[1]..=range.max[1] {
-            let (y0, y1) = (layout.boundary64(1, j), layout.boundary64(1, j + 1));
-            if !test.run(0, [0.0, y0, z0], [0.0, y1, z1]) {
-                continue;
-            }
-            let mut x0 = layout.boundary64(0, range.min[0]);
-            for i in range.min[0]..=range.max[0] {
-                let x1 = layout.boundary64(0, i + 1);
-                if test.cell(0, [x0, y0, z0], [x1, y1, z1]) {
-                    visit([i, j, k]);
-                }
-                x0 = x1;
-            }
-        }
-    }
-}
-
-/// Every cell of `range`, x fastest.
-#[inline]
-pub(crate) fn for_each_cell(range: &CellRange, mut f: impl FnMut(Cell)) {
-    for k in range.min[2]..=range.max[2] {
-        for j in range.min[1]..=range.max[1] {
-            for i in range.min[0]..=range.max[0] {
-                f([i, j, k]);
-            }
-        }
     }
 }
 

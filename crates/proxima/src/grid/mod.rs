@@ -2,7 +2,8 @@
 //! primitives that overlap the cell, storing only occupied cells.
 //!
 //! One file per operation: cell placement in `layout.rs`, the hash functions
-//! in `hasher.rs`, the classic insertion (box range, then exact test per cell)
+//! in `hasher.rs`, the cells of a range (plain or through an exact cell test)
+//! in `cells.rs`, the classic insertion (box range, then exact test per cell)
 //! in `insert.rs` (for convex polygons in `polygon_insert.rs`), the scan-line insertion in `scanline.rs`, the build in
 //! `build.rs`, the first-hit ray query in `ray.rs`, dense/sparse surface
 //! voxelization in `voxelize.rs` and statistics in `stats.rs`.
@@ -39,6 +40,7 @@
 //! ```
 
 mod build;
+mod cells;
 mod hasher;
 mod insert;
 mod layout;

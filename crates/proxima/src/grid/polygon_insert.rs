@@ -12,7 +12,8 @@
 //! so scan-line candidates might miss such a cell, and these polygons take the
 //! classic enumeration instead. Both methods therefore give the same cells.
 
-use super::insert::{CellTest, classic_cells, for_each_cell, ranges};
+use super::cells::{CellTest, classic_cells, for_each_cell};
+use super::insert::ranges;
 use super::{Cell, GridInsert, InsertMethod, InsertParams, scanline};
 use crate::error::GridError;
 use crate::primitive::polygon::MAX_POLYGON_VERTICES;

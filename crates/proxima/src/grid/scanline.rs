@@ -20,7 +20,7 @@
 //! of clipped rows. Small boxes (at most [`SMALL_RANGE`] cells) are handled
 //! classically: clipping would cost more than the tests it saves.
 
-use super::insert::{CellTest, classic_cells};
+use super::cells::{CellTest, classic_cells};
 use super::layout::GridLayout;
 use super::{Cell, CellRange};
 

@@ -5,6 +5,15 @@ use std::hash::BuildHasher;
 use std::mem::size_of;
 
 /// Occupancy and memory of a [`HashGrid`].
+///
+/// ```
+/// use proxima::grid::{GridConfig, HashGrid};
+/// use proxima::{Mesh, Vec3};
+/// let mesh = Mesh::from_triangles(vec![Vec3::splat(0.1), Vec3::new(0.9, 0.1, 0.1), Vec3::new(0.1, 0.9, 0.1)], &[[0, 1, 2]]).unwrap();
+/// let grid: HashGrid<_> = HashGrid::build(mesh.triangles(), &GridConfig::cubic(1.0)).unwrap();
+/// let stats = grid.stats();
+/// assert_eq!((stats.primitives, stats.occupied_cells, stats.entries), (1, 1, 1));
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GridStats {
     /// Number of primitives.

@@ -88,8 +88,7 @@
 //! parsers read from one `&[u8]` holding the whole file, allocate nothing per
 //! line, and size their buffers by what the remaining bytes allow. Numbers are
 //! parsed with `str::parse::<f32>` (correctly rounded, so a double written in
-//! the file becomes the nearest `f32`); the 33 MB ascii dragon PLY parses in
-//! about 0.2 s, plus about as long again to decompress its `.gz`.
+//! the file becomes the nearest `f32`). Timings: `docs/perf-log.md`.
 
 mod obj;
 mod off;

@@ -5,6 +5,14 @@ use crate::primitive::{LineSegment, Point, PrimitiveSet, Triangle};
 
 impl Mesh {
     /// Every vertex as a point; the source of each is its vertex index.
+    ///
+    /// ```
+    /// use proxima::{Mesh, Vec3};
+    /// let quad = Mesh::from_faces(vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y], &[vec![0, 1, 2, 3]]).unwrap();
+    /// assert_eq!(quad.vertices().len(), 4);
+    /// assert_eq!(quad.edges().len(), 4); // each undirected edge once
+    /// assert_eq!(quad.triangles().sources, [0, 0]); // the fan of face 0
+    /// ```
     pub fn vertices(&self) -> PrimitiveSet<Point> {
         PrimitiveSet::from_primitives(self.positions.iter().map(|&p| Point(p)).collect())
     }

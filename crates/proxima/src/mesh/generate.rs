@@ -11,6 +11,12 @@ use std::collections::HashMap;
 /// waves chosen by `seed`. `frequency = 224` gives 1,003,520 triangles (the
 /// `ico1m` mesh of BENCHMARKS.md). The mesh is watertight: vertices on shared
 /// icosahedron edges are computed identically from both sides and welded.
+///
+/// ```
+/// let mesh = proxima::mesh::generate::noisy_icosphere(4, 1);
+/// assert_eq!(mesh.face_count(), 20 * 4 * 4);
+/// assert_eq!(mesh.edge_indices().len(), 3 * mesh.face_count() / 2); // closed: every edge shared by two faces
+/// ```
 pub fn noisy_icosphere(frequency: u32, seed: u64) -> Mesh {
     let frequency = frequency.max(1);
     let t = (1.0 + 5f64.sqrt()) / 2.0;

@@ -5,6 +5,12 @@ use crate::aabb::Aabb;
 use crate::math::{Vec3, Vec3A};
 
 /// A point primitive: a mesh vertex.
+///
+/// ```
+/// use proxima::{ClosestPoint, Point, Vec3, Vec3A};
+/// let p = Point(Vec3::new(1.0, 2.0, 2.0));
+/// assert_eq!(p.distance_squared(Vec3A::ZERO), 9.0);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct Point(pub Vec3);
 

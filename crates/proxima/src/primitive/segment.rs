@@ -5,6 +5,14 @@ use crate::aabb::Aabb;
 use crate::math::{Vec3, Vec3A};
 
 /// The segment from `a` to `b`; a zero-length segment is a point.
+///
+/// ```
+/// use proxima::{ClosestPoint, LineSegment, Vec3, Vec3A};
+/// let s = LineSegment::new(Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0));
+/// assert_eq!(s.length(), 2.0);
+/// assert_eq!(s.closest_point(Vec3A::new(0.5, 1.0, 0.0)), Vec3A::new(0.5, 0.0, 0.0));
+/// assert_eq!(s.distance_squared(Vec3A::new(3.0, 0.0, 0.0)), 1.0); // past the end b
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct LineSegment {
     /// First end.

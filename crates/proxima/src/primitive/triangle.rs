@@ -8,6 +8,15 @@ use crate::math::{Vec3, Vec3A};
 /// The triangle `a`, `b`, `c`. Degenerate triangles (repeated vertices,
 /// collinear vertices, zero area) are valid and behave as the union of their
 /// edges.
+///
+/// ```
+/// use proxima::{ClosestPoint, Triangle, Vec3, Vec3A};
+/// let t = Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y);
+/// // Above the face: the projection onto its plane.
+/// assert_eq!(t.closest_point(Vec3A::new(0.25, 0.25, 2.0)), Vec3A::new(0.25, 0.25, 0.0));
+/// // Beyond vertex b: vertex b.
+/// assert_eq!(t.closest_point(Vec3A::new(3.0, -1.0, 0.0)), Vec3A::X);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct Triangle {
     /// First vertex.
