@@ -294,7 +294,10 @@ impl ViewerApp {
             }
         }
         if s.show_ray {
-            let grid = (d.grid.memo.get(&keys.grid))
+            let grid = d
+                .grid
+                .memo
+                .get(&keys.grid)
                 .filter(|_| s.show_cells)
                 .and_then(|g| g.as_ref().ok());
             let key = RayKey {
