@@ -1,12 +1,13 @@
 //! Grid cells to draw: the occupied cells of a hash grid over one kind of
 //! primitive, and the cells a ray walks through. Plain data, no window.
 
-use crate::model::{Model, PrimitiveKind};
+use crate::model::Model;
 use crate::scene::{BoxSet, Overlay, colors};
 use proxima::grid::{Cell, FastHash, GridConfig, GridStats, HashGrid, InsertMethod};
-use proxima::math::Vec3;
+use proxima::prelude::*;
+use proxima::primitive::polygon::DEFAULT_PLANARITY_TOLERANCE;
 use proxima::traversal::{GridTraversal, TraversalConfig};
-use proxima::{ConvexPolygon, LineSegment, Point, Triangle};
+use std::any::Any;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -17,13 +18,40 @@ pub const MAX_ENTRIES: u64 = 1 << 23;
 /// At most this many cells under one primitive's bounding box.
 pub const MAX_CELLS_PER_PRIMITIVE: u64 = 1 << 20;
 
-/// Grids with the fast hasher: on the dragon at cell size 0.001 (107k
+/// A grid over one kind of primitive, with the primitive type erased.
+/// Grids use the fast hasher: on the dragon at cell size 0.001 (107k
 /// occupied cells) the classic hash takes about 9 s to build, this 0.5 s.
-enum AnyGrid {
-    Vertices(HashGrid<Point, FastHash>),
-    Edges(HashGrid<LineSegment, FastHash>),
-    Faces(HashGrid<Triangle, FastHash>),
-    Polygons(HashGrid<ConvexPolygon, FastHash>),
+trait OccupiedCells: Send + Sync {
+    /// `true` when `cell` holds at least one primitive.
+    fn is_occupied(&self, cell: &Cell) -> bool;
+    /// For reaching the grid over faces (the only one with a ray query).
+    fn as_any(&self) -> &dyn Any;
+}
+
+impl<T: MeshPrimitive> OccupiedCells for HashGrid<T, FastHash> {
+    fn is_occupied(&self, cell: &Cell) -> bool {
+        !self.cell(cell).is_empty()
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}
+
+/// Builds a grid over one kind, for [`PrimitiveKind::run`]: the grid, its
+/// statistics and its occupied cells.
+struct BuildGrid<'a>(&'a GridConfig);
+
+impl KindTask for BuildGrid<'_> {
+    type Output = Result<(Box<dyn OccupiedCells>, GridStats, Vec<Cell>), String>;
+
+    fn run<T: MeshPrimitive>(self, set: PrimitiveSet<T>) -> Self::Output {
+        let grid = HashGrid::<T, FastHash>::build(set, self.0).map_err(|e| e.to_string())?;
+        let cells = grid.occupied().map(|(c, _)| c).collect();
+        let stats = grid.stats();
+        let grid: Box<dyn OccupiedCells> = Box::new(grid);
+        Ok((grid, stats, cells))
+    }
 }
 
 /// A hash grid over one kind of primitive, with its occupied cells as boxes.
@@ -38,7 +66,7 @@ pub struct CellGrid {
     pub stats: GridStats,
     /// Seconds the build took.
     pub build_seconds: f64,
-    grid: AnyGrid,
+    grid: Box<dyn OccupiedCells>,
 }
 
 impl CellGrid {
@@ -53,34 +81,7 @@ impl CellGrid {
         };
         let layout = config.layout().map_err(|e| e.to_string())?;
         let start = Instant::now();
-        let (grid, stats) = match kind {
-            PrimitiveKind::Vertices => {
-                let g = HashGrid::build(model.mesh.vertices(), &config).map_err(|e| e.to_string())?;
-                let s = g.stats();
-                (AnyGrid::Vertices(g), s)
-            }
-            PrimitiveKind::Edges => {
-                let g = HashGrid::build(model.mesh.edges(), &config).map_err(|e| e.to_string())?;
-                let s = g.stats();
-                (AnyGrid::Edges(g), s)
-            }
-            PrimitiveKind::Faces => {
-                let g = HashGrid::build(model.mesh.triangles(), &config).map_err(|e| e.to_string())?;
-                let s = g.stats();
-                (AnyGrid::Faces(g), s)
-            }
-            PrimitiveKind::Polygons => {
-                let g = HashGrid::build(model.mesh.polygons(), &config).map_err(|e| e.to_string())?;
-                let s = g.stats();
-                (AnyGrid::Polygons(g), s)
-            }
-        };
-        let cells: Vec<Cell> = match &grid {
-            AnyGrid::Vertices(g) => g.occupied().map(|(c, _)| c).collect(),
-            AnyGrid::Edges(g) => g.occupied().map(|(c, _)| c).collect(),
-            AnyGrid::Faces(g) => g.occupied().map(|(c, _)| c).collect(),
-            AnyGrid::Polygons(g) => g.occupied().map(|(c, _)| c).collect(),
-        };
+        let (grid, stats, cells) = kind.run(&model.mesh, DEFAULT_PLANARITY_TOLERANCE, BuildGrid(&config))?;
         let boxes = Arc::new(BoxSet::new(cells.iter().map(|&c| layout.cell_box(c))));
         Ok(CellGrid {
             kind,
@@ -99,25 +100,14 @@ impl CellGrid {
 
     /// `true` when `cell` holds at least one primitive.
     pub fn is_occupied(&self, cell: &Cell) -> bool {
-        match &self.grid {
-            AnyGrid::Vertices(g) => !g.cell(cell).is_empty(),
-            AnyGrid::Edges(g) => !g.cell(cell).is_empty(),
-            AnyGrid::Faces(g) => !g.cell(cell).is_empty(),
-            AnyGrid::Polygons(g) => !g.cell(cell).is_empty(),
-        }
+        self.grid.is_occupied(cell)
     }
 
     /// The first face hit by the ray (only for a grid over faces; the grid has no ray query over polygons).
     pub fn first_hit(&self, origin: Vec3, direction: Vec3) -> Option<Vec3> {
-        match &self.grid {
-            AnyGrid::Faces(g) => g
-                .first_hit(origin, direction, 0.0, f32::INFINITY)
-                .ok()
-                .flatten()
-                .map(|h| h.point),
-
-            _ => None,
-        }
+        let faces = self.grid.as_any().downcast_ref::<HashGrid<Triangle, FastHash>>()?;
+        let hit = faces.first_hit(origin, direction, 0.0, f32::INFINITY).ok().flatten()?;
+        Some(hit.point)
     }
 }
 

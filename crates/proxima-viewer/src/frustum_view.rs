@@ -4,9 +4,10 @@
 //! data computed from the settings and the model: unit-tested without a
 //! window.
 
-use crate::model::{Model, PrimitiveKind};
+use crate::model::Model;
 use crate::scene::{Overlay, colors};
-use crate::state::Settings;
+use crate::settings::Settings;
+use proxima::PrimitiveKind;
 use proxima::frustum::Frustum;
 use proxima::math::Vec3;
 

@@ -18,7 +18,8 @@
 //! - [`frustum_view`]: a second camera's frustum and the primitives its
 //!   frustum query selects;
 //! - [`spheres`]: the sphere tree's nodes at a depth as great circles;
-//! - [`state`]: the panel settings and the composition of a frame;
+//! - [`settings`]: what the side panel edits;
+//! - [`frame`]: the composition of a frame's draw data;
 //! - [`screenshot`]: the scripted mode (one PNG and exit);
 //! - `gl` (private): the OpenGL renderer; `app` (private): the eframe app.
 //!
@@ -30,18 +31,23 @@
 mod app;
 pub mod camera;
 pub mod cells;
+pub mod frame;
 pub mod frustum_view;
 mod gl;
+mod job;
+mod memo;
 pub mod model;
 pub mod scene;
 pub mod screenshot;
+pub mod settings;
 pub mod spheres;
-pub mod state;
 
 pub use camera::{OrbitCamera, Viewport};
-pub use model::{Model, ModelSource, PrimitiveKind};
+pub use model::{Model, ModelSource};
+/// The library's primitive kinds, re-exported for the command line.
+pub use proxima::PrimitiveKind;
 pub use screenshot::{ScreenshotOptions, ScreenshotReport};
-pub use state::Settings;
+pub use settings::Settings;
 
 use eframe::egui;
 use proxima::math::Vec3;

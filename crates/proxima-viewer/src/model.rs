@@ -1,57 +1,20 @@
-//! What the viewer knows about a loaded mesh: the mesh, its draw buffers, the
-//! three AABB trees and brute-force searches (vertices, edges, faces), and the
-//! queries the panel asks of them. Built off the UI thread; no GL, no egui.
+//! What the viewer knows about a loaded mesh: the mesh, its draw buffers, and
+//! per primitive kind an AABB tree, brute force and (built on first use) a
+//! sphere tree, with the queries the panel asks of them. Built off the UI
+//! thread; no GL, no egui.
+//!
+//! The per-kind work is written once, generic over the primitive type
+//! ([`KindModel`]), and reached through the object-safe [`KindQueries`]: one
+//! virtual call per UI action, none per primitive.
 
-use crate::scene::{self, MeshBuffers};
-use proxima::frustum::Frustum;
-use proxima::math::Vec3;
+use crate::scene::{self, MeshBuffers, Overlay, Shape, colors};
 use proxima::prelude::*;
-use proxima::{
-    Aabb, AabbTree, BuildConfig, ClosestHit, ConvexPolygon, LineSegment, LinearSearch, Mesh, Point, PrimitiveSet,
-    Sphere, SphereTree, TreeStats, Triangle,
-};
+use proxima::primitive::polygon::DEFAULT_PLANARITY_TOLERANCE;
+use proxima::{Sphere, TreeStats};
+use std::any::Any;
 use std::path::PathBuf;
 use std::sync::{Arc, OnceLock};
 use std::time::Instant;
-
-/// Which primitives of the mesh the queries run on.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum PrimitiveKind {
-    /// Mesh vertices as points.
-    Vertices,
-    /// Unique undirected edges as segments.
-    Edges,
-    /// Faces (fan-triangulated; the source is the face).
-    #[default]
-    Faces,
-    /// Faces as convex polygons (`Mesh::polygons`: convex planar faces kept
-    /// whole, others fan-triangulated; the source is the face).
-    Polygons,
-}
-
-impl PrimitiveKind {
-    /// All kinds, in display order.
-    pub const ALL: [PrimitiveKind; 4] = [
-        PrimitiveKind::Vertices,
-        PrimitiveKind::Edges,
-        PrimitiveKind::Faces,
-        PrimitiveKind::Polygons,
-    ];
-
-    /// Lowercase name, as on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            PrimitiveKind::Vertices => "vertices",
-            PrimitiveKind::Edges => "edges",
-            PrimitiveKind::Faces => "faces",
-            PrimitiveKind::Polygons => "polygons",
-        }
-    }
-
-    fn index(self) -> usize {
-        self as usize
-    }
-}
 
 /// Where a model comes from.
 #[derive(Debug)]
@@ -87,8 +50,35 @@ pub struct Timings {
     pub build: [f64; 4],
 }
 
+/// What the viewer asks of the structures over one kind of primitive, with
+/// the primitive type erased.
+trait KindQueries: Send + Sync {
+    /// Number of primitives (build inputs).
+    fn len(&self) -> usize;
+    /// Statistics of the AABB tree.
+    fn stats(&self) -> TreeStats;
+    /// Boxes of the AABB tree's nodes at `depth`.
+    fn nodes_at_depth(&self, depth: u32) -> Vec<Aabb>;
+    /// Spheres of the sphere tree's nodes at `depth` (the tree is built on first use).
+    fn sphere_nodes_at_depth(&self, depth: u32) -> Vec<Sphere>;
+    /// Fills the answers of `result` for its point (see [`Model::query`]).
+    fn closest(&self, result: &mut QueryResult, k: usize, with_linear: bool);
+    /// Closest primitive by brute force.
+    fn linear_closest(&self, p: Vec3) -> Option<ClosestHit>;
+    /// The tree's frustum selection into `out`, and the mean seconds per query.
+    fn frustum(&self, frustum: &Frustum, out: &mut Vec<u32>) -> f64;
+    /// The frustum selection by brute force.
+    fn frustum_linear(&self, frustum: &Frustum) -> Vec<u32>;
+    /// The mesh element build input `input` came from.
+    fn source(&self, input: u32) -> Option<u32>;
+    /// The geometry of build input `input`.
+    fn input_shape(&self, input: u32) -> Option<Shape>;
+    /// For reaching the concrete tree where only one type will do (picking).
+    fn as_any(&self) -> &dyn Any;
+}
+
 /// Trees and brute-force searches over one kind of primitive.
-struct Index<T> {
+struct KindModel<T> {
     tree: AabbTree<T>,
     linear: LinearSearch<T>,
     /// `sources[i]`: the mesh element build input `i` came from.
@@ -99,21 +89,110 @@ struct Index<T> {
     spheres: OnceLock<Option<SphereTree<T>>>,
 }
 
-impl<T: proxima::ClosestPoint + proxima::FrustumOverlap + Copy + Send + Sync> Index<T> {
-    fn build(set: PrimitiveSet<T>) -> Result<(Self, f64), String> {
+/// Builds a kind's [`KindModel`] with its build time, for [`PrimitiveKind::run`].
+struct BuildKind;
+
+impl KindTask for BuildKind {
+    type Output = Result<(Box<dyn KindQueries>, f64), String>;
+
+    fn run<T: MeshPrimitive>(self, set: PrimitiveSet<T>) -> Self::Output {
         let start = Instant::now();
         let tree = AabbTree::build_set(set.clone(), &BuildConfig::default()).map_err(|e| e.to_string())?;
         let seconds = start.elapsed().as_secs_f64();
-        Ok((
-            Self {
-                sources: set.sources.clone(),
-                spheres: OnceLock::new(),
-                stats: tree.stats(),
-                tree,
-                linear: LinearSearch::new(set),
-            },
-            seconds,
-        ))
+        let model = KindModel {
+            sources: set.sources.clone(),
+            spheres: OnceLock::new(),
+            stats: tree.stats(),
+            tree,
+            linear: LinearSearch::new(set),
+        };
+        Ok((Box::new(model), seconds))
+    }
+}
+
+impl<T: MeshPrimitive> KindQueries for KindModel<T> {
+    fn len(&self) -> usize {
+        self.tree.len()
+    }
+
+    fn stats(&self) -> TreeStats {
+        self.stats
+    }
+
+    fn nodes_at_depth(&self, depth: u32) -> Vec<Aabb> {
+        scene::nodes_at_depth(&self.tree, depth)
+    }
+
+    fn sphere_nodes_at_depth(&self, depth: u32) -> Vec<Sphere> {
+        // The same inputs built the AABB tree, so the build does not fail.
+        let tree = self.spheres.get_or_init(|| {
+            SphereTree::build_with_sources(
+                self.linear.primitives().to_vec(),
+                self.sources.clone(),
+                &BuildConfig::default(),
+            )
+            .ok()
+        });
+        tree.as_ref()
+            .map(|t| crate::spheres::sphere_nodes_at_depth(t, depth))
+            .unwrap_or_default()
+    }
+
+    fn closest(&self, result: &mut QueryResult, k: usize, with_linear: bool) {
+        let p = result.point;
+        (result.tree, result.tree_seconds) = timed(|| self.tree.closest(p));
+        if with_linear {
+            let start = Instant::now();
+            result.linear = self.linear.closest(p);
+            result.linear_seconds = start.elapsed().as_secs_f64();
+        }
+        if k > 0 {
+            result.nearest = self.tree.k_nearest(p, k);
+        }
+    }
+
+    fn linear_closest(&self, p: Vec3) -> Option<ClosestHit> {
+        self.linear.closest(p)
+    }
+
+    fn frustum(&self, frustum: &Frustum, out: &mut Vec<u32>) -> f64 {
+        timed(|| self.tree.frustum_into(frustum, out)).1
+    }
+
+    fn frustum_linear(&self, frustum: &Frustum) -> Vec<u32> {
+        self.linear.frustum(frustum)
+    }
+
+    fn source(&self, input: u32) -> Option<u32> {
+        self.sources.get(input as usize).copied()
+    }
+
+    fn input_shape(&self, input: u32) -> Option<Shape> {
+        self.linear.primitives().get(input as usize).map(shape_of)
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}
+
+/// The geometry of one primitive, for highlighting. `MeshPrimitive` has no
+/// drawing hook, so the four types are told apart here, once.
+fn shape_of<T: MeshPrimitive>(primitive: &T) -> Shape {
+    let any: &dyn Any = primitive;
+    if let Some(p) = any.downcast_ref::<Point>() {
+        Shape::Point(p.0)
+    } else if let Some(e) = any.downcast_ref::<LineSegment>() {
+        Shape::Segment(e.a, e.b)
+    } else if let Some(t) = any.downcast_ref::<Triangle>() {
+        Shape::Polygon(vec![t.a, t.b, t.c])
+    } else if let Some(polygon) = any.downcast_ref::<ConvexPolygon>() {
+        Shape::Polygon(polygon.vertices().to_vec())
+    } else {
+        // A primitive type added later: its hull points, as a polygon.
+        let mut points = Vec::new();
+        primitive.push_bounding_points(&mut points);
+        Shape::Polygon(points)
     }
 }
 
@@ -134,10 +213,9 @@ pub struct Model {
     pub buffers_lod: Option<Arc<MeshBuffers>>,
     /// How long each step took.
     pub timings: Timings,
-    vertices: Index<Point>,
-    edge_index: Index<LineSegment>,
-    faces: Option<Index<Triangle>>,
-    polygons: Option<Index<ConvexPolygon>>,
+    /// Per kind (indexed by `PrimitiveKind as usize`); `None` when the mesh
+    /// gives no primitive of that kind.
+    kinds: [Option<Box<dyn KindQueries>>; 4],
 }
 
 /// The answer to one closest-point question, by tree and by brute force.
@@ -208,25 +286,20 @@ impl Model {
         let buffers_lod = (mesh.triangle_count() > scene::INTERACTIVE_TRIANGLE_LIMIT)
             .then(|| Arc::new(scene::decimate(&buffers, 160)));
         let edges = mesh.edge_indices();
-        let buffer_seconds = start.elapsed().as_secs_f64();
-        report("tree over vertices", 0.45);
-        let (vertices, t_vertices) = Index::build(mesh.vertices())?;
-        report("tree over edges", 0.6);
-        let (edge_index, t_edges) = Index::build(mesh.edges())?;
-        report("tree over faces", 0.8);
-        let (faces, t_faces) = if mesh.face_count() > 0 {
-            let (index, t) = Index::build(mesh.triangles())?;
-            (Some(index), t)
-        } else {
-            (None, 0.0)
+        let mut timings = Timings {
+            load,
+            buffers: start.elapsed().as_secs_f64(),
+            build: [0.0; 4],
         };
-        report("tree over convex polygons", 0.9);
-        let (polygons, t_polygons) = if mesh.face_count() > 0 {
-            let (index, t) = Index::build(mesh.polygons())?;
-            (Some(index), t)
-        } else {
-            (None, 0.0)
-        };
+        let mut kinds: [Option<Box<dyn KindQueries>>; 4] = Default::default();
+        for (i, kind) in PrimitiveKind::ALL.into_iter().enumerate() {
+            report(&format!("tree over {}", kind.name()), 0.45 + 0.15 * i as f32);
+            if kind.available(&mesh) > 0 {
+                let (model, seconds) = kind.run(&mesh, DEFAULT_PLANARITY_TOLERANCE, BuildKind)?;
+                kinds[kind as usize] = Some(model);
+                timings.build[kind as usize] = seconds;
+            }
+        }
         report("done", 1.0);
         Ok(Model {
             name,
@@ -234,17 +307,15 @@ impl Model {
             edges,
             buffers,
             buffers_lod,
-            timings: Timings {
-                load,
-                buffers: buffer_seconds,
-                build: [t_vertices, t_edges, t_faces, t_polygons],
-            },
+            timings,
             mesh,
-            vertices,
-            edge_index,
-            faces,
-            polygons,
+            kinds,
         })
+    }
+
+    /// The structures over `kind`, if the mesh gives primitives of it.
+    fn kind(&self, kind: PrimitiveKind) -> Option<&dyn KindQueries> {
+        self.kinds[kind as usize].as_deref()
     }
 
     /// `true` when primitives of `kind` exist (a point cloud has no faces, a
@@ -255,141 +326,58 @@ impl Model {
 
     /// Number of primitives of `kind`.
     pub fn count(&self, kind: PrimitiveKind) -> usize {
-        match kind {
-            PrimitiveKind::Vertices => self.vertices.tree.len(),
-            PrimitiveKind::Edges => self.edge_index.tree.len(),
-            PrimitiveKind::Faces => self.faces.as_ref().map_or(0, |f| f.tree.len()),
-            PrimitiveKind::Polygons => self.polygons.as_ref().map_or(0, |f| f.tree.len()),
-        }
+        self.kind(kind).map_or(0, |k| k.len())
     }
 
     /// Statistics of the tree over `kind`.
     pub fn tree_stats(&self, kind: PrimitiveKind) -> TreeStats {
-        match kind {
-            PrimitiveKind::Vertices => self.vertices.stats,
-            PrimitiveKind::Edges => self.edge_index.stats,
-            PrimitiveKind::Faces => self.faces.as_ref().map(|f| f.stats).unwrap_or_default(),
-            PrimitiveKind::Polygons => self.polygons.as_ref().map(|f| f.stats).unwrap_or_default(),
-        }
+        self.kind(kind).map(|k| k.stats()).unwrap_or_default()
     }
 
     /// Seconds the tree over `kind` took to build.
     pub fn build_seconds(&self, kind: PrimitiveKind) -> f64 {
-        self.timings.build[kind.index()]
+        self.timings.build[kind as usize]
     }
 
     /// The tree over faces (for picking), if the mesh has faces.
     pub fn face_tree(&self) -> Option<&AabbTree<Triangle>> {
-        self.faces.as_ref().map(|f| &f.tree)
+        let faces = self.kind(PrimitiveKind::Faces)?.as_any();
+        faces.downcast_ref::<KindModel<Triangle>>().map(|f| &f.tree)
     }
 
     /// Spheres of the sphere tree's nodes of `kind` at exactly `depth` (root
     /// = 0). The sphere tree is built on first use (same inputs as the AABB
     /// tree, same hierarchy).
     pub fn sphere_nodes_at_depth(&self, kind: PrimitiveKind, depth: u32) -> Vec<Sphere> {
-        fn at<T: Copy + proxima::ClosestPoint + proxima::primitive::BoundingPoints + Send + Sync>(
-            index: &Index<T>,
-            depth: u32,
-        ) -> Vec<Sphere> {
-            // The same inputs built the AABB tree, so the build does not fail.
-            let tree = index.spheres.get_or_init(|| {
-                SphereTree::build_with_sources(
-                    index.linear.primitives().to_vec(),
-                    index.sources.clone(),
-                    &BuildConfig::default(),
-                )
-                .ok()
-            });
-            tree.as_ref()
-                .map(|t| crate::spheres::sphere_nodes_at_depth(t, depth))
-                .unwrap_or_default()
-        }
-        match kind {
-            PrimitiveKind::Vertices => at(&self.vertices, depth),
-            PrimitiveKind::Edges => at(&self.edge_index, depth),
-            PrimitiveKind::Faces => self.faces.as_ref().map(|f| at(f, depth)).unwrap_or_default(),
-            PrimitiveKind::Polygons => self.polygons.as_ref().map(|f| at(f, depth)).unwrap_or_default(),
-        }
+        self.kind(kind)
+            .map(|k| k.sphere_nodes_at_depth(depth))
+            .unwrap_or_default()
     }
 
     /// Boxes of the tree nodes of `kind` at exactly `depth` (root = 0).
     pub fn nodes_at_depth(&self, kind: PrimitiveKind, depth: u32) -> Vec<Aabb> {
-        match kind {
-            PrimitiveKind::Vertices => scene::nodes_at_depth(&self.vertices.tree, depth),
-            PrimitiveKind::Edges => scene::nodes_at_depth(&self.edge_index.tree, depth),
-            PrimitiveKind::Faces => self
-                .faces
-                .as_ref()
-                .map(|f| scene::nodes_at_depth(&f.tree, depth))
-                .unwrap_or_default(),
-            PrimitiveKind::Polygons => self
-                .polygons
-                .as_ref()
-                .map(|f| scene::nodes_at_depth(&f.tree, depth))
-                .unwrap_or_default(),
-        }
+        self.kind(kind).map(|k| k.nodes_at_depth(depth)).unwrap_or_default()
     }
 
     /// Closest primitive of `kind` to `p` by the tree (and by brute force when
     /// `with_linear`), with timings, and the `k` nearest.
     pub fn query(&self, kind: PrimitiveKind, p: Vec3, k: usize, with_linear: bool) -> QueryResult {
-        fn run<T: proxima::ClosestPoint>(
-            index: &Index<T>,
-            p: Vec3,
-            k: usize,
-            with_linear: bool,
-        ) -> (Option<ClosestHit>, f64, Option<ClosestHit>, f64, Vec<ClosestHit>) {
-            let (tree, tree_seconds) = timed(|| index.tree.closest(p));
-            let (linear, linear_seconds) = if with_linear {
-                let start = Instant::now();
-                let hit = index.linear.closest(p);
-                (hit, start.elapsed().as_secs_f64())
-            } else {
-                (None, 0.0)
-            };
-            let nearest = if k > 0 { index.tree.k_nearest(p, k) } else { Vec::new() };
-            (tree, tree_seconds, linear, linear_seconds, nearest)
-        }
-        let answer = match kind {
-            PrimitiveKind::Vertices => run(&self.vertices, p, k, with_linear),
-            PrimitiveKind::Edges => run(&self.edge_index, p, k, with_linear),
-            PrimitiveKind::Faces => match &self.faces {
-                Some(index) => run(index, p, k, with_linear),
-                None => (None, 0.0, None, 0.0, Vec::new()),
-            },
-            PrimitiveKind::Polygons => match &self.polygons {
-                Some(index) => run(index, p, k, with_linear),
-                None => (None, 0.0, None, 0.0, Vec::new()),
-            },
-        };
-        let (tree, tree_seconds, linear, linear_seconds, nearest) = answer;
-        QueryResult {
+        let mut result = QueryResult {
             point: p,
             kind,
-            tree,
-            linear,
-            tree_seconds,
-            linear_seconds,
-            nearest,
+            ..QueryResult::default()
+        };
+        if let Some(structures) = self.kind(kind) {
+            structures.closest(&mut result, k, with_linear);
         }
+        result
     }
 
     /// Build-input indices of the primitives of `kind` overlapping `frustum`
     /// by the tree (ascending), with the mean seconds per query.
     pub fn frustum_query(&self, kind: PrimitiveKind, frustum: &Frustum) -> (Vec<u32>, f64) {
         let mut out = Vec::new();
-        let seconds = match kind {
-            PrimitiveKind::Vertices => timed(|| self.vertices.tree.frustum_into(frustum, &mut out)).1,
-            PrimitiveKind::Edges => timed(|| self.edge_index.tree.frustum_into(frustum, &mut out)).1,
-            PrimitiveKind::Faces => match &self.faces {
-                Some(f) => timed(|| f.tree.frustum_into(frustum, &mut out)).1,
-                None => 0.0,
-            },
-            PrimitiveKind::Polygons => match &self.polygons {
-                Some(f) => timed(|| f.tree.frustum_into(frustum, &mut out)).1,
-                None => 0.0,
-            },
-        };
+        let seconds = self.kind(kind).map_or(0.0, |k| k.frustum(frustum, &mut out));
         (out, seconds)
     }
 
@@ -397,67 +385,20 @@ impl Model {
     /// primitive tested), with the seconds it took.
     pub fn frustum_linear(&self, kind: PrimitiveKind, frustum: &Frustum) -> (Vec<u32>, f64) {
         let start = Instant::now();
-        let out = match kind {
-            PrimitiveKind::Vertices => self.vertices.linear.frustum(frustum),
-            PrimitiveKind::Edges => self.edge_index.linear.frustum(frustum),
-            PrimitiveKind::Faces => self
-                .faces
-                .as_ref()
-                .map(|f| f.linear.frustum(frustum))
-                .unwrap_or_default(),
-            PrimitiveKind::Polygons => self
-                .polygons
-                .as_ref()
-                .map(|f| f.linear.frustum(frustum))
-                .unwrap_or_default(),
-        };
+        let out = self.kind(kind).map(|k| k.frustum_linear(frustum)).unwrap_or_default();
         (out, start.elapsed().as_secs_f64())
     }
 
     /// The mesh element (vertex, edge or face) that build input `input` of
     /// `kind` came from.
     pub fn input_source(&self, kind: PrimitiveKind, input: u32) -> Option<u32> {
-        let sources = match kind {
-            PrimitiveKind::Vertices => &self.vertices.sources,
-            PrimitiveKind::Edges => &self.edge_index.sources,
-            PrimitiveKind::Faces => &self.faces.as_ref()?.sources,
-            PrimitiveKind::Polygons => &self.polygons.as_ref()?.sources,
-        };
-        sources.get(input as usize).copied()
+        self.kind(kind)?.source(input)
     }
 
     /// The geometry of build input `input` of `kind` (a face's fan triangle,
     /// not the whole face), for highlighting query answers given as inputs.
-    pub fn input_shape(&self, kind: PrimitiveKind, input: u32) -> Option<scene::Shape> {
-        let i = input as usize;
-        match kind {
-            PrimitiveKind::Vertices => self
-                .vertices
-                .linear
-                .primitives()
-                .get(i)
-                .map(|p| scene::Shape::Point(p.0)),
-            PrimitiveKind::Edges => self
-                .edge_index
-                .linear
-                .primitives()
-                .get(i)
-                .map(|e| scene::Shape::Segment(e.a, e.b)),
-            PrimitiveKind::Faces => self
-                .faces
-                .as_ref()?
-                .linear
-                .primitives()
-                .get(i)
-                .map(|t| scene::Shape::Polygon(vec![t.a, t.b, t.c])),
-            PrimitiveKind::Polygons => self
-                .polygons
-                .as_ref()?
-                .linear
-                .primitives()
-                .get(i)
-                .map(|polygon| scene::Shape::Polygon(polygon.vertices().to_vec())),
-        }
+    pub fn input_shape(&self, kind: PrimitiveKind, input: u32) -> Option<Shape> {
+        self.kind(kind)?.input_shape(input)
     }
 
     /// Closest primitive of `kind` to `p` by brute force, with the seconds it
@@ -465,32 +406,49 @@ impl Model {
     /// tens of milliseconds).
     pub fn linear_closest(&self, kind: PrimitiveKind, p: Vec3) -> (Option<ClosestHit>, f64) {
         let start = Instant::now();
-        let hit = match kind {
-            PrimitiveKind::Vertices => self.vertices.linear.closest(p),
-            PrimitiveKind::Edges => self.edge_index.linear.closest(p),
-            PrimitiveKind::Faces => self.faces.as_ref().and_then(|f| f.linear.closest(p)),
-            PrimitiveKind::Polygons => self.polygons.as_ref().and_then(|f| f.linear.closest(p)),
-        };
+        let hit = self.kind(kind).and_then(|k| k.linear_closest(p));
         (hit, start.elapsed().as_secs_f64())
     }
 
     /// The geometry of primitive `source` of `kind` (vertex, edge or face
-    /// index), for highlighting; `None` for an index out of range.
-    pub fn primitive_shape(&self, kind: PrimitiveKind, source: u32) -> Option<scene::Shape> {
+    /// index), for highlighting; `None` for an index out of range. Answers
+    /// name mesh elements, so this reads the mesh, not the primitives.
+    pub fn primitive_shape(&self, kind: PrimitiveKind, source: u32) -> Option<Shape> {
         let p = self.mesh.positions();
         let s = source as usize;
         match kind {
-            PrimitiveKind::Vertices => p.get(s).map(|&v| scene::Shape::Point(v)),
+            PrimitiveKind::Vertices => p.get(s).map(|&v| Shape::Point(v)),
             PrimitiveKind::Edges => self
                 .edges
                 .get(s)
-                .map(|&[a, b]| scene::Shape::Segment(p[a as usize], p[b as usize])),
-            PrimitiveKind::Faces => (s < self.mesh.face_count())
-                .then(|| scene::Shape::Polygon(self.mesh.face(s).iter().map(|&i| p[i as usize]).collect())),
-            PrimitiveKind::Polygons => (s < self.mesh.face_count())
-                .then(|| scene::Shape::Polygon(self.mesh.face(s).iter().map(|&i| p[i as usize]).collect())),
+                .map(|&[a, b]| Shape::Segment(p[a as usize], p[b as usize])),
+            PrimitiveKind::Faces | PrimitiveKind::Polygons => (s < self.mesh.face_count())
+                .then(|| Shape::Polygon(self.mesh.face(s).iter().map(|&i| p[i as usize]).collect())),
         }
     }
+}
+
+/// The overlay of a closest-point answer: the query point, the line to the
+/// closest point, the closest primitive filled, the other k-nearest
+/// primitives outlined, and the closest-point marker on top.
+pub fn query_overlay(model: &Model, result: &QueryResult) -> Overlay {
+    let mut overlay = Overlay::default();
+    for hit in result.nearest.iter().skip(1) {
+        if let Some(shape) = model.primitive_shape(result.kind, hit.source) {
+            overlay.shape(&shape, colors::NEAREST, false);
+        }
+    }
+    if let Some(hit) = result.tree {
+        if let Some(shape) = model.primitive_shape(result.kind, hit.source) {
+            overlay.shape(&shape, colors::CLOSEST_PRIMITIVE, true);
+        }
+        overlay.line(result.point, hit.point, colors::QUERY_LINE);
+    }
+    overlay.marker(result.point, colors::QUERY, scene::MARKER_SIZE);
+    if let Some(hit) = result.tree {
+        overlay.marker(hit.point, colors::CLOSEST, scene::MARKER_SIZE);
+    }
+    overlay
 }
 
 #[cfg(test)]
@@ -503,6 +461,22 @@ mod tests {
             &[[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
         )
         .unwrap()
+    }
+
+    /// A unit cube of six quads.
+    fn cube_mesh() -> Mesh {
+        let positions: Vec<Vec3> = (0..8)
+            .map(|i| Vec3::new((i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32))
+            .collect();
+        let faces = vec![
+            vec![0, 2, 3, 1],
+            vec![4, 5, 7, 6],
+            vec![0, 1, 5, 4],
+            vec![2, 6, 7, 3],
+            vec![0, 4, 6, 2],
+            vec![1, 3, 7, 5],
+        ];
+        Mesh::from_faces(positions, &faces).unwrap()
     }
 
     fn model() -> Model {
@@ -608,20 +582,9 @@ mod tests {
     #[test]
     fn polygons_are_whole_faces_queried_like_triangles() {
         // A cube of six quads: six polygons, twelve triangles.
-        let positions: Vec<Vec3> = (0..8)
-            .map(|i| Vec3::new((i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32))
-            .collect();
-        let faces = vec![
-            vec![0, 2, 3, 1],
-            vec![4, 5, 7, 6],
-            vec![0, 1, 5, 4],
-            vec![2, 6, 7, 3],
-            vec![0, 4, 6, 2],
-            vec![1, 3, 7, 5],
-        ];
         let m = Model::load(
             ModelSource::Mesh {
-                mesh: Mesh::from_faces(positions, &faces).unwrap(),
+                mesh: cube_mesh(),
                 name: "cube".into(),
             },
             &|_| {},
@@ -652,5 +615,52 @@ mod tests {
         }
         let grid = crate::cells::CellGrid::build(&m, PrimitiveKind::Polygons, 0.25).unwrap();
         assert!(grid.occupied_count() > 0);
+    }
+
+    #[test]
+    fn the_query_overlay_connects_query_and_closest_and_highlights() {
+        let model = Model::load(
+            ModelSource::Mesh {
+                mesh: cube_mesh(),
+                name: "cube".into(),
+            },
+            &|_| {},
+        )
+        .unwrap();
+        let q = Vec3::new(0.25, 0.5, 2.0);
+        let result = model.query(PrimitiveKind::Faces, q, 3, false);
+        let overlay = query_overlay(&model, &result);
+        let hit = result.tree.unwrap();
+        assert_eq!(hit.point, Vec3::new(0.25, 0.5, 1.0));
+        // The query line runs from the query point to the closest point.
+        let line = overlay
+            .lines
+            .chunks(2)
+            .find(|l| l[0].color == colors::QUERY_LINE)
+            .unwrap();
+        assert_eq!(
+            (line[0].position, line[1].position),
+            (q.to_array(), hit.point.to_array())
+        );
+        // Markers: query, then the closest point on top.
+        assert_eq!(overlay.markers.len(), 2);
+        assert_eq!(overlay.markers[1].position, hit.point.to_array());
+        assert_eq!(overlay.markers[1].color, colors::CLOSEST);
+        // The closest face (a quad) is filled with 2 triangles and outlined.
+        assert_eq!(overlay.triangles.len(), 6);
+        let outline = overlay
+            .lines
+            .iter()
+            .filter(|v| v.color == colors::CLOSEST_PRIMITIVE)
+            .count();
+        assert_eq!(outline, 8);
+        // The two other nearest faces are outlined only.
+        let others = overlay.lines.iter().filter(|v| v.color == colors::NEAREST).count();
+        assert_eq!(others, 16);
+
+        let vertices = model.query(PrimitiveKind::Vertices, q, 1, false);
+        let overlay = query_overlay(&model, &vertices);
+        assert_eq!(overlay.points.len(), 1);
+        assert!(overlay.triangles.is_empty());
     }
 }

@@ -7,11 +7,9 @@
 
 use proxima::math::{Mat4, Vec3};
 use proxima::primitive::WatertightRay;
-use proxima::{Aabb, AabbTree, ClosestHit, Mesh, Triangle};
+use proxima::{Aabb, AabbTree, Mesh, Triangle};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
-
-use crate::model::{Model, QueryResult};
 
 /// RGBA colours of everything drawn (8 bits per channel, not premultiplied;
 /// all opaque). The screenshot test looks for some of them.
@@ -383,30 +381,6 @@ impl Overlay {
     }
 }
 
-/// The overlay of a closest-point answer: the query point, the line to the
-/// closest point, the closest primitive filled, the other k-nearest
-/// primitives outlined, and the closest-point marker on top.
-pub fn query_overlay(model: &Model, result: &QueryResult) -> Overlay {
-    let mut overlay = Overlay::default();
-    let others: Vec<&ClosestHit> = result.nearest.iter().skip(1).collect();
-    for hit in others {
-        if let Some(shape) = model.primitive_shape(result.kind, hit.source) {
-            overlay.shape(&shape, colors::NEAREST, false);
-        }
-    }
-    if let Some(hit) = result.tree {
-        if let Some(shape) = model.primitive_shape(result.kind, hit.source) {
-            overlay.shape(&shape, colors::CLOSEST_PRIMITIVE, true);
-        }
-        overlay.line(result.point, hit.point, colors::QUERY_LINE);
-    }
-    overlay.marker(result.point, colors::QUERY, MARKER_SIZE);
-    if let Some(hit) = result.tree {
-        overlay.marker(hit.point, colors::CLOSEST, MARKER_SIZE);
-    }
-    overlay
-}
-
 /// A surface point under the mouse.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pick {
@@ -557,7 +531,6 @@ impl DrawFrame {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::{ModelSource, PrimitiveKind};
     use proxima::BuildConfig;
 
     fn cube_mesh() -> Mesh {
@@ -726,53 +699,6 @@ mod tests {
             let hit = pick(&tree, origin, direction).unwrap();
             assert_eq!(hit.t, brute);
         }
-    }
-
-    #[test]
-    fn the_query_overlay_connects_query_and_closest_and_highlights() {
-        let model = Model::load(
-            ModelSource::Mesh {
-                mesh: cube_mesh(),
-                name: "cube".into(),
-            },
-            &|_| {},
-        )
-        .unwrap();
-        let q = Vec3::new(0.25, 0.5, 2.0);
-        let result = model.query(PrimitiveKind::Faces, q, 3, false);
-        let overlay = query_overlay(&model, &result);
-        let hit = result.tree.unwrap();
-        assert_eq!(hit.point, Vec3::new(0.25, 0.5, 1.0));
-        // The query line runs from the query point to the closest point.
-        let line = overlay
-            .lines
-            .chunks(2)
-            .find(|l| l[0].color == colors::QUERY_LINE)
-            .unwrap();
-        assert_eq!(
-            (line[0].position, line[1].position),
-            (q.to_array(), hit.point.to_array())
-        );
-        // Markers: query, then the closest point on top.
-        assert_eq!(overlay.markers.len(), 2);
-        assert_eq!(overlay.markers[1].position, hit.point.to_array());
-        assert_eq!(overlay.markers[1].color, colors::CLOSEST);
-        // The closest face (a quad) is filled with 2 triangles and outlined.
-        assert_eq!(overlay.triangles.len(), 6);
-        let outline = overlay
-            .lines
-            .iter()
-            .filter(|v| v.color == colors::CLOSEST_PRIMITIVE)
-            .count();
-        assert_eq!(outline, 8);
-        // The two other nearest faces are outlined only.
-        let others = overlay.lines.iter().filter(|v| v.color == colors::NEAREST).count();
-        assert_eq!(others, 16);
-
-        let vertices = model.query(PrimitiveKind::Vertices, q, 1, false);
-        let overlay = query_overlay(&model, &vertices);
-        assert_eq!(overlay.points.len(), 1);
-        assert!(overlay.triangles.is_empty());
     }
 
     #[test]

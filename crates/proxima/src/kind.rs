@@ -108,7 +108,7 @@ impl FromStr for PrimitiveKind {
 
 /// Everything each of the four primitive types can do: the bound of generic
 /// code over kinds. Implemented for [`Point`], [`LineSegment`], [`Triangle`]
-/// and [`ConvexPolygon`].
+/// and [`ConvexPolygon`]. `Copy` because every tree build needs it.
 pub trait MeshPrimitive:
     ClosestPoint + BoundingPoints + FrustumOverlap + GridInsert + WidePrimitive + Copy + fmt::Debug + Send + Sync + 'static
 {

@@ -1,0 +1,406 @@
+//! The side panel: one function per section, editing [`Settings`] and
+//! showing what was derived from them.
+
+use super::{Keys, ViewerApp};
+use crate::model::{Model, ModelSource};
+use crate::settings::{Settings, nice_size};
+use eframe::egui::{self, Color32, RichText};
+use proxima::{PrimitiveKind, Vec3};
+use std::path::PathBuf;
+
+impl ViewerApp {
+    pub(super) fn panel(&mut self, ui: &mut egui::Ui) {
+        let ctx = ui.ctx().clone();
+        ui.heading("proxima viewer");
+        self.model_section(ui, &ctx);
+        ui.separator();
+        let Some(model) = self.model.clone() else {
+            ui.label("No model loaded.");
+            return;
+        };
+        egui::CollapsingHeader::new("Closest point")
+            .default_open(true)
+            .show(ui, |ui| self.query_section(ui, &model));
+        egui::CollapsingHeader::new("Hash grid and ray")
+            .default_open(true)
+            .show(ui, |ui| self.grid_section(ui, &model));
+        egui::CollapsingHeader::new("AABB and sphere trees")
+            .default_open(true)
+            .show(ui, |ui| self.tree_section(ui, &model));
+        egui::CollapsingHeader::new("Frustum query")
+            .default_open(true)
+            .show(ui, |ui| self.frustum_section(ui, &model));
+        egui::CollapsingHeader::new("Statistics")
+            .default_open(true)
+            .show(ui, |ui| self.stats_section(ui, &model));
+    }
+
+    fn model_section(&mut self, ui: &mut egui::Ui, ctx: &egui::Context) {
+        if let Some(model) = &self.model {
+            ui.label(RichText::new(&model.name).strong());
+        }
+        ui.horizontal(|ui| {
+            let edit = ui.add(
+                egui::TextEdit::singleline(&mut self.path_text)
+                    .hint_text("mesh path (.obj .ply .stl .off, .gz)")
+                    .desired_width(200.0),
+            );
+            let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+            let clicked = ui.add_enabled(self.load.is_none(), egui::Button::new("Load")).clicked();
+            if (enter || clicked) && self.load.is_none() && !self.path_text.trim().is_empty() {
+                let path = PathBuf::from(self.path_text.trim());
+                self.start_load(ModelSource::File(path), ctx);
+            }
+        });
+        ui.label(RichText::new("or drop a mesh file on the window").weak());
+        if let Some(job) = &self.load {
+            let p = job.progress();
+            ui.horizontal(|ui| {
+                ui.spinner();
+                ui.label(format!("{} ({:.1} s)", p.stage, job.seconds()));
+            });
+            ui.add(egui::ProgressBar::new(p.fraction).show_percentage());
+        }
+        if let Some(error) = &self.load_error {
+            ui.colored_label(Color32::from_rgb(255, 110, 110), format!("Could not load: {error}"));
+            if self.model.is_some() {
+                ui.label(RichText::new("(the previous model is kept)").weak());
+            }
+        }
+        if let Some(error) = self.gl_error.lock().as_ref() {
+            ui.colored_label(Color32::from_rgb(255, 110, 110), error);
+        }
+    }
+
+    fn query_section(&mut self, ui: &mut egui::Ui, model: &Model) {
+        let s = &mut self.settings;
+        ui.horizontal(|ui| {
+            for kind in PrimitiveKind::ALL {
+                ui.add_enabled_ui(model.has(kind), |ui| ui.radio_value(&mut s.kind, kind, kind.name()));
+            }
+        });
+        let range = Settings::query_range(&model.bounds);
+        let diagonal = model.bounds.diagonal().max(1e-6);
+        for (axis, name) in ["x", "y", "z"].into_iter().enumerate() {
+            ui.horizontal(|ui| {
+                let mut v = s.query[axis];
+                let slider = egui::Slider::new(&mut v, range.min[axis]..=range.max[axis])
+                    .text(name)
+                    .clamping(egui::SliderClamping::Never)
+                    .drag_value_speed((diagonal / 500.0) as f64);
+                if ui.add(slider).changed() && v.is_finite() {
+                    s.query[axis] = v;
+                }
+            });
+        }
+        ui.label(RichText::new("Click the surface to place the query point; drag to orbit.").weak());
+        ui.add(
+            egui::Slider::new(&mut s.pick_offset, 0.0..=0.25)
+                .text("pick offset (× diagonal)")
+                .fixed_decimals(3),
+        );
+        if let Some(message) = &self.derived.pick_message {
+            ui.label(RichText::new(message).weak());
+        }
+        ui.add(egui::Slider::new(&mut s.k, 0..=64).text("k nearest"));
+        ui.checkbox(&mut s.compare_linear, "also run linear search");
+        let linear = self.current_linear();
+        let s = &self.settings;
+        let Some(r) = self.derived.query.latest() else {
+            return;
+        };
+        match r.tree {
+            Some(hit) => {
+                egui::Grid::new("closest").num_columns(2).show(ui, |ui| {
+                    ui.label("closest");
+                    ui.label(format!("{} {}", r.kind.name().trim_end_matches('s'), hit.source));
+                    ui.end_row();
+                    ui.label("point");
+                    ui.label(format!("{:.4}, {:.4}, {:.4}", hit.point.x, hit.point.y, hit.point.z));
+                    ui.end_row();
+                    ui.label("distance");
+                    ui.label(format!("{:.6}", hit.distance));
+                    ui.end_row();
+                });
+            }
+            None => {
+                ui.label("no answer (no primitives)");
+            }
+        }
+        egui::Grid::new("timings").num_columns(3).striped(true).show(ui, |ui| {
+            ui.label("");
+            ui.label(RichText::new("AABB tree").strong());
+            ui.label(RichText::new("linear").strong());
+            ui.end_row();
+            ui.label("query time");
+            ui.label(format_seconds(r.tree_seconds));
+            match (s.compare_linear, linear) {
+                (false, _) => ui.label("–"),
+                (true, None) => ui.spinner(),
+                (true, Some((_, seconds))) => ui.label(format_seconds(seconds)),
+            };
+            ui.end_row();
+            if let (true, Some((hit, seconds))) = (s.compare_linear, linear)
+                && r.tree_seconds > 0.0
+            {
+                ui.label("speed-up");
+                ui.label(format!("{:.0}×", seconds / r.tree_seconds));
+                ui.label(if hit == r.tree {
+                    "same answer"
+                } else {
+                    "DIFFERENT answer"
+                });
+                ui.end_row();
+            }
+        });
+    }
+
+    fn grid_section(&mut self, ui: &mut egui::Ui, model: &Model) {
+        let busy_grid = self.derived.grid.running();
+        let s = &mut self.settings;
+        ui.checkbox(&mut s.show_cells, "render non-empty grid cells");
+        let (lo, hi) = Settings::cell_size_range(model.bounds.diagonal());
+        let mut h = s.cell_size;
+        let slider = egui::Slider::new(&mut h, lo..=hi)
+            .logarithmic(true)
+            .text("cell size")
+            .max_decimals(6);
+        if ui.add(slider).changed() && h.is_finite() && h > 0.0 {
+            s.cell_size = h;
+        }
+        ui.horizontal(|ui| {
+            for f in [0.5f32, 2.0] {
+                if ui.button(if f < 1.0 { "½" } else { "×2" }).clicked() {
+                    s.cell_size = nice_size(s.cell_size * f).clamp(lo, hi);
+                }
+            }
+        });
+        let key = Keys::of(s).grid;
+        if s.show_cells {
+            if busy_grid {
+                ui.horizontal(|ui| {
+                    ui.spinner();
+                    ui.label("building the grid…");
+                });
+            }
+            match self.derived.grid.memo.get(&key) {
+                Some(Ok(g)) => {
+                    ui.label(format!(
+                        "{} occupied cells, {} entries (built in {})",
+                        g.occupied_count(),
+                        g.stats.entries,
+                        format_seconds(g.build_seconds)
+                    ));
+                }
+                Some(Err(e)) => {
+                    ui.colored_label(Color32::from_rgb(255, 110, 110), e);
+                }
+                None => {}
+            }
+        }
+        ui.separator();
+        ui.checkbox(&mut s.show_ray, "render ray");
+        vec3_row(ui, "origin", &mut s.ray_origin, model.bounds.diagonal() / 500.0);
+        vec3_row(ui, "direction", &mut s.ray_direction, 0.01);
+        ui.add(
+            egui::Slider::new(&mut s.ray_steps, 1..=5000)
+                .logarithmic(true)
+                .text("steps"),
+        );
+        if s.show_ray
+            && let Some(walk) = self.derived.ray.latest()
+        {
+            match walk {
+                Ok(w) => {
+                    ui.label(format!(
+                        "{} cells walked, {} occupied{}",
+                        w.cells.len(),
+                        w.occupied_boxes.len(),
+                        if s.show_cells { "" } else { " (grid not shown)" }
+                    ));
+                    if let Some(hit) = w.hit {
+                        ui.label(format!("first hit at {:.4}, {:.4}, {:.4}", hit.x, hit.y, hit.z));
+                    }
+                }
+                Err(e) => {
+                    ui.colored_label(Color32::from_rgb(255, 110, 110), e);
+                }
+            }
+        }
+    }
+
+    fn tree_section(&mut self, ui: &mut egui::Ui, model: &Model) {
+        let s = &mut self.settings;
+        let depth = model.tree_stats(s.kind).depth;
+        ui.checkbox(
+            &mut s.show_nodes,
+            format!("show the {} tree's nodes at depth", s.kind.name()),
+        );
+        ui.add(egui::Slider::new(&mut s.node_depth, 0..=depth.max(1)).text("depth"));
+        if s.show_nodes
+            && let Some(boxes) = self.derived.nodes.latest()
+        {
+            ui.label(format!("{} nodes at depth {}", boxes.len(), s.node_depth));
+        }
+        ui.checkbox(
+            &mut s.show_spheres,
+            format!("show the {} sphere tree's nodes at that depth", s.kind.name()),
+        );
+        if s.show_spheres
+            && let Some((count, _)) = self.derived.spheres.latest()
+        {
+            ui.label(format!("{count} spheres at depth {}", s.node_depth));
+        }
+    }
+
+    fn frustum_section(&mut self, ui: &mut egui::Ui, model: &Model) {
+        let s = &mut self.settings;
+        ui.checkbox(
+            &mut s.show_frustum,
+            format!("second camera: {} in its frustum", s.kind.name()),
+        );
+        let speed = model.bounds.diagonal() / 500.0;
+        vec3_row(ui, "eye", &mut s.frustum_eye, speed);
+        vec3_row(ui, "target", &mut s.frustum_target, speed);
+        ui.add(egui::Slider::new(&mut s.frustum_fov, 1.0..=170.0).text("fov (degrees)"));
+        let reach = 10.0 * model.bounds.diagonal().max(1e-6);
+        ui.add(
+            egui::Slider::new(&mut s.frustum_near, reach * 1e-5..=reach)
+                .logarithmic(true)
+                .text("near"),
+        );
+        ui.add(
+            egui::Slider::new(&mut s.frustum_far, reach * 1e-5..=reach)
+                .logarithmic(true)
+                .text("far"),
+        );
+        if s.show_frustum
+            && let Some(selection) = self.derived.frustum.latest()
+        {
+            match selection {
+                Ok(sel) => {
+                    ui.label(format!(
+                        "{} {} selected ({} sources) in {}",
+                        sel.selected.len(),
+                        sel.kind.name(),
+                        sel.sources,
+                        format_seconds(sel.tree_seconds)
+                    ));
+                    if let Some(linear) = &sel.linear {
+                        let agree = if *linear == sel.selected {
+                            "same set"
+                        } else {
+                            "DIFFERENT SET"
+                        };
+                        ui.label(format!(
+                            "brute force: {} in {} ({agree})",
+                            linear.len(),
+                            format_seconds(sel.linear_seconds)
+                        ));
+                    }
+                }
+                Err(e) => {
+                    ui.colored_label(Color32::from_rgb(255, 110, 110), e);
+                }
+            }
+        }
+    }
+
+    fn stats_section(&mut self, ui: &mut egui::Ui, model: &Model) {
+        let t = &model.timings;
+        egui::Grid::new("stats").num_columns(2).striped(true).show(ui, |ui| {
+            let mut row = |a: &str, b: String| {
+                ui.label(a);
+                ui.label(b);
+                ui.end_row();
+            };
+            row("vertices", model.mesh.vertex_count().to_string());
+            row("edges", model.count(PrimitiveKind::Edges).to_string());
+            row("faces", model.mesh.face_count().to_string());
+            row("triangles", model.count(PrimitiveKind::Faces).to_string());
+            row("convex polygons", model.count(PrimitiveKind::Polygons).to_string());
+            row("load", format_seconds(t.load));
+            row("normals, buffers", format_seconds(t.buffers));
+            for kind in PrimitiveKind::ALL {
+                let st = model.tree_stats(kind);
+                row(
+                    &format!("{} tree", kind.name()),
+                    format!(
+                        "{} build, depth {}, {} nodes",
+                        format_seconds(model.build_seconds(kind)),
+                        st.depth,
+                        st.nodes
+                    ),
+                );
+            }
+            let st = model.tree_stats(self.settings.kind);
+            row(
+                "leaves",
+                format!(
+                    "{} ({}–{} primitives, mean {:.2})",
+                    st.leaves, st.min_leaf_size, st.max_leaf_size, st.mean_leaf_size
+                ),
+            );
+            row("tree memory", format!("{:.1} MB", st.memory_bytes as f64 / 1e6));
+            if let Some(g) = self.current_grid() {
+                row(
+                    "grid",
+                    format!(
+                        "{} {} cells of {}, max {}/cell",
+                        g.occupied_count(),
+                        g.kind.name(),
+                        g.cell_size,
+                        g.stats.max_per_cell
+                    ),
+                );
+            }
+            row("frame (CPU)", format!("{:.1} ms", self.frame_ms));
+        });
+        ui.checkbox(&mut self.settings.show_mesh, "show the mesh");
+        ui.label(
+            RichText::new(
+                "Mouse: drag to orbit, right/middle or shift-drag to pan, wheel to zoom, double-click to fit.",
+            )
+            .weak(),
+        );
+    }
+}
+
+/// `1.234 ms`, `56.7 µs`, `2.31 s`.
+pub(crate) fn format_seconds(s: f64) -> String {
+    if s >= 1.0 {
+        format!("{s:.2} s")
+    } else if s >= 1e-3 {
+        format!("{:.2} ms", s * 1e3)
+    } else {
+        format!("{:.2} µs", s * 1e6)
+    }
+}
+
+fn vec3_row(ui: &mut egui::Ui, label: &str, v: &mut Vec3, speed: f32) {
+    ui.horizontal(|ui| {
+        ui.label(label);
+        for axis in 0..3 {
+            let mut x = v[axis];
+            if ui
+                .add(egui::DragValue::new(&mut x).speed(speed as f64).max_decimals(4))
+                .changed()
+                && x.is_finite()
+            {
+                v[axis] = x;
+            }
+        }
+    });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::format_seconds;
+
+    #[test]
+    fn seconds_are_formatted_in_a_readable_unit() {
+        assert_eq!(format_seconds(2.3149), "2.31 s");
+        assert_eq!(format_seconds(0.001234), "1.23 ms");
+        assert_eq!(format_seconds(5.67e-5), "56.70 µs");
+    }
+}

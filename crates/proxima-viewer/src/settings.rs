@@ -1,0 +1,152 @@
+//! The viewer's settings: what the side panel edits. Plain data.
+
+use proxima::{Aabb, PrimitiveKind, Vec3};
+
+/// Everything the side panel edits.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Settings {
+    /// Primitive kind of the queries, the grid and the tree shown.
+    pub kind: PrimitiveKind,
+    /// The query point.
+    pub query: Vec3,
+    /// A picked query point sits this far off the surface, as a fraction of
+    /// the model's bounding-box diagonal.
+    pub pick_offset: f32,
+    /// Number of nearest primitives highlighted (0: only the closest).
+    pub k: usize,
+    /// Also run (and time) brute force for each query.
+    pub compare_linear: bool,
+    /// Draw the shaded mesh.
+    pub show_mesh: bool,
+    /// Draw the occupied cells of a hash grid.
+    pub show_cells: bool,
+    /// Side of the grid's cubic cells.
+    pub cell_size: f32,
+    /// Draw a ray and the cells it passes through.
+    pub show_ray: bool,
+    /// Start of the ray.
+    pub ray_origin: Vec3,
+    /// Direction of the ray (normalized when walked).
+    pub ray_direction: Vec3,
+    /// Number of cells walked.
+    pub ray_steps: u32,
+    /// Draw the tree's nodes at `node_depth`.
+    pub show_nodes: bool,
+    /// Depth of the nodes drawn (root = 0).
+    pub node_depth: u32,
+    /// Draw the sphere tree's nodes at `node_depth`.
+    pub show_spheres: bool,
+    /// Draw a second camera's frustum and the primitives its query selects.
+    pub show_frustum: bool,
+    /// Position of the second camera.
+    pub frustum_eye: Vec3,
+    /// Point the second camera looks at.
+    pub frustum_target: Vec3,
+    /// Vertical field of view of the second camera, in degrees.
+    pub frustum_fov: f32,
+    /// Near plane distance of the second camera.
+    pub frustum_near: f32,
+    /// Far plane distance of the second camera.
+    pub frustum_far: f32,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self::for_bounds(&Aabb::new(Vec3::splat(-1.0), Vec3::splat(1.0)))
+    }
+}
+
+impl Settings {
+    /// Sensible settings for a model in `bounds`: a query point outside the
+    /// model, cells of 1/40 of the diagonal, a ray along the box diagonal.
+    pub fn for_bounds(bounds: &Aabb) -> Self {
+        let b = if bounds.is_empty() || !bounds.is_finite() {
+            Aabb::new(Vec3::splat(-1.0), Vec3::splat(1.0))
+        } else {
+            *bounds
+        };
+        let size = b.size().max(Vec3::splat(1e-6));
+        let diagonal = b.diagonal().max(1e-6);
+        Self {
+            kind: PrimitiveKind::Faces,
+            query: b.center() + Vec3::new(0.6 * size.x, 0.25 * size.y, 0.6 * size.z),
+            pick_offset: 0.02,
+            k: 0,
+            compare_linear: true,
+            show_mesh: true,
+            show_cells: false,
+            cell_size: nice_size(diagonal / 40.0),
+            show_ray: false,
+            ray_origin: b.min - 0.1 * size,
+            ray_direction: size,
+            ray_steps: 400,
+            show_nodes: false,
+            node_depth: 3,
+            show_spheres: false,
+            // From the -x side, a narrow view aimed above the centre: it
+            // sees part of the model, not all of it.
+            show_frustum: false,
+            frustum_eye: b.center() - Vec3::new(diagonal, 0.0, 0.0),
+            frustum_target: b.center() + Vec3::new(0.0, 0.25 * size.y, 0.0),
+            frustum_fov: 25.0,
+            frustum_near: 0.2 * diagonal,
+            frustum_far: 2.0 * diagonal,
+        }
+    }
+
+    /// Range of the query sliders: the bounding box grown by half its size
+    /// on every side.
+    pub fn query_range(bounds: &Aabb) -> Aabb {
+        if bounds.is_empty() || !bounds.is_finite() {
+            return Aabb::new(Vec3::splat(-1.0), Vec3::splat(1.0));
+        }
+        let margin = 0.5 * bounds.size().max_element().max(1e-6);
+        bounds.inflate(margin)
+    }
+
+    /// Range of the cell size control for a model of this diagonal.
+    pub fn cell_size_range(diagonal: f32) -> (f32, f32) {
+        let d = if diagonal.is_finite() && diagonal > 0.0 {
+            diagonal
+        } else {
+            1.0
+        };
+        (d / 2000.0, d / 2.0)
+    }
+}
+
+/// `x` rounded to one significant digit of 1, 2 or 5 (0.0123 → 0.01).
+pub fn nice_size(x: f32) -> f32 {
+    if !(x.is_finite() && x > 0.0) {
+        return 1.0;
+    }
+    // In f64, so that 5 × 0.01 rounds to the f32 nearest 0.05.
+    let x = x as f64;
+    let base = 10f64.powf(x.log10().floor());
+    let mantissa = x / base;
+    let m = if mantissa < 1.5 {
+        1.0
+    } else if mantissa < 3.5 {
+        2.0
+    } else if mantissa < 7.5 {
+        5.0
+    } else {
+        10.0
+    };
+    (m * base) as f32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nice_sizes() {
+        assert_eq!(nice_size(0.0123), 0.01);
+        assert_eq!(nice_size(0.03), 0.02);
+        assert_eq!(nice_size(0.04), 0.05);
+        assert_eq!(nice_size(8.0), 10.0);
+        assert_eq!(nice_size(0.0), 1.0);
+        assert_eq!(nice_size(f32::NAN), 1.0);
+    }
+}
