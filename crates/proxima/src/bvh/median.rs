@@ -73,9 +73,8 @@ pub(super) struct Counts {
 /// [`Grower::clamped`]): a lane of -inf lets `max(centre, clamp)` through
 /// unchanged, while +inf turns it into +inf, which no minimum notices (and
 /// `min(centre, -clamp)` does the same for the upper corner). Indexed by
-/// whether the item is taken. In the moving pass, against selecting with
-/// masks made from booleans: 1.12–1.32x (ico1m) and 1.07–1.15x (dragon)
-/// for the whole build, in three A/B runs.
+/// whether the item is taken. Faster than selecting with masks made from
+/// booleans (docs/perf-log.md).
 const CLAMPS: [Vec4; 2] = [Vec4::INFINITY, Vec4::NEG_INFINITY];
 
 /// Bounds of item centres grown item by item, in 16-byte lanes (`w` means
@@ -281,9 +280,8 @@ pub(super) const SMALL_NODE: usize = 16;
 /// mispredict: the keys sit in vector lanes padded to 8 or 16, and each item
 /// is compared with all lanes at once, so every rank is ready at the end
 /// without a sum across lanes. The result is sorted, so the halves' bounds
-/// are plain unions afterwards. Against counting each item's rank in a loop over
-/// the others: 2.0–2.4x per node of 7, 8, 15 and 16 items (in-cache
-/// microbenchmark, one run).
+/// are plain unions afterwards. Faster than counting each item's rank in a
+/// loop over the others (docs/perf-log.md).
 pub(super) fn median_small(source: &[Item], target: &mut [Item], axis: usize) -> (Aabb, Aabb) {
     match axis {
         0 => median_small_along::<0>(source, target),
