@@ -12,9 +12,9 @@ use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
 impl<T: ClosestPoint> AabbTree<T> {
-    /// The same answer as [`closest`](Self::closest), found best-first: nodes
+    /// The same answer as [`closest`](crate::query::NearestQuery::closest), found best-first: nodes
     /// are expanded in increasing box distance from a priority queue. Kept as
-    /// a tested alternative; the depth-first [`closest`](Self::closest) was
+    /// a tested alternative; the depth-first [`closest`](crate::query::NearestQuery::closest) was
     /// measured faster (see docs/perf-log.md). Allocates its queue.
     pub fn closest_best_first(&self, p: Vec3) -> Option<ClosestHit> {
         if !crate::bvh::answerable(p) {
