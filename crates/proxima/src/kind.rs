@@ -107,9 +107,10 @@ impl FromStr for PrimitiveKind {
 
 /// Everything each of the four primitive types can do: the bound of generic
 /// code over kinds. Implemented for [`Point`], [`LineSegment`], [`Triangle`]
-/// and [`ConvexPolygon`].
+/// and [`ConvexPolygon`]. `Copy`, because the trees' builds take `Copy`
+/// primitives.
 pub trait MeshPrimitive:
-    ClosestPoint + BoundingPoints + FrustumOverlap + GridInsert + Clone + fmt::Debug + Send + Sync + 'static
+    ClosestPoint + BoundingPoints + FrustumOverlap + GridInsert + Copy + fmt::Debug + Send + Sync + 'static
 {
     /// The kind of primitive this type is.
     const KIND: PrimitiveKind;
