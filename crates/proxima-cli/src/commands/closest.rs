@@ -1,14 +1,11 @@
 //! `proxima closest MESH --primitives P (--point X,Y,Z | --points FILE) [-k K] [--method tree|linear]`.
 
 use crate::common::{
-    Primitives, Split, build_tree_planar, load_mesh, note_polygons, parse_planarity, parse_vec3, read_points,
-    require_primitives,
+    Split, kind_parser, load_mesh, parse_planarity, parse_vec3, read_points, require_primitives, run_kind,
 };
-use crate::with_tree;
 use anyhow::{Context, bail};
-use proxima::bvh::WideTree;
-use proxima::{ClosestHit, ClosestPoint, LinearSearch, PrimitiveSet, Vec3};
-use std::io::{BufWriter, Write};
+use proxima::prelude::*;
+use std::io::{BufWriter, StdoutLock, Write};
 use std::path::PathBuf;
 
 /// How the answer is found.
@@ -26,8 +23,8 @@ pub struct Args {
     /// Mesh file.
     mesh: PathBuf,
     /// Which primitives to search.
-    #[arg(long, value_enum, default_value = "faces")]
-    primitives: Primitives,
+    #[arg(long, value_parser = kind_parser(), default_value = "faces")]
+    primitives: PrimitiveKind,
     /// One query point, X,Y,Z.
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true, conflicts_with = "points", required_unless_present = "points")]
     point: Option<Vec3>,
@@ -64,53 +61,99 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         (None, None) => bail!("give --point X,Y,Z or --points FILE"),
     };
     require_primitives(&mesh, args.primitives, &args.mesh)?;
-    note_polygons(&mesh, args.primitives, &args.mesh, args.planarity);
-    let stdout = std::io::stdout();
-    let mut out = BufWriter::new(stdout.lock());
-    writeln!(out, "query,rank,primitive,cx,cy,cz,distance")?;
-    // The answers are written chunk by chunk, in input order, so that memory
-    // holds one chunk's answers: at most CHUNK_HITS hits, whatever -k.
-    let mut first = 0usize;
-    let mut write = |hits: Vec<Vec<ClosestHit>>| -> std::io::Result<()> {
-        for (offset, hits) in hits.iter().enumerate() {
+    let mut rows = Rows::new();
+    writeln!(rows.out, "query,rank,primitive,cx,cy,cz,distance")?;
+    let task = Answer {
+        points: &points,
+        args: &args,
+        rows: &mut rows,
+    };
+    run_kind(&mesh, args.primitives, &args.mesh, args.planarity, task)?;
+    rows.out.flush()?;
+    Ok(())
+}
+
+/// The CSV rows on standard output, numbered by query in input order.
+struct Rows {
+    out: BufWriter<StdoutLock<'static>>,
+    /// The number of the next query written.
+    first: usize,
+}
+
+impl Rows {
+    fn new() -> Self {
+        Self {
+            out: BufWriter::new(std::io::stdout().lock()),
+            first: 0,
+        }
+    }
+
+    /// Writes the answers of the next queries, one list of hits per query,
+    /// nearest first.
+    fn write<'a>(&mut self, answers: impl IntoIterator<Item = &'a [ClosestHit]>) -> std::io::Result<()> {
+        for hits in answers {
             for (rank, hit) in hits.iter().enumerate() {
                 writeln!(
-                    out,
+                    self.out,
                     "{},{rank},{},{},{},{},{}",
-                    first + offset,
-                    hit.source,
-                    hit.point.x,
-                    hit.point.y,
-                    hit.point.z,
-                    hit.distance
+                    self.first, hit.source, hit.point.x, hit.point.y, hit.point.z, hit.distance
                 )?;
             }
+            self.first += 1;
         }
-        first += hits.len();
         Ok(())
-    };
-    match args.method {
-        Method::Tree => {
-            let (tree, _) = build_tree_planar(&mesh, args.primitives, &args.split.config(), args.planarity)
-                .with_context(|| args.mesh.display().to_string())?;
-            // The 4-wide tree gives the same answers as the binary one, faster.
-            with_tree!(tree, t => {
-                let wide = WideTree::from_tree(t);
-                for chunk in points.chunks(chunk_len(args.k, wide.len())) {
-                    let answers = wide.k_nearest_batch(chunk, args.k);
-                    write(distinct_sources(answers, chunk, args.k, wide.len(), |p, k| wide.k_nearest(p, k)))?;
-                }
-            })
-        }
-        Method::Linear => match args.primitives {
-            Primitives::Vertices => linear(mesh.vertices(), &points, args.k, &mut write)?,
-            Primitives::Edges => linear(mesh.edges(), &points, args.k, &mut write)?,
-            Primitives::Faces => linear(mesh.triangles(), &points, args.k, &mut write)?,
-            Primitives::Polygons => linear(mesh.extract_polygons(args.planarity).set, &points, args.k, &mut write)?,
-        },
     }
-    out.flush()?;
-    Ok(())
+}
+
+/// Answers the queries on one kind of primitive and writes them, chunk by
+/// chunk in input order, so that memory holds one chunk's answers: at most
+/// [`CHUNK_HITS`] hits, whatever `-k`.
+struct Answer<'a> {
+    points: &'a [Vec3],
+    args: &'a Args,
+    rows: &'a mut Rows,
+}
+
+impl KindTask for Answer<'_> {
+    type Output = anyhow::Result<()>;
+
+    fn run<T: MeshPrimitive>(self, set: PrimitiveSet<T>) -> anyhow::Result<()> {
+        let Self { points, args, rows } = self;
+        let k = args.k;
+        match args.method {
+            Method::Tree => {
+                // The wide tree built by its own build (leaves sized for its
+                // collapse), rather than a binary tree converted: the same
+                // tree, and the same answers as the binary one, faster.
+                let tree =
+                    WideTree::build_set(set, &args.split.config()).with_context(|| args.mesh.display().to_string())?;
+                for chunk in points.chunks(chunk_len(k, tree.len())) {
+                    if k == 1 {
+                        // The closest-point batch, seeded by each previous
+                        // answer, rather than the k-nearest heap: the same
+                        // hit (ties to the lowest input index), faster; one
+                        // hit has no repeated source to remove.
+                        let answers = tree.closest_batch(chunk);
+                        rows.write(answers.iter().map(Option::as_slice))?;
+                    } else {
+                        let answers = tree.k_nearest_batch(chunk, k);
+                        let answers = distinct_sources(answers, chunk, k, tree.len(), |p, k| tree.k_nearest(p, k));
+                        rows.write(answers.iter().map(Vec::as_slice))?;
+                    }
+                }
+            }
+            Method::Linear => {
+                let len = set.len();
+                let scan = LinearSearch::new(set);
+                for chunk in points.chunks(chunk_len(k, len)) {
+                    let answers = chunk.iter().map(|&p| scan.k_nearest(p, k)).collect();
+                    let answers = distinct_sources(answers, chunk, k, len, |p, k| scan.k_nearest(p, k));
+                    rows.write(answers.iter().map(Vec::as_slice))?;
+                }
+            }
+        }
+        Ok(())
+    }
 }
 
 /// Answers held in memory at once: 2^20 hits (about 32 MiB).
@@ -120,22 +163,6 @@ const CHUNK_HITS: usize = 1 << 20;
 /// hits of `min(k, primitives)` each (at least one query).
 fn chunk_len(k: usize, primitives: usize) -> usize {
     (CHUNK_HITS / k.min(primitives).max(1)).clamp(1, 1 << 16)
-}
-
-/// Brute-force answers, chunk by chunk, handed to `write`.
-fn linear<T: ClosestPoint>(
-    set: PrimitiveSet<T>,
-    points: &[Vec3],
-    k: usize,
-    write: &mut impl FnMut(Vec<Vec<ClosestHit>>) -> std::io::Result<()>,
-) -> std::io::Result<()> {
-    let len = set.len();
-    let scan = LinearSearch::new(set);
-    for chunk in points.chunks(chunk_len(k, len)) {
-        let answers = chunk.iter().map(|&p| scan.k_nearest(p, k)).collect();
-        write(distinct_sources(answers, chunk, k, len, |p, k| scan.k_nearest(p, k)))?;
-    }
-    Ok(())
 }
 
 /// The `k` nearest primitives as the user counts them: a face split into
