@@ -1,10 +1,9 @@
 //! What several commands share: argument parsers, mesh loading, primitive choice.
 
 use anyhow::{Result, anyhow, bail};
-use proxima::primitive::polygon::DEFAULT_PLANARITY_TOLERANCE;
-use proxima::{AabbTree, BuildConfig, ConvexPolygon, Mesh, PrimitiveSet, Vec3};
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
+use proxima::prelude::*;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 /// The error chain on one line (`outer: inner: root`), without repeats.
 pub fn one_line(error: &anyhow::Error) -> String {
@@ -100,38 +99,38 @@ pub fn require_vertices(mesh: &Mesh, path: &Path) -> Result<()> {
 }
 
 /// Fails with the point's line (or `--point`) when a query point lies beyond
-/// the range the trees answer in; see [`proxima::bvh::check_query_point`].
+/// the range the trees answer in; see [`proxima::check_query_point`].
 pub fn check_query_point(p: Vec3, what: &str) -> Result<()> {
-    proxima::bvh::check_query_point(p).map_err(|e| anyhow::anyhow!("{what}: {e}"))
+    proxima::check_query_point(p).map_err(|e| anyhow::anyhow!("{what}: {e}"))
 }
 
-/// Which primitives of a mesh a command works on.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum Primitives {
-    /// Mesh vertices as points.
-    Vertices,
-    /// Unique undirected edges as segments.
-    Edges,
-    /// Faces as triangles (polygons fan-triangulated).
-    Faces,
-    /// Faces as convex polygons, as they are when convex and planar within
-    /// tolerance (the others fan-triangulated; a note on stderr says how many).
-    Polygons,
-}
+/// The kinds commands report when none is asked for: polygons only on request
+/// (or, in `info`, when the mesh has faces of more than three vertices).
+pub const DEFAULT_KINDS: [PrimitiveKind; 3] = [PrimitiveKind::Vertices, PrimitiveKind::Edges, PrimitiveKind::Faces];
 
-impl Primitives {
-    /// All kinds, in display order.
-    pub const ALL: [Primitives; 3] = [Primitives::Vertices, Primitives::Edges, Primitives::Faces];
-
-    /// The lowercase name used on the command line and in output.
-    pub fn name(self) -> &'static str {
-        match self {
-            Primitives::Vertices => "vertices",
-            Primitives::Edges => "edges",
-            Primitives::Faces => "faces",
-            Primitives::Polygons => "polygons",
+/// What `--help` says of each kind.
+fn kind_help(kind: PrimitiveKind) -> &'static str {
+    match kind {
+        PrimitiveKind::Vertices => "Mesh vertices as points",
+        PrimitiveKind::Edges => "Unique undirected edges as segments",
+        PrimitiveKind::Faces => "Faces as triangles (polygons fan-triangulated)",
+        PrimitiveKind::Polygons => {
+            "Faces as convex polygons, as they are when convex and planar within tolerance \
+             (the others fan-triangulated; a note on stderr says how many)"
         }
     }
+}
+
+/// The values `--primitives` takes, each with its help, as `--help` lists them.
+pub fn kind_values() -> impl Iterator<Item = PossibleValue> {
+    PrimitiveKind::ALL
+        .into_iter()
+        .map(|kind| PossibleValue::new(kind.name()).help(kind_help(kind)))
+}
+
+/// The parser of `--primitives`: one of [`PrimitiveKind::NAMES`].
+pub fn kind_parser() -> impl TypedValueParser<Value = PrimitiveKind> {
+    PossibleValuesParser::new(kind_values()).map(|name| name.parse().expect("clap passes only the names it lists"))
 }
 
 /// How trees are split, on the command line.
@@ -168,26 +167,9 @@ pub fn load_or_default(path: Option<&PathBuf>) -> Result<(Mesh, String)> {
     }
 }
 
-/// A tree over one kind of primitive, built and timed; `Box`ed queries would
-/// cost a virtual call per query, so commands match on this instead.
-pub enum AnyTree {
-    /// Tree over vertices.
-    Vertices(AabbTree<proxima::Point>),
-    /// Tree over edges.
-    Edges(AabbTree<proxima::LineSegment>),
-    /// Tree over faces.
-    Faces(AabbTree<proxima::Triangle>),
-    /// Tree over faces as convex polygons.
-    Polygons(AabbTree<ConvexPolygon>),
-}
-
 /// Fails when the mesh has no primitive of `kind` (no vertices, no edges, or no faces).
-pub fn require_primitives(mesh: &Mesh, kind: Primitives, path: &Path) -> Result<()> {
-    let count = match kind {
-        Primitives::Vertices => mesh.vertex_count(),
-        Primitives::Edges | Primitives::Faces | Primitives::Polygons => mesh.face_count(),
-    };
-    if count == 0 {
+pub fn require_primitives(mesh: &Mesh, kind: PrimitiveKind, path: &Path) -> Result<()> {
+    if kind.available(mesh) == 0 {
         bail!(
             "{}: the mesh has no {} to search ({} vertices, {} faces)",
             path.display(),
@@ -197,29 +179,6 @@ pub fn require_primitives(mesh: &Mesh, kind: Primitives, path: &Path) -> Result<
         );
     }
     Ok(())
-}
-
-/// Builds the tree of `kind` over `mesh`, returning it with the build time in
-/// seconds (polygons with the default planarity tolerance).
-pub fn build_tree(mesh: &Mesh, kind: Primitives, config: &BuildConfig) -> Result<(AnyTree, f64)> {
-    build_tree_planar(mesh, kind, config, DEFAULT_PLANARITY_TOLERANCE)
-}
-
-/// [`build_tree`] with the planarity tolerance of polygons.
-pub fn build_tree_planar(
-    mesh: &Mesh,
-    kind: Primitives,
-    config: &BuildConfig,
-    planarity: f32,
-) -> Result<(AnyTree, f64)> {
-    let start = Instant::now();
-    let tree = match kind {
-        Primitives::Vertices => AnyTree::Vertices(AabbTree::build_set(mesh.vertices(), config)?),
-        Primitives::Edges => AnyTree::Edges(AabbTree::build_set(mesh.edges(), config)?),
-        Primitives::Faces => AnyTree::Faces(AabbTree::build_set(mesh.triangles(), config)?),
-        Primitives::Polygons => AnyTree::Polygons(AabbTree::build_set(mesh.extract_polygons(planarity).set, config)?),
-    };
-    Ok((tree, start.elapsed().as_secs_f64()))
 }
 
 /// Parses a relative planarity tolerance (finite, not negative).
@@ -246,9 +205,18 @@ pub fn polygons(mesh: &Mesh, path: &Path, planarity: f32) -> PrimitiveSet<Convex
 }
 
 /// Prints the fan-triangulation note of [`polygons`] when `kind` is polygons.
-pub fn note_polygons(mesh: &Mesh, kind: Primitives, path: &Path, planarity: f32) {
-    if kind == Primitives::Polygons {
+pub fn note_polygons(mesh: &Mesh, kind: PrimitiveKind, path: &Path, planarity: f32) {
+    if kind == PrimitiveKind::Polygons {
         polygons(mesh, path, planarity);
+    }
+}
+
+/// Runs `task` on `kind`'s primitives of `mesh` ([`PrimitiveKind::run`]);
+/// polygons come with the note of [`polygons`], from the one extraction.
+pub fn run_kind<F: KindTask>(mesh: &Mesh, kind: PrimitiveKind, path: &Path, planarity: f32, task: F) -> F::Output {
+    match kind {
+        PrimitiveKind::Polygons => task.run(polygons(mesh, path, planarity)),
+        _ => kind.run(mesh, planarity, task),
     }
 }
 
@@ -270,19 +238,6 @@ pub fn is_broken_pipe(error: &anyhow::Error) -> bool {
             .downcast_ref::<std::io::Error>()
             .is_some_and(|e| e.kind() == std::io::ErrorKind::BrokenPipe)
     })
-}
-
-/// Calls `$body` with `$tree` bound to the concrete tree inside an [`AnyTree`].
-#[macro_export]
-macro_rules! with_tree {
-    ($any:expr, $tree:ident => $body:expr) => {
-        match $any {
-            $crate::common::AnyTree::Vertices($tree) => $body,
-            $crate::common::AnyTree::Edges($tree) => $body,
-            $crate::common::AnyTree::Faces($tree) => $body,
-            $crate::common::AnyTree::Polygons($tree) => $body,
-        }
-    };
 }
 
 /// Writes `proxima: {line}` on stderr. A stderr that cannot be written (closed,

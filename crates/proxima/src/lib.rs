@@ -55,7 +55,7 @@ pub mod traversal;
 pub mod wide_tree;
 
 pub use aabb::Aabb;
-pub use bvh::{AabbTree, BuildConfig, TreeStats};
+pub use bvh::{AabbTree, BuildConfig, TreeStats, check_query_point};
 pub use error::FrustumError;
 pub use error::GridError;
 pub use error::RayError;

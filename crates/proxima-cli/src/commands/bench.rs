@@ -2,11 +2,10 @@
 //! linear search against the AABB tree (binary, 4-wide, batch) and the
 //! sphere tree on the same queries.
 
-use crate::common::{Primitives, Split, load_mesh, parse_planarity, read_points};
+use crate::common::{DEFAULT_KINDS, Split, kind_parser, load_mesh, parse_planarity, read_points};
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
 use proxima::prelude::*;
-use proxima::{AabbTree, BuildConfig, LinearSearch, Mesh, PrimitiveSet, SphereTree, Vec3};
 use rayon::prelude::*;
 use serde_json::json;
 use std::path::PathBuf;
@@ -27,8 +26,8 @@ pub struct Args {
     /// Mesh file.
     mesh: PathBuf,
     /// Benchmark only this primitive type (default: vertices, edges and faces).
-    #[arg(long, value_enum)]
-    primitives: Option<Primitives>,
+    #[arg(long, value_parser = kind_parser())]
+    primitives: Option<PrimitiveKind>,
     /// Number of generated query points.
     #[arg(long, default_value_t = 10_000, conflicts_with = "points")]
     queries: usize,
@@ -93,15 +92,41 @@ const BYTES_PER_QUERY: u64 = 96;
 /// Primitive tests the linear scan may spend, so big meshes still finish quickly.
 const LINEAR_BUDGET: usize = 100_000_000;
 
+/// Benchmarks one primitive type: tree build, linear and tree queries, and
+/// for faces the peer library.
+struct BenchKind<'a> {
+    mesh: &'a Mesh,
+    points: &'a [Vec3],
+    config: &'a BuildConfig,
+    progress: bool,
+}
+
+impl KindTask for BenchKind<'_> {
+    type Output = anyhow::Result<Vec<Record>>;
+
+    fn run<T: MeshPrimitive>(self, set: PrimitiveSet<T>) -> Self::Output {
+        let Self {
+            mesh,
+            points,
+            config,
+            progress,
+        } = self;
+        bench_set(set, points, config, progress, |expected| match T::KIND {
+            PrimitiveKind::Faces => super::bench_peer::parry3d_faces(mesh, points, expected),
+            _ => None,
+        })
+    }
+}
+
 /// Benchmarks one primitive type: tree build, linear and tree queries.
 fn bench_set<T: MeshPrimitive>(
     set: PrimitiveSet<T>,
-    kind: Primitives,
     points: &[Vec3],
     config: &BuildConfig,
     progress: bool,
     peer: impl FnOnce(&[Option<f32>]) -> Option<Record>,
 ) -> anyhow::Result<Vec<Record>> {
+    let kind = T::KIND;
     // The build alone is timed, not the copy of its input (nor parry3d's).
     let input = set.clone();
     let start = Instant::now();
@@ -216,7 +241,7 @@ fn bar(enabled: bool, len: usize, message: &str) -> ProgressBar {
 /// Measures every requested primitive type on `points`.
 pub fn measure(
     mesh: &Mesh,
-    kinds: &[Primitives],
+    kinds: &[PrimitiveKind],
     points: &[Vec3],
     threads: usize,
     config: &BuildConfig,
@@ -230,21 +255,13 @@ pub fn measure(
     pool.install(|| {
         let mut records = Vec::new();
         for &kind in kinds {
-            records.extend(match kind {
-                Primitives::Vertices => bench_set(mesh.vertices(), kind, points, config, progress, |_| None)?,
-                Primitives::Edges => bench_set(mesh.edges(), kind, points, config, progress, |_| None)?,
-                Primitives::Faces => bench_set(mesh.triangles(), kind, points, config, progress, |expected| {
-                    super::bench_peer::parry3d_faces(mesh, points, expected)
-                })?,
-                Primitives::Polygons => bench_set(
-                    mesh.extract_polygons(planarity).set,
-                    kind,
-                    points,
-                    config,
-                    progress,
-                    |_| None,
-                )?,
-            });
+            let task = BenchKind {
+                mesh,
+                points,
+                config,
+                progress,
+            };
+            records.extend(kind.run(mesh, planarity, task)?);
         }
         Ok(records)
     })
@@ -315,10 +332,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             args.mesh.display()
         );
     }
-    let kinds: Vec<Primitives> = match args.primitives {
+    let kinds: Vec<PrimitiveKind> = match args.primitives {
         Some(kind) => vec![kind],
-        None if mesh.face_count() == 0 => vec![Primitives::Vertices, Primitives::Edges],
-        None => Primitives::ALL.to_vec(),
+        None if mesh.face_count() == 0 => vec![PrimitiveKind::Vertices, PrimitiveKind::Edges],
+        None => DEFAULT_KINDS.to_vec(),
     };
     for &kind in &kinds {
         crate::common::require_primitives(&mesh, kind, &args.mesh)?;

@@ -1,9 +1,10 @@
 //! `proxima demo`: the main job on the embedded model, no arguments needed.
 
-use crate::common::{Primitives, build_tree, load_or_default};
-use crate::with_tree;
+use crate::common::{DEFAULT_KINDS, load_or_default};
+use proxima::BuildError;
 use proxima::prelude::*;
-use proxima::{BuildConfig, Vec3};
+use proxima::primitive::polygon::DEFAULT_PLANARITY_TOLERANCE;
+use std::time::Instant;
 
 /// Arguments of `proxima demo`.
 #[derive(clap::Args)]
@@ -40,10 +41,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         "closest point",
         "distance"
     );
-    for kind in Primitives::ALL {
-        let (tree, seconds) = build_tree(&mesh, kind, &BuildConfig::default())?;
-        for q in queries {
-            let hit = with_tree!(&tree, t => t.closest(q)).ok_or_else(|| anyhow::anyhow!("empty tree"))?;
+    for kind in DEFAULT_KINDS {
+        let (hits, seconds) = kind.run(&mesh, DEFAULT_PLANARITY_TOLERANCE, ClosestTo(queries))?;
+        for (q, hit) in queries.into_iter().zip(hits) {
+            let hit = hit.ok_or_else(|| anyhow::anyhow!("empty tree"))?;
             crate::outln!(
                 "{:<10} {:<28} {:>8} {:<28} {:>10.5}",
                 kind.name(),
@@ -62,13 +63,28 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     );
     let records = super::bench::measure(
         &mesh,
-        &Primitives::ALL,
+        &DEFAULT_KINDS,
         &points,
         1,
         &BuildConfig::default(),
         false,
-        proxima::primitive::polygon::DEFAULT_PLANARITY_TOLERANCE,
+        DEFAULT_PLANARITY_TOLERANCE,
     )?;
     super::bench::print_table(&records)?;
     Ok(())
+}
+
+/// The closest primitive to each point, through a tree built with the
+/// default configuration, and the tree's build time in seconds.
+struct ClosestTo<const N: usize>([Vec3; N]);
+
+impl<const N: usize> KindTask for ClosestTo<N> {
+    type Output = Result<([Option<ClosestHit>; N], f64), BuildError>;
+
+    fn run<T: MeshPrimitive>(self, set: PrimitiveSet<T>) -> Self::Output {
+        let start = Instant::now();
+        let tree = AabbTree::build_set(set, &BuildConfig::default())?;
+        let seconds = start.elapsed().as_secs_f64();
+        Ok((self.0.map(|q| tree.closest(q)), seconds))
+    }
 }

@@ -4,15 +4,9 @@
 //! view frustum).
 
 use super::closest::Method;
-use crate::common::{Primitives, Split, load_mesh, parse_planarity, polygons, require_primitives};
+use crate::common::{Split, kind_parser, load_mesh, parse_planarity, require_primitives, run_kind};
 use anyhow::{Context, Result};
-use proxima::bvh::QueryStats;
-use proxima::frustum::Frustum;
 use proxima::prelude::*;
-use proxima::{
-    AabbTree, BoundingPoints, BuildConfig, ClosestPoint, FrustumOverlap, LinearSearch, Mat4, PrimitiveSet, SphereTree,
-    Vec3,
-};
 use serde_json::json;
 use std::io::{BufWriter, Write};
 use std::path::PathBuf;
@@ -24,8 +18,8 @@ pub struct Args {
     /// Mesh file (.obj, .ply, .stl, .off, optionally .gz).
     mesh: PathBuf,
     /// Which primitives to test.
-    #[arg(long, value_enum, default_value = "faces")]
-    primitives: Primitives,
+    #[arg(long, value_parser = kind_parser(), default_value = "faces")]
+    primitives: PrimitiveKind,
     /// The view-projection matrix: 16 numbers, column-major (OpenGL clip space -w..w).
     #[arg(long, value_name = "M00,M10,..", value_parser = parse_matrix, allow_hyphen_values = true,
           conflicts_with = "look_at", required_unless_present = "look_at")]
@@ -153,13 +147,11 @@ pub fn run(args: Args) -> Result<()> {
     };
     let mesh = load_mesh(&args.mesh)?;
     require_primitives(&mesh, args.primitives, &args.mesh)?;
-    let config = args.split.config();
-    let outcome = match args.primitives {
-        Primitives::Vertices => search(mesh.vertices(), &frustum, &args, &config)?,
-        Primitives::Edges => search(mesh.edges(), &frustum, &args, &config)?,
-        Primitives::Faces => search(mesh.triangles(), &frustum, &args, &config)?,
-        Primitives::Polygons => search(polygons(&mesh, &args.mesh, args.planarity), &frustum, &args, &config)?,
+    let task = Search {
+        frustum: &frustum,
+        args: &args,
     };
+    let outcome = run_kind(&mesh, args.primitives, &args.mesh, args.planarity, task)?;
     let kind = args.primitives.name();
     if args.json {
         let mut out = json!({
@@ -211,7 +203,21 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
-fn search<T: FrustumOverlap + ClosestPoint + BoundingPoints + Copy + Send + Sync>(
+/// The frustum query on one kind of primitive, as `args` ask.
+struct Search<'a> {
+    frustum: &'a Frustum,
+    args: &'a Args,
+}
+
+impl KindTask for Search<'_> {
+    type Output = Result<Outcome>;
+
+    fn run<T: MeshPrimitive>(self, set: PrimitiveSet<T>) -> Result<Outcome> {
+        search(set, self.frustum, self.args, &self.args.split.config())
+    }
+}
+
+fn search<T: MeshPrimitive>(
     set: PrimitiveSet<T>,
     frustum: &Frustum,
     args: &Args,

@@ -2,30 +2,34 @@
 //! optionally the occupied cells as CSV or as a PLY of boxes. Also the cell
 //! parser and the cell writers that `voxelize` shares.
 
-use crate::common::load_mesh;
+use crate::common::{DEFAULT_KINDS, load_mesh, run_kind};
 use anyhow::{Context, Result, bail};
-use proxima::grid::{ClassicHash, FastHash, GridConfig, GridInsert, GridLayout, GridStats, HashGrid, InsertMethod};
-use proxima::{ConvexPolygon, Mesh, PrimitiveSet, Vec3};
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
+use proxima::grid::{ClassicHash, FastHash, GridLayout, GridStats, InsertMethod};
+use proxima::prelude::*;
 use serde_json::json;
 use std::hash::BuildHasher;
 use std::io::{BufWriter, Write};
+use std::marker::PhantomData;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-/// Which primitives go into grids.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum GridPrimitives {
-    /// Mesh vertices as points.
-    Vertices,
-    /// Unique undirected edges as segments.
-    Edges,
-    /// Faces as triangles (polygons fan-triangulated).
-    Faces,
-    /// Faces as convex polygons where convex and planar within tolerance
-    /// (the others fan-triangulated; a note on stderr says how many).
-    Polygons,
-    /// One grid for each of vertices, edges and faces.
-    All,
+/// Which primitives go into grids: one kind, or (`None`, named `all`) one
+/// grid for each of [`DEFAULT_KINDS`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct GridKinds(Option<PrimitiveKind>);
+
+/// The parser of `--primitives`: a kind's name or `all`.
+fn grid_kinds_parser() -> impl TypedValueParser<Value = GridKinds> {
+    let values = crate::common::kind_values().map(|value| match value.get_name() {
+        "polygons" => value.help(
+            "Faces as convex polygons where convex and planar within tolerance \
+             (the others fan-triangulated; a note on stderr says how many)",
+        ),
+        _ => value,
+    });
+    let all = PossibleValue::new("all").help("One grid for each of vertices, edges and faces");
+    PossibleValuesParser::new(values.chain([all])).map(|name| GridKinds(name.parse().ok()))
 }
 
 /// Insertion method.
@@ -68,8 +72,8 @@ pub struct Args {
     #[arg(long, value_name = "X,Y,Z", value_parser = crate::common::parse_vec3, allow_hyphen_values = true)]
     origin: Option<Vec3>,
     /// Primitives put into grids.
-    #[arg(long, value_enum, default_value = "all")]
-    primitives: GridPrimitives,
+    #[arg(long, value_parser = grid_kinds_parser(), default_value = "all")]
+    primitives: GridKinds,
     /// Insertion method (both give the same cells).
     #[arg(long, value_enum, default_value = "classic")]
     insert: Insert,
@@ -99,55 +103,56 @@ struct Built {
     cells: Vec<([i64; 3], usize)>,
 }
 
-fn build<T: GridInsert, S: BuildHasher + Default>(
-    kind: &'static str,
-    set: PrimitiveSet<T>,
+/// Builds the grid of one kind of primitive with the hash `S`, timed; its
+/// cells are kept when `keep_cells`.
+struct BuildGrid<'a, S> {
+    config: &'a GridConfig,
+    keep_cells: bool,
+    hasher: PhantomData<S>,
+}
+
+impl<S: BuildHasher + Default> KindTask for BuildGrid<'_, S> {
+    type Output = Result<Built>;
+
+    fn run<T: MeshPrimitive>(self, set: PrimitiveSet<T>) -> Result<Built> {
+        let start = Instant::now();
+        let grid: HashGrid<T, S> = HashGrid::build(set, self.config)?;
+        let seconds = start.elapsed().as_secs_f64();
+        let cells = if self.keep_cells {
+            grid.occupied().map(|(c, p)| (c, p.len())).collect()
+        } else {
+            Vec::new()
+        };
+        Ok(Built {
+            kind: T::KIND.name(),
+            stats: grid.stats(),
+            seconds,
+            cells,
+        })
+    }
+}
+
+/// Builds the grid of `kind` over `mesh` with the hash `S`.
+fn build_grid<S: BuildHasher + Default>(
+    mesh: &Mesh,
+    kind: PrimitiveKind,
+    args: &Args,
     config: &GridConfig,
     keep_cells: bool,
 ) -> Result<Built> {
-    let start = Instant::now();
-    let grid: HashGrid<T, S> = HashGrid::build(set, config)?;
-    let seconds = start.elapsed().as_secs_f64();
-    let cells = if keep_cells {
-        grid.occupied().map(|(c, p)| (c, p.len())).collect()
-    } else {
-        Vec::new()
+    let task = BuildGrid::<S> {
+        config,
+        keep_cells,
+        hasher: PhantomData,
     };
-    Ok(Built {
-        kind,
-        stats: grid.stats(),
-        seconds,
-        cells,
-    })
-}
-
-fn build_kind<S: BuildHasher + Default>(
-    mesh: &Mesh,
-    kind: GridPrimitives,
-    config: &GridConfig,
-    keep: bool,
-    polygons: &dyn Fn() -> PrimitiveSet<ConvexPolygon>,
-) -> Result<Built> {
-    match kind {
-        GridPrimitives::Vertices => build::<_, S>("vertices", mesh.vertices(), config, keep),
-        GridPrimitives::Edges => build::<_, S>("edges", mesh.edges(), config, keep),
-        GridPrimitives::Polygons => build::<_, S>("polygons", polygons(), config, keep),
-        _ => build::<_, S>("faces", mesh.triangles(), config, keep),
-    }
+    run_kind(mesh, kind, &args.mesh, args.planarity, task)
 }
 
 /// Builds the grids and prints their statistics.
 pub fn run(args: Args) -> Result<()> {
     let mesh = load_mesh(&args.mesh)?;
     // `all` reports each kind there is; one kind must be there.
-    let required = match args.primitives {
-        GridPrimitives::All => None,
-        GridPrimitives::Vertices => Some(crate::common::Primitives::Vertices),
-        GridPrimitives::Edges => Some(crate::common::Primitives::Edges),
-        GridPrimitives::Polygons => Some(crate::common::Primitives::Polygons),
-        _ => Some(crate::common::Primitives::Faces),
-    };
-    match required {
+    match args.primitives.0 {
         Some(kind) => crate::common::require_primitives(&mesh, kind, &args.mesh)?,
         None => crate::common::require_vertices(&mesh, &args.mesh)?,
     }
@@ -159,22 +164,16 @@ pub fn run(args: Args) -> Result<()> {
         ..GridConfig::new(args.cell)
     };
     config.layout()?;
-    let kinds: &[GridPrimitives] = match args.primitives {
-        GridPrimitives::All => &[GridPrimitives::Vertices, GridPrimitives::Edges, GridPrimitives::Faces],
-        one => std::slice::from_ref(match one {
-            GridPrimitives::Vertices => &GridPrimitives::Vertices,
-            GridPrimitives::Edges => &GridPrimitives::Edges,
-            GridPrimitives::Polygons => &GridPrimitives::Polygons,
-            _ => &GridPrimitives::Faces,
-        }),
+    let kinds = match args.primitives.0 {
+        None => DEFAULT_KINDS.to_vec(),
+        Some(kind) => vec![kind],
     };
-    let polygons = || crate::common::polygons(&mesh, &args.mesh, args.planarity);
     let mut built = Vec::new();
     for (n, &kind) in kinds.iter().enumerate() {
-        let keep = args.cells_out.is_some() && n + 1 == kinds.len();
+        let keep_cells = args.cells_out.is_some() && n + 1 == kinds.len();
         let result = match args.hasher {
-            Hasher::Classic => build_kind::<ClassicHash>(&mesh, kind, &config, keep, &polygons),
-            Hasher::Fast => build_kind::<FastHash>(&mesh, kind, &config, keep, &polygons),
+            Hasher::Classic => build_grid::<ClassicHash>(&mesh, kind, &args, &config, keep_cells),
+            Hasher::Fast => build_grid::<FastHash>(&mesh, kind, &args, &config, keep_cells),
         };
         built.push(
             result

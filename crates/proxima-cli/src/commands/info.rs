@@ -1,12 +1,13 @@
 //! `proxima info MESH [--json]`: counts, bounding box, tree statistics.
 
-use crate::common::{Primitives, build_tree, load_mesh};
-use crate::with_tree;
+use crate::common::{DEFAULT_KINDS, load_mesh, run_kind};
 use anyhow::Context;
+use proxima::prelude::*;
 use proxima::primitive::polygon::DEFAULT_PLANARITY_TOLERANCE;
-use proxima::{BuildConfig, TreeStats};
+use proxima::{BuildError, TreeStats};
 use serde_json::json;
 use std::path::PathBuf;
+use std::time::Instant;
 
 /// Arguments of `proxima info`.
 #[derive(clap::Args)]
@@ -26,17 +27,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     crate::common::require_vertices(&mesh, &args.mesh)?;
     let bounds = mesh.bounds();
     let edges = mesh.edge_indices().len();
-    let config = BuildConfig::default();
     let mut trees = Vec::new();
     // Polygons too when there are faces of more than three vertices.
-    let polygons = (mesh.polygon_count() > 0).then_some(Primitives::Polygons);
-    for kind in Primitives::ALL.into_iter().chain(polygons) {
-        crate::common::note_polygons(&mesh, kind, &args.mesh, DEFAULT_PLANARITY_TOLERANCE);
+    let polygons = (mesh.polygon_count() > 0).then_some(PrimitiveKind::Polygons);
+    for kind in DEFAULT_KINDS.into_iter().chain(polygons) {
         if crate::common::require_primitives(&mesh, kind, &args.mesh).is_err() {
             continue; // info reports what there is; nothing to build for this kind
         }
-        let (tree, seconds) = build_tree(&mesh, kind, &config).with_context(|| args.mesh.display().to_string())?;
-        let stats: TreeStats = with_tree!(&tree, t => t.stats());
+        let (stats, seconds) = run_kind(&mesh, kind, &args.mesh, DEFAULT_PLANARITY_TOLERANCE, TreeFigures)
+            .with_context(|| args.mesh.display().to_string())?;
         trees.push((kind, stats, seconds));
     }
     if args.json {
@@ -105,4 +104,18 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         );
     }
     Ok(())
+}
+
+/// The statistics of the tree built with the default configuration, and its
+/// build time in seconds.
+struct TreeFigures;
+
+impl KindTask for TreeFigures {
+    type Output = Result<(TreeStats, f64), BuildError>;
+
+    fn run<T: MeshPrimitive>(self, set: PrimitiveSet<T>) -> Self::Output {
+        let start = Instant::now();
+        let tree = AabbTree::build_set(set, &BuildConfig::default())?;
+        Ok((tree.stats(), start.elapsed().as_secs_f64()))
+    }
 }

@@ -1,10 +1,10 @@
 //! `proxima view [MESH]`: the interactive viewer, or (with `--screenshot`)
 //! one rendered frame written to a PNG.
 
-use crate::common::{DEFAULT_MODEL_NAME, Primitives, load_or_default, parse_vec3};
+use crate::common::{DEFAULT_MODEL_NAME, kind_parser, load_or_default, parse_vec3};
 use anyhow::Result;
-use proxima::Vec3;
-use proxima_viewer::{InitialView, ModelSource, PrimitiveKind, ScreenshotOptions, ViewerOptions};
+use proxima::{PrimitiveKind, Vec3};
+use proxima_viewer::{InitialView, ModelSource, ScreenshotOptions, ViewerOptions};
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -26,8 +26,8 @@ pub struct Args {
     #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
     query: Option<Vec3>,
     /// Primitives queried, put in the grid and shown in the tree.
-    #[arg(long, value_enum)]
-    primitives: Option<Primitives>,
+    #[arg(long, value_parser = kind_parser())]
+    primitives: Option<PrimitiveKind>,
     /// Show the occupied cells of a hash grid with this cell size.
     #[arg(long, value_name = "SIZE", value_parser = parse_cell_size)]
     show_cells: Option<f32>,
@@ -121,13 +121,7 @@ pub fn run(args: Args) -> Result<()> {
             ModelSource::Mesh { mesh, name }
         }
     };
-    let kind = match args.primitives {
-        None => None,
-        Some(Primitives::Vertices) => Some(PrimitiveKind::Vertices),
-        Some(Primitives::Edges) => Some(PrimitiveKind::Edges),
-        Some(Primitives::Faces) => Some(PrimitiveKind::Faces),
-        Some(Primitives::Polygons) => Some(PrimitiveKind::Polygons),
-    };
+    let kind = args.primitives;
     let options = ViewerOptions {
         source,
         initial: InitialView {

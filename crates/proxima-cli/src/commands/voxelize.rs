@@ -56,7 +56,7 @@ pub fn run(args: Args) -> Result<()> {
     }
     let threads = crate::common::thread_count(args.threads)?;
     let mesh = load_mesh(&args.mesh)?;
-    crate::common::require_primitives(&mesh, crate::common::Primitives::Faces, &args.mesh)?;
+    crate::common::require_primitives(&mesh, proxima::PrimitiveKind::Faces, &args.mesh)?;
     let triangles = mesh.triangles().primitives;
     let bounds = mesh.bounds();
     let config = VoxelConfig {
