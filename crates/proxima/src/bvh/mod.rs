@@ -134,7 +134,7 @@ impl<T> SpatialIndex<T> for AabbTree<T> {
 }
 
 impl<T: ClosestPoint> NearestQuery<T> for AabbTree<T> {
-    #[inline]
+    #[inline(always)]
     fn nearest_walk<V: NearestVisitor<T>, C: Counter>(&self, p: Vec3A, visitor: &mut V, counter: &mut C) {
         nearest_walk::<Node, T, V, C>(&self.nodes, self.depth, self.leaves.primitives(), p, visitor, counter);
     }

@@ -105,12 +105,11 @@ fn walk_with<N: PairedNode, Q: BinaryQuery<N>, C: Counter, const STACK: usize>(
             let right = left + 1;
             let pair = children_of(n);
             if Q::TOUCH_GRANDCHILDREN {
-                // Touch the grandchild pairs now, so that their cache misses
-                // overlap with this step's work instead of following it (a
-                // safe stand-in for a prefetch; see docs/perf-log.md).
+                // Ask for the grandchild pairs now, so that their cache misses
+                // overlap with this step's work instead of following it.
                 for child in pair {
                     if !child.is_leaf() {
-                        std::hint::black_box(children_of(child)[0].first_child());
+                        prefetch(children_of(child));
                     }
                 }
             }

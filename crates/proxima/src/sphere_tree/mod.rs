@@ -133,7 +133,7 @@ impl<T> SpatialIndex<T> for SphereTree<T> {
 
 /// The AABB tree's walk over sphere nodes.
 impl<T: ClosestPoint> NearestQuery<T> for SphereTree<T> {
-    #[inline]
+    #[inline(always)]
     fn nearest_walk<V: NearestVisitor<T>, C: Counter>(&self, p: Vec3A, visitor: &mut V, counter: &mut C) {
         nearest_walk::<SphereNode, T, V, C>(&self.nodes, self.depth, self.leaves.primitives(), p, visitor, counter);
     }

@@ -179,7 +179,7 @@ impl<V> Nearest<'_, V> {
 
 /// The same answers as the binary tree's, field for field.
 impl<T: ClosestPoint + WidePrimitive> NearestQuery<T> for WideTree<T> {
-    #[inline]
+    #[inline(always)]
     fn nearest_walk<V: NearestVisitor<T>, C: Counter>(&self, p: Vec3A, visitor: &mut V, counter: &mut C) {
         self.walk(|avx2| Nearest::new(p, avx2, visitor), counter);
     }

@@ -132,7 +132,7 @@ impl<T> WideTree<T> {
     /// Walks the tree for `query` (see the module notes), compiled for AVX2
     /// where the tree tests its leaves with it. `make` builds the query,
     /// given the AVX2 token it may use.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn walk<Q: WideQuery<T>, C: Counter>(&self, make: impl FnOnce(Option<Avx2>) -> Q, counter: &mut C) {
         #[cfg(target_arch = "x86_64")]
         if let Some(avx2) = self.avx2 {
