@@ -100,7 +100,7 @@ impl RaySlabs {
 }
 
 impl<T: RayIntersect> RayQuery<T> for AabbTree<T> {
-    #[inline]
+    #[inline(always)]
     fn ray_walk<V: RayVisitor<T>, C: Counter>(
         &self,
         ray: &WatertightRay,

@@ -189,7 +189,7 @@ impl<T: RayIntersect, V: RayVisitor<T>> WideQuery<T> for Rays<'_, V> {
 
 /// The same answers as the binary tree's, field for field.
 impl<T: RayIntersect + WidePrimitive> RayQuery<T> for WideTree<T> {
-    #[inline]
+    #[inline(always)]
     fn ray_walk<V: RayVisitor<T>, C: Counter>(
         &self,
         ray: &WatertightRay,
