@@ -5,9 +5,13 @@ use parry3d::shape::TriMesh;
 use proxima::{Mesh, Vec3};
 use std::path::PathBuf;
 
-/// The shared data folder beside the checkout, if present.
+/// The shared data folder: `PROXIMA_DATA_DIR` when set, else `../shared/data`
+/// beside the checkout; `None` when absent.
 pub fn data_dir() -> Option<PathBuf> {
-    let dir = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"));
+    let dir = std::env::var_os("PROXIMA_DATA_DIR").map_or_else(
+        || PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data")),
+        PathBuf::from,
+    );
     dir.is_dir().then_some(dir)
 }
 

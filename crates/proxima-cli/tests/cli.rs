@@ -339,7 +339,12 @@ fn closest_k_lists_each_face_once() {
                 v 3 0 0\nv 4 0 0\nv 4.5 1 0\nv 4 2 0\nv 3 2 0\nv 2.5 1 0\n\
                 f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\nf 9 10 11 12 13 14\n";
     let handmade = write(dir.path(), "quads.obj", cube);
-    let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/spot_quadrangulated.obj");
+    let shared = std::env::var_os("PROXIMA_DATA_DIR")
+        .map_or_else(
+            || Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data"),
+            PathBuf::from,
+        )
+        .join("spot_quadrangulated.obj");
     let mut meshes = vec![PathBuf::from(&handmade)];
     if shared.exists() {
         meshes.push(shared);

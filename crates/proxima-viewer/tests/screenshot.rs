@@ -31,7 +31,6 @@ use std::process::{Command, ExitCode, Stdio};
 use std::time::{Duration, Instant};
 
 const BUNNY: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../proxima-cli/assets/bunny-npm.obj");
-const DATA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data");
 const WINDOW: [f32; 2] = [1280.0, 800.0];
 
 /// A scenario: the mesh and what the viewer shows.
@@ -48,7 +47,12 @@ struct Scenario {
 }
 
 fn scenarios() -> Vec<Scenario> {
-    let dragon = Path::new(DATA).join("dragon_vrip.ply.gz");
+    // `PROXIMA_DATA_DIR` when set, else ../shared/data beside the checkout.
+    let data = std::env::var_os("PROXIMA_DATA_DIR").map_or_else(
+        || Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data"),
+        std::path::PathBuf::from,
+    );
+    let dragon = data.join("dragon_vrip.ply.gz");
     let mut list = vec![
         Scenario {
             name: "bunny_faces",

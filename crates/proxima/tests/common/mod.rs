@@ -10,9 +10,14 @@ use proxima::sample::Rng;
 use proxima::{Mesh, Vec3};
 use std::path::PathBuf;
 
-/// The folder of real meshes, if this checkout has ../shared beside it.
+/// The folder of real meshes: `PROXIMA_DATA_DIR` when set (a checkout
+/// elsewhere, such as a `git worktree`), else `../shared/data` beside the
+/// checkout; `None` when it is absent.
 pub fn data_dir() -> Option<PathBuf> {
-    let dir = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"));
+    let dir = std::env::var_os("PROXIMA_DATA_DIR").map_or_else(
+        || PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data")),
+        PathBuf::from,
+    );
     if dir.is_dir() {
         Some(dir)
     } else {
