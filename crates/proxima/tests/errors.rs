@@ -406,6 +406,36 @@ fn ray_zero_direction() {
     assert!(e.to_string().contains("direction"), "{e}");
 }
 
+/// One set of ray rules for every ray query: a direction whose largest
+/// component's reciprocal overflows (here 1e-45) is refused by the trees, the
+/// hash grid and the traversal alike, as `proxima::Ray` refuses it; one just
+/// above that limit is accepted by all.
+#[test]
+fn ray_direction_underflowing_everywhere() {
+    let mesh = proxima::io::parse(TRIANGLE, proxima::io::Format::Obj, "t.obj".as_ref()).unwrap();
+    let tree = AabbTree::build_set(mesh.triangles(), &BuildConfig::default()).unwrap();
+    let grid: HashGrid<_> = HashGrid::build(mesh.triangles(), &GridConfig::cubic(0.5)).unwrap();
+    let tiny = Vec3::new(1e-45, 0.0, 0.0);
+    assert_eq!(proxima::Ray::new(Vec3::ZERO, tiny), Err(proxima::RayError::Direction));
+    assert_eq!(
+        tree.first_hit(Vec3::ZERO, tiny, 0.0, f32::INFINITY).unwrap_err(),
+        proxima::RayError::Direction
+    );
+    assert_eq!(
+        grid.first_hit(Vec3::ZERO, tiny, 0.0, f32::INFINITY).unwrap_err(),
+        GridError::RayDirection
+    );
+    assert_eq!(
+        GridTraversal::new(Vec3::ZERO, tiny, &TraversalConfig::cubic(1.0)).unwrap_err(),
+        GridError::RayDirection
+    );
+    let small = Vec3::new(1e-37, 0.0, 0.0);
+    assert!(proxima::Ray::new(Vec3::ZERO, small).is_ok());
+    assert!(tree.first_hit(Vec3::ZERO, small, 0.0, f32::INFINITY).is_ok());
+    assert!(grid.first_hit(Vec3::ZERO, small, 0.0, f32::INFINITY).is_ok());
+    assert!(GridTraversal::new(Vec3::ZERO, small, &TraversalConfig::cubic(1.0)).is_ok());
+}
+
 #[test]
 fn traversal_origin_out_of_range() {
     let e = GridTraversal::new(Vec3::new(1e20, 0.0, 0.0), Vec3::X, &TraversalConfig::cubic(1e-6)).unwrap_err();
