@@ -463,21 +463,7 @@ mod tests {
         .unwrap()
     }
 
-    /// A unit cube of six quads.
-    fn cube_mesh() -> Mesh {
-        let positions: Vec<Vec3> = (0..8)
-            .map(|i| Vec3::new((i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32))
-            .collect();
-        let faces = vec![
-            vec![0, 2, 3, 1],
-            vec![4, 5, 7, 6],
-            vec![0, 1, 5, 4],
-            vec![2, 6, 7, 3],
-            vec![0, 4, 6, 2],
-            vec![1, 3, 7, 5],
-        ];
-        Mesh::from_faces(positions, &faces).unwrap()
-    }
+    use crate::scene::tests::cube_mesh;
 
     fn model() -> Model {
         Model::load(

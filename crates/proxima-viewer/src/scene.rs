@@ -529,11 +529,12 @@ impl DrawFrame {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use proxima::BuildConfig;
 
-    fn cube_mesh() -> Mesh {
+    /// A unit cube of six quads (shared with the model's tests).
+    pub(crate) fn cube_mesh() -> Mesh {
         let p: Vec<Vec3> = (0..8)
             .map(|i| Vec3::new((i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32))
             .collect();
