@@ -459,3 +459,41 @@ impl From<RayError> for GridError {
         }
     }
 }
+
+/// Why a signed distance field, or a grid or sample of one, cannot be made.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SdfError {
+    /// The mesh has no face, so neither a distance nor a side.
+    #[error("the mesh has no faces: a signed distance needs triangles")]
+    NoFaces,
+    /// The tree could not be built.
+    #[error(transparent)]
+    Build(#[from] BuildError),
+    /// A count or resolution of zero.
+    #[error("{option} must be at least 1")]
+    Zero {
+        /// The option.
+        option: &'static str,
+    },
+    /// The output would not fit the memory budget
+    /// ([`default_memory_budget`](crate::budget::default_memory_budget)).
+    #[error("{option} = {value} needs {bytes} bytes, more than the memory budget of {budget} bytes")]
+    MemoryBudget {
+        /// The option that sizes the output.
+        option: &'static str,
+        /// Its value.
+        value: u64,
+        /// Bytes it needs.
+        bytes: u64,
+        /// The budget.
+        budget: u64,
+    },
+    /// A length (a sample spread or margin, a grid's bounds) that is negative or not finite.
+    #[error("{option} must be finite and not negative, got {value}")]
+    Parameter {
+        /// The option.
+        option: &'static str,
+        /// Its value.
+        value: f32,
+    },
+}

@@ -21,7 +21,7 @@
 //! |---|---|
 //! | Input | [`io`] (OBJ, PLY, STL, OFF, gzip; limits), [`mesh`] ([`Mesh`]), [`kind`] ([`PrimitiveKind`]: vertices, edges, faces, polygons) |
 //! | Primitives | [`primitive`] ([`Point`], [`LineSegment`], [`Triangle`], [`ConvexPolygon`]; traits [`Bounded`], [`ClosestPoint`], [`BoxOverlap`], [`RayIntersect`]), [`frustum`] ([`Frustum`], [`FrustumOverlap`]), [`ray`] ([`Ray`]) |
-//! | Queries | [`query`]: [`NearestQuery`], [`RayQuery`], [`FrustumQuery`], each written once over a structure's walk; answers [`ClosestHit`], [`RayHit`] |
+//! | Queries | [`sdf`] ([`SignedDistanceField`]: signed distance, winding numbers, inside tests, grids, samples), [`query`]: [`NearestQuery`], [`RayQuery`], [`FrustumQuery`], each written once over a structure's walk; answers [`ClosestHit`], [`RayHit`] |
 //! | Structures | [`bvh`] ([`AabbTree`]), [`wide_tree`] ([`WideTree`], 4-wide, SIMD leaves), [`sphere_tree`] ([`SphereTree`]), [`linear`] ([`LinearSearch`], brute force), [`grid`] ([`HashGrid`]), [`traversal`] ([`GridTraversal`]) |
 //! | Support | [`aabb`], [`sphere`], [`math`], [`memory`], [`budget`] (memory and work limits), [`error`] (typed errors), [`sample`] (seeded test and benchmark inputs) |
 //!
@@ -49,6 +49,7 @@ pub mod primitive;
 pub mod query;
 pub mod ray;
 pub mod sample;
+pub mod sdf;
 pub mod sphere;
 pub mod sphere_tree;
 pub mod traversal;
@@ -59,7 +60,7 @@ pub use bvh::{AabbTree, BuildConfig, TreeStats, check_query_point};
 pub use error::FrustumError;
 pub use error::GridError;
 pub use error::RayError;
-pub use error::{BuildError, LoadError, LoadErrorKind, MeshError, PolygonError, QueryError};
+pub use error::{BuildError, LoadError, LoadErrorKind, MeshError, PolygonError, QueryError, SdfError};
 pub use frustum::{Frustum, FrustumOverlap};
 pub use grid::{GridConfig, HashGrid, InsertMethod};
 pub use kind::{MeshPrimitive, PrimitiveKind};
@@ -75,6 +76,7 @@ pub use query::{
     SpatialIndex,
 };
 pub use ray::Ray;
+pub use sdf::{SdfConfig, Sign, SignedDistance, SignedDistanceField};
 pub use sphere::Sphere;
 pub use sphere_tree::SphereTree;
 pub use traversal::{GridTraversal, TraversalConfig, TraversalStep};

@@ -8,6 +8,7 @@
 use crate::aabb::Aabb;
 use crate::math::Vec3;
 use crate::mesh::Mesh;
+use crate::primitive::Triangle;
 
 /// A small seeded pseudo-random generator (SplitMix64).
 #[derive(Clone, Debug)]
@@ -78,9 +79,17 @@ pub fn uniform_in_box(mesh: &Mesh, n: usize, seed: u64) -> Vec<Vec3> {
     if b.is_empty() {
         return Vec::new();
     }
-    let b = Aabb::new(b.min - b.size() * 0.1, b.max + b.size() * 0.1);
+    uniform_in(&Aabb::new(b.min - b.size() * 0.1, b.max + b.size() * 0.1), n, seed)
+}
+
+/// `n` points uniform in `bounds` (none when it is empty); the same seed
+/// gives the same points on every machine.
+pub fn uniform_in(bounds: &Aabb, n: usize, seed: u64) -> Vec<Vec3> {
+    if bounds.is_empty() {
+        return Vec::new();
+    }
     let mut rng = Rng::new(seed);
-    (0..n).map(|_| rng.in_box(&b)).collect()
+    (0..n).map(|_| rng.in_box(bounds)).collect()
 }
 
 /// `n` points uniform on the surface (triangles picked by area) plus a
@@ -88,17 +97,27 @@ pub fn uniform_in_box(mesh: &Mesh, n: usize, seed: u64) -> Vec<Vec3> {
 /// bounding-box diagonal (the `near` query set uses 0.01). Empty when the mesh
 /// has no area.
 pub fn near_surface(mesh: &Mesh, n: usize, sigma_fraction: f32, seed: u64) -> Vec<Vec3> {
-    let triangles = mesh.triangles().primitives;
+    near_triangles(
+        &mesh.triangles().primitives,
+        n,
+        mesh.bounds().diagonal() * sigma_fraction,
+        seed,
+    )
+}
+
+/// `n` points uniform on the triangles (picked by area) plus a gaussian
+/// offset per axis of standard deviation `sigma`. Empty when the triangles
+/// have no area.
+pub fn near_triangles(triangles: &[Triangle], n: usize, sigma: f32, seed: u64) -> Vec<Vec3> {
     let mut cumulative = Vec::with_capacity(triangles.len());
     let mut total = 0f64;
-    for t in &triangles {
+    for t in triangles {
         total += t.area() as f64;
         cumulative.push(total);
     }
     if triangles.is_empty() || total <= 0.0 {
         return Vec::new();
     }
-    let sigma = (mesh.bounds().diagonal() * sigma_fraction) as f64;
     let mut rng = Rng::new(seed);
     (0..n)
         .map(|_| {
@@ -111,7 +130,7 @@ pub fn near_surface(mesh: &Mesh, n: usize, sigma_fraction: f32, seed: u64) -> Ve
             }
             let on = t.a + (t.b - t.a) * u + (t.c - t.a) * v;
             let offset = Vec3::new(rng.gaussian() as f32, rng.gaussian() as f32, rng.gaussian() as f32);
-            on + offset * sigma as f32
+            on + offset * sigma
         })
         .collect()
 }

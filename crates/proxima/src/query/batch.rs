@@ -242,16 +242,28 @@ pub(crate) fn answer_batch<S, R: Send>(
     init: impl Fn() -> S + Sync + Send,
     query: impl Fn(&mut S, Vec3) -> R + Sync + Send,
 ) -> Vec<R> {
+    answer_batch_indexed(points, bounds, reorder, init, |scratch, i| query(scratch, points[i]))
+}
+
+/// [`answer_batch`] with the point's index in place of the point, for
+/// queries that also read other arrays of the batch.
+pub(crate) fn answer_batch_indexed<S, R: Send>(
+    points: &[Vec3],
+    bounds: &Aabb,
+    reorder: bool,
+    init: impl Fn() -> S + Sync + Send,
+    query: impl Fn(&mut S, usize) -> R + Sync + Send,
+) -> Vec<R> {
     if !reorder {
-        return points
-            .par_iter()
-            .map_init(&init, |scratch, &p| query(scratch, p))
+        return (0..points.len())
+            .into_par_iter()
+            .map_init(&init, |scratch, i| query(scratch, i))
             .collect();
     }
     let order = morton_order(points, bounds);
     let answers: Vec<R> = order
         .par_iter()
-        .map_init(&init, |scratch, &i| query(scratch, points[i as usize]))
+        .map_init(&init, |scratch, &i| query(scratch, i as usize))
         .collect();
     unpermute(&order, answers)
 }

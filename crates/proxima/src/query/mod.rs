@@ -41,6 +41,7 @@ pub use nearest::NearestQuery;
 pub use ray::{RayHit, RayQuery};
 pub use visitor::{Counter, NearestVisitor, QueryStats, RayVisitor};
 
+pub(crate) use batch::answer_batch_indexed;
 #[cfg(feature = "experimental")]
 pub(crate) use batch::closest_in_chunks;
 pub(crate) use closest::Best;

@@ -1,0 +1,232 @@
+//! The signed distance field of a triangle mesh: the closest query's
+//! distance, signed by the winding number or by pseudonormals.
+
+use super::pseudonormal::Pseudonormals;
+use super::winding::{DEFAULT_BETA, WindingNumbers, winding_number_exact};
+use crate::Triangle;
+use crate::aabb::Aabb;
+use crate::bvh::BuildConfig;
+use crate::error::SdfError;
+use crate::math::Vec3;
+use crate::mesh::Mesh;
+use crate::query::answer_batch_indexed;
+use crate::query::{ClosestHit, NearestQuery, SpatialIndex};
+use crate::wide_tree::WideTree;
+
+/// How the side of a point (inside or outside) is decided.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Sign {
+    /// Inside where the generalized winding number exceeds ½: right on
+    /// open, non-manifold and self-crossing meshes.
+    #[default]
+    WindingNumber,
+    /// The angle-weighted pseudonormal of the closest feature: faster, right
+    /// on closed, consistently oriented meshes that do not cross themselves.
+    Pseudonormal,
+}
+
+impl std::str::FromStr for Sign {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "winding" | "winding-number" => Ok(Self::WindingNumber),
+            "pseudonormal" => Ok(Self::Pseudonormal),
+            _ => Err(format!("unknown sign method {s:?} (expected winding or pseudonormal)")),
+        }
+    }
+}
+
+/// How a [`SignedDistanceField`] is made.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SdfConfig {
+    /// How the side is decided.
+    pub sign: Sign,
+    /// The winding numbers' accuracy parameter β ([`DEFAULT_BETA`]).
+    pub beta: f32,
+    /// Sum the solid angles of every triangle in `f64` instead of using the
+    /// tree of expansions: the oracle's answer, linear in the number of
+    /// triangles per query.
+    pub exact: bool,
+    /// The tree of the closest queries.
+    pub build: BuildConfig,
+}
+
+impl Default for SdfConfig {
+    fn default() -> Self {
+        Self {
+            sign: Sign::default(),
+            beta: DEFAULT_BETA,
+            exact: false,
+            build: BuildConfig::default(),
+        }
+    }
+}
+
+/// The signed distance from a point to a mesh.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SignedDistance {
+    /// The distance to the closest point, negative inside, positive outside
+    /// (and on the surface).
+    pub distance: f32,
+    /// The winding number, when the side came from it.
+    pub winding_number: Option<f32>,
+    /// The closest query's answer: the triangle (`primitive`, its face in
+    /// `source`), the closest point, the unsigned distance.
+    pub closest: ClosestHit,
+}
+
+impl SignedDistance {
+    /// Whether the point is inside.
+    pub fn is_inside(&self) -> bool {
+        self.distance < 0.0
+    }
+}
+
+/// Signed distances, winding numbers and inside tests on a triangle mesh.
+///
+/// Distances are the closest query's (same triangle, point and distance
+/// as [`NearestQuery::closest`]); the sign is negative inside and positive
+/// outside, the convention of graphics and of DeepSDF. Inside means a
+/// winding number above ½ ([`Sign::WindingNumber`], the default), or
+/// behind the pseudonormal of the closest feature ([`Sign::Pseudonormal`]).
+///
+/// ```
+/// use proxima::prelude::*;
+/// use proxima::mesh::generate::noisy_icosphere;
+/// use proxima::sdf::{SdfConfig, SignedDistanceField};
+/// let sphere = noisy_icosphere(8, 1); // radius about 1 around the origin
+/// let field = SignedDistanceField::new(&sphere, &SdfConfig::default()).unwrap();
+/// let inside = field.signed_distance(Vec3::ZERO).unwrap();
+/// assert!(inside.distance < -0.5 && inside.is_inside());
+/// assert!(inside.winding_number.unwrap() > 0.5);
+/// assert!(field.signed_distance(Vec3::splat(2.0)).unwrap().distance > 0.5);
+/// assert!(field.contains(Vec3::ZERO) && !field.contains(Vec3::splat(2.0)));
+/// ```
+#[derive(Clone, Debug)]
+pub struct SignedDistanceField {
+    tree: WideTree<Triangle>,
+    winding: WindingNumbers,
+    pseudonormals: Option<Pseudonormals>,
+    sign: Sign,
+    exact: bool,
+}
+
+impl SignedDistanceField {
+    /// The field of `mesh`'s faces (fan-triangulated as
+    /// [`Mesh::triangles`]). Fails on a mesh without faces or a tree that
+    /// cannot be built.
+    pub fn new(mesh: &Mesh, config: &SdfConfig) -> Result<Self, SdfError> {
+        if mesh.triangle_count() == 0 {
+            return Err(SdfError::NoFaces);
+        }
+        let tree = WideTree::build_set(mesh.triangles(), &config.build)?;
+        let winding = WindingNumbers::new(&tree, config.beta);
+        let pseudonormals = (config.sign == Sign::Pseudonormal).then(|| Pseudonormals::new(mesh));
+        Ok(Self {
+            tree,
+            winding,
+            pseudonormals,
+            sign: config.sign,
+            exact: config.exact,
+        })
+    }
+
+    /// The tree of the closest queries.
+    pub fn tree(&self) -> &WideTree<Triangle> {
+        &self.tree
+    }
+
+    /// The winding numbers' tree of expansions.
+    pub fn winding_numbers(&self) -> &WindingNumbers {
+        &self.winding
+    }
+
+    /// How the side is decided.
+    pub fn sign(&self) -> Sign {
+        self.sign
+    }
+
+    /// The mesh's bounding box.
+    pub fn bounds(&self) -> Aabb {
+        self.tree.bounds()
+    }
+
+    /// The triangles, in the tree's leaf order.
+    pub fn triangles(&self) -> &[Triangle] {
+        self.tree.leaves().primitives()
+    }
+
+    /// The winding number at `p`: by the tree of expansions, or summed over
+    /// every triangle in `f64` when the field was made with
+    /// [`exact`](SdfConfig::exact). 0 for a `p` that is not finite.
+    pub fn winding_number(&self, p: Vec3) -> f32 {
+        if self.exact {
+            winding_number_exact(self.triangles(), p) as f32
+        } else {
+            self.winding.winding_number(p)
+        }
+    }
+
+    /// Whether the winding number at `p` exceeds ½ (false for a `p` that is
+    /// not finite).
+    pub fn contains(&self, p: Vec3) -> bool {
+        self.winding_number(p) > 0.5
+    }
+
+    /// The signed distance at `p`, `None` where [`NearestQuery::closest`]
+    /// has no answer (a `p` that is not finite or too large).
+    pub fn signed_distance(&self, p: Vec3) -> Option<SignedDistance> {
+        let closest = self.tree.closest(p)?;
+        Some(self.signed_answer(p, closest))
+    }
+
+    /// The closest query's answer `closest` at `p`, signed.
+    #[inline]
+    pub(crate) fn signed_answer(&self, p: Vec3, closest: ClosestHit) -> SignedDistance {
+        let (inside, winding_number) = match &self.pseudonormals {
+            Some(normals) => (normals.is_inside(closest.primitive, p), None),
+            None => {
+                let w = self.winding_number(p);
+                (w > 0.5, Some(w))
+            }
+        };
+        SignedDistance {
+            distance: if inside { -closest.distance } else { closest.distance },
+            winding_number,
+            closest,
+        }
+    }
+
+    /// [`signed_distance`](Self::signed_distance) for every point, on all
+    /// cores: the distances by [`NearestQuery::closest_batch`] (Morton order,
+    /// each query seeded by its neighbour's answer), then the signs in Morton
+    /// order. Answers in input order, equal to the single queries'.
+    pub fn signed_distance_batch(&self, points: &[Vec3]) -> Vec<Option<SignedDistance>> {
+        let closest = self.tree.closest_batch(points);
+        answer_batch_indexed(
+            points,
+            &self.bounds(),
+            true,
+            || (),
+            |_, i| closest[i].map(|hit| self.signed_answer(points[i], hit)),
+        )
+    }
+
+    /// [`winding_number`](Self::winding_number) for every point, on all
+    /// cores in Morton order; answers in input order.
+    pub fn winding_number_batch(&self, points: &[Vec3]) -> Vec<f32> {
+        answer_batch_indexed(
+            points,
+            &self.bounds(),
+            true,
+            || (),
+            |_, i| self.winding_number(points[i]),
+        )
+    }
+
+    /// [`contains`](Self::contains) for every point, on all cores in Morton
+    /// order; answers in input order.
+    pub fn contains_batch(&self, points: &[Vec3]) -> Vec<bool> {
+        answer_batch_indexed(points, &self.bounds(), true, || (), |_, i| self.contains(points[i]))
+    }
+}

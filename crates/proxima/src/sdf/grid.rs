@@ -1,0 +1,211 @@
+//! Signed distances at the cell centres of a dense grid, and training
+//! samples (points near the surface and uniform in a box, with their signed
+//! distances).
+
+use super::field::SignedDistanceField;
+use crate::aabb::Aabb;
+use crate::budget::default_memory_budget;
+use crate::error::SdfError;
+use crate::math::Vec3;
+use crate::query::NearestQuery;
+use crate::sample::{near_triangles, uniform_in};
+use rayon::prelude::*;
+
+/// A dense grid of sample points: the centres of `resolution` cells per
+/// axis dividing a box.
+///
+/// ```
+/// use proxima::{Aabb, Vec3};
+/// use proxima::sdf::SdfGrid;
+/// let grid = SdfGrid::over(&Aabb::new(Vec3::ZERO, Vec3::new(2.0, 1.0, 1.0)), [4, 2, 2]).unwrap();
+/// assert_eq!(grid.cell, Vec3::new(0.5, 0.5, 0.5));
+/// assert_eq!(grid.point(0, 0, 0), Vec3::splat(0.25));
+/// assert_eq!(grid.point(3, 1, 1), Vec3::new(1.75, 0.75, 0.75));
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SdfGrid {
+    /// The box's smallest corner (the first cell's corner, not its centre).
+    pub min: Vec3,
+    /// Cell size per axis.
+    pub cell: Vec3,
+    /// Cells per axis.
+    pub resolution: [usize; 3],
+}
+
+impl SdfGrid {
+    /// `resolution` cells per axis dividing `bounds`. Fails on a zero
+    /// resolution or a box that is empty or not finite.
+    pub fn over(bounds: &Aabb, resolution: [usize; 3]) -> Result<Self, SdfError> {
+        if resolution.contains(&0) {
+            return Err(SdfError::Zero { option: "resolution" });
+        }
+        let size = bounds.size();
+        if bounds.is_empty() || !size.is_finite() || !bounds.min.is_finite() {
+            let value = if bounds.is_empty() { -1.0 } else { f32::INFINITY };
+            return Err(SdfError::Parameter {
+                option: "bounds",
+                value,
+            });
+        }
+        let n = Vec3::new(resolution[0] as f32, resolution[1] as f32, resolution[2] as f32);
+        Ok(Self {
+            min: bounds.min,
+            cell: size / n,
+            resolution,
+        })
+    }
+
+    /// The cube of `n` cells per axis over `bounds` grown by `margin` times
+    /// its size on every side (the CLI's `--grid N` uses 5%).
+    pub fn around(bounds: &Aabb, n: usize, margin: f32) -> Result<Self, SdfError> {
+        check_length("margin", margin)?;
+        let grow = bounds.size() * margin;
+        Self::over(&Aabb::new(bounds.min - grow, bounds.max + grow), [n; 3])
+    }
+
+    /// The centre of cell `(i, j, k)`.
+    #[inline]
+    pub fn point(&self, i: usize, j: usize, k: usize) -> Vec3 {
+        self.min + self.cell * Vec3::new(i as f32 + 0.5, j as f32 + 0.5, k as f32 + 0.5)
+    }
+
+    /// The centre of the first cell.
+    pub fn origin(&self) -> Vec3 {
+        self.point(0, 0, 0)
+    }
+
+    /// Number of cells (saturating).
+    pub fn len(&self) -> u64 {
+        self.resolution.iter().fold(1u64, |n, &r| n.saturating_mul(r as u64))
+    }
+
+    /// `true` for a grid without cells (never, once made by [`over`](Self::over)).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// Points near a surface and uniform in a box, with their signed distances.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Samples {
+    /// The points.
+    pub points: Vec<Vec3>,
+    /// Their signed distances (`points[i]`'s in `signed_distances[i]`).
+    pub signed_distances: Vec<f32>,
+}
+
+/// Fails with [`SdfError::Parameter`] unless `value` is finite and not negative.
+fn check_length(option: &'static str, value: f32) -> Result<(), SdfError> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(())
+    } else {
+        Err(SdfError::Parameter { option, value })
+    }
+}
+
+/// Fails unless `count` items of `bytes_each` fit the memory budget.
+fn check_budget(option: &'static str, count: u64, bytes_each: u64) -> Result<(), SdfError> {
+    if count == 0 {
+        return Err(SdfError::Zero { option });
+    }
+    let bytes = count.saturating_mul(bytes_each);
+    let budget = default_memory_budget();
+    if bytes > budget {
+        return Err(SdfError::MemoryBudget {
+            option,
+            value: count,
+            bytes,
+            budget,
+        });
+    }
+    Ok(())
+}
+
+impl SignedDistanceField {
+    /// The signed distances at the cell centres of `grid`, x fastest (the
+    /// value of cell `(i, j, k)` at `i + nx (j + ny k)`), on all cores.
+    /// `progress(done, total)` is called on this thread as slabs of cells
+    /// finish. Fails before allocating when the values would not fit the
+    /// memory budget.
+    ///
+    /// ```
+    /// use proxima::mesh::generate::noisy_icosphere;
+    /// use proxima::sdf::{SdfConfig, SdfGrid, SignedDistanceField};
+    /// let field = SignedDistanceField::new(&noisy_icosphere(4, 1), &SdfConfig::default()).unwrap();
+    /// let grid = SdfGrid::around(&field.bounds(), 8, 0.05).unwrap();
+    /// let values = field.sdf_grid(&grid, |_, _| {}).unwrap();
+    /// assert_eq!(values.len(), 512);
+    /// assert!(values[0] > 0.0); // a corner is outside
+    /// assert!(values[4 + 8 * (4 + 8 * 4)] < 0.0); // the middle is inside
+    /// ```
+    pub fn sdf_grid(&self, grid: &SdfGrid, mut progress: impl FnMut(u64, u64)) -> Result<Vec<f32>, SdfError> {
+        check_budget("resolution", grid.len(), 4)?;
+        let [nx, ny, nz] = grid.resolution;
+        let total = grid.len();
+        let mut values = vec![0f32; total as usize];
+        // About a hundred progress reports, each a whole number of z slices.
+        let slab = (nz / 100).max(1);
+        let mut done = 0u64;
+        for (s, slab_values) in values.chunks_mut(nx * ny * slab).enumerate() {
+            slab_values.par_chunks_mut(nx).enumerate().for_each(|(row, out)| {
+                let (j, k) = (row % ny, s * slab + row / ny);
+                self.sdf_row(grid, j, k, out);
+            });
+            done += slab_values.len() as u64;
+            progress(done, total);
+        }
+        Ok(values)
+    }
+
+    /// One row of a grid, each closest query bounded by the previous one's
+    /// distance plus the step between them.
+    fn sdf_row(&self, grid: &SdfGrid, j: usize, k: usize, out: &mut [f32]) {
+        let mut previous = f32::INFINITY;
+        for (i, value) in out.iter_mut().enumerate() {
+            let p = grid.point(i, j, k);
+            let bound = previous + grid.cell.x * 1.001;
+            let hit = self.tree().closest_within(p, bound).or_else(|| self.tree().closest(p));
+            *value = match hit {
+                Some(hit) => {
+                    previous = hit.distance;
+                    self.signed_answer(p, hit).distance
+                }
+                None => f32::NAN,
+            };
+        }
+    }
+
+    /// `n` points uniform on the surface (triangles picked by area) plus a
+    /// gaussian offset of standard deviation `sigma` per axis, with their
+    /// signed distances. The same seed gives the same points on every
+    /// machine. Fails on `n == 0`, a `sigma` negative or not finite, or an
+    /// `n` beyond the memory budget.
+    pub fn sample_near_surface(&self, n: usize, sigma: f32, seed: u64) -> Result<Samples, SdfError> {
+        check_length("sigma", sigma)?;
+        check_budget("count", n as u64, 32)?;
+        Ok(self.samples(near_triangles(self.triangles(), n, sigma, seed)))
+    }
+
+    /// `n` points uniform in the mesh's box grown by `margin` times its size
+    /// on every side, with their signed distances (seeded as
+    /// [`sample_near_surface`](Self::sample_near_surface)).
+    pub fn sample_uniform(&self, n: usize, margin: f32, seed: u64) -> Result<Samples, SdfError> {
+        check_length("margin", margin)?;
+        check_budget("count", n as u64, 32)?;
+        let b = self.bounds();
+        let grow = b.size() * margin;
+        Ok(self.samples(uniform_in(&Aabb::new(b.min - grow, b.max + grow), n, seed)))
+    }
+
+    fn samples(&self, points: Vec<Vec3>) -> Samples {
+        let signed_distances = self
+            .signed_distance_batch(&points)
+            .into_iter()
+            .map(|s| s.map_or(f32::NAN, |s| s.distance))
+            .collect();
+        Samples {
+            points,
+            signed_distances,
+        }
+    }
+}

@@ -1,0 +1,28 @@
+//! Signed distance, winding numbers and inside tests on triangle meshes.
+//!
+//! [`SignedDistanceField`] answers `signed_distance(p)` (the closest query's
+//! distance, negative inside and positive outside), `winding_number(p)` and
+//! `contains(p)`, one at a time or in batches on all cores, and evaluates
+//! dense grids and training samples. The side comes from the generalized
+//! winding number by default ([`Sign::WindingNumber`]: right on open,
+//! non-manifold and self-crossing meshes), or from angle-weighted
+//! pseudonormals ([`Sign::Pseudonormal`]: faster, right on closed oriented
+//! surfaces that do not cross themselves). `docs/sdf.md` compares the
+//! methods and where each fails.
+//!
+//! One concept per file: the solid angle of a triangle (`solid_angle.rs`),
+//! winding numbers by a tree of dipole expansions (`winding.rs`),
+//! pseudonormals (`pseudonormal.rs`), the field and its batches
+//! (`field.rs`), grids and samples (`grid.rs`).
+
+mod field;
+mod grid;
+mod pseudonormal;
+mod solid_angle;
+mod winding;
+
+pub use field::{SdfConfig, Sign, SignedDistance, SignedDistanceField};
+pub use grid::{Samples, SdfGrid};
+pub use pseudonormal::{Feature, Pseudonormals};
+pub use solid_angle::solid_angle;
+pub use winding::{DEFAULT_BETA, WindingNumbers, WindingStats, winding_number_exact};

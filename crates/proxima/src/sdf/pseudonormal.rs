@@ -1,0 +1,258 @@
+//! Angle-weighted pseudonormals (Bærentzen and Aanæs 2005): the side of a
+//! point from the normal of its closest feature.
+//!
+//! A face's pseudonormal is its normal; an edge's is the sum of its faces'
+//! unit normals; a vertex's is the sum of its faces' unit normals weighted by
+//! the faces' angles at the vertex. For a closed, consistently oriented
+//! surface that does not cross itself, `(p − c) · n < 0` exactly when `p` is
+//! inside, `c` the closest point and `n` the pseudonormal of the feature
+//! (face, edge or vertex) `c` lies on. Elsewhere (holes, self-crossings,
+//! flipped faces) the answer is only the side of the nearest sheet.
+//!
+//! Vertices are welded by exact position first, so meshes stored as
+//! separate triangles (STL) get the normals of their shared edges.
+
+use crate::math::Vec3;
+use crate::mesh::Mesh;
+use glam::DVec3;
+use rayon::prelude::*;
+use std::collections::HashMap;
+
+/// The feature of a triangle that a point's closest point lies on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Feature {
+    /// The interior of the face.
+    Face,
+    /// Edge `k` (from corner `k` to corner `(k + 1) % 3`).
+    Edge(usize),
+    /// Corner `k`.
+    Vertex(usize),
+}
+
+/// The pseudonormals of a mesh's triangles (in the order of
+/// [`Mesh::triangles`]).
+///
+/// ```
+/// use proxima::prelude::*;
+/// use proxima::sdf::Pseudonormals;
+/// // A tetrahedron, faces outward.
+/// let mesh = Mesh::from_triangles(
+///     vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z],
+///     &[[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
+/// )
+/// .unwrap();
+/// let normals = Pseudonormals::new(&mesh);
+/// // Beyond the vertex at the origin (closest feature: corner 0 of face 0), and just inside it.
+/// assert!(!normals.is_inside(0, Vec3::splat(-0.1)));
+/// assert!(normals.is_inside(0, Vec3::splat(0.01)));
+/// ```
+#[derive(Clone, Debug)]
+pub struct Pseudonormals {
+    /// Welded positions.
+    positions: Vec<DVec3>,
+    /// Welded corners of each triangle.
+    corners: Vec<[u32; 3]>,
+    /// Per triangle, its three edges' pseudonormals (edge `k` from corner `k`).
+    edges: Vec<[[f32; 3]; 3]>,
+    /// Per welded vertex.
+    vertices: Vec<[f32; 3]>,
+}
+
+impl Pseudonormals {
+    /// The pseudonormals of `mesh`'s faces, fan-triangulated as
+    /// [`Mesh::triangles`] does.
+    pub fn new(mesh: &Mesh) -> Self {
+        let (positions, weld) = weld(mesh.positions());
+        let mut corners = Vec::with_capacity(mesh.triangle_count());
+        for face in mesh.faces() {
+            for w in face[1..].windows(2) {
+                corners.push([face[0], w[0], w[1]].map(|v| weld[v as usize]));
+            }
+        }
+        let unit_normal = |c: &[u32; 3]| {
+            let [a, b, c] = c.map(|v| positions[v as usize]);
+            (b - a).cross(c - a).normalize_or_zero()
+        };
+        let normals: Vec<DVec3> = corners.par_iter().map(unit_normal).collect();
+
+        let mut vertices = vec![DVec3::ZERO; positions.len()];
+        for (c, n) in corners.iter().zip(&normals) {
+            let p = c.map(|v| positions[v as usize]);
+            for k in 0..3 {
+                let (u, v) = (p[(k + 1) % 3] - p[k], p[(k + 2) % 3] - p[k]);
+                let angle = u.angle_between(v);
+                if angle.is_finite() {
+                    vertices[c[k] as usize] += angle * *n;
+                }
+            }
+        }
+
+        // Edges: every (edge, triangle corner) sorted by the edge's key, each
+        // run of one key summed.
+        let key = |a: u32, b: u32| ((a.min(b) as u64) << 32) | a.max(b) as u64;
+        let mut half_edges: Vec<(u64, u32)> = corners
+            .iter()
+            .enumerate()
+            .flat_map(|(t, c)| (0..3).map(move |k| (key(c[k], c[(k + 1) % 3]), (3 * t + k) as u32)))
+            .collect();
+        half_edges.par_sort_unstable();
+        let mut edges = vec![[[0f32; 3]; 3]; corners.len()];
+        for run in half_edges.chunk_by(|x, y| x.0 == y.0) {
+            let sum: DVec3 = run.iter().map(|&(_, h)| normals[h as usize / 3]).sum();
+            for &(_, h) in run {
+                edges[h as usize / 3][h as usize % 3] = sum.as_vec3().to_array();
+            }
+        }
+        Self {
+            positions,
+            corners,
+            edges,
+            vertices: vertices.into_iter().map(|v| v.as_vec3().to_array()).collect(),
+        }
+    }
+
+    /// The feature of triangle `triangle` nearest to `p` (Voronoi regions, in `f64`).
+    pub fn feature(&self, triangle: u32, p: Vec3) -> Feature {
+        let [a, b, c] = self.corners[triangle as usize].map(|v| self.positions[v as usize]);
+        nearest_feature(a, b, c, p.as_dvec3())
+    }
+
+    /// Whether `p` is inside by the pseudonormal of its closest feature on
+    /// triangle `triangle` (the triangle's index in [`Mesh::triangles`], as
+    /// [`ClosestHit::primitive`](crate::ClosestHit) gives it). A point on the
+    /// feature's tangent plane counts as outside.
+    pub fn is_inside(&self, triangle: u32, p: Vec3) -> bool {
+        let t = triangle as usize;
+        let corners = self.corners[t];
+        let [a, b, c] = corners.map(|v| self.positions[v as usize]);
+        let q = p.as_dvec3();
+        let (on, normal) = match nearest_feature(a, b, c, q) {
+            Feature::Face => (a, (b - a).cross(c - a)),
+            Feature::Edge(k) => (
+                self.positions[corners[k] as usize],
+                Vec3::from(self.edges[t][k]).as_dvec3(),
+            ),
+            Feature::Vertex(k) => {
+                let v = corners[k] as usize;
+                (self.positions[v], Vec3::from(self.vertices[v]).as_dvec3())
+            }
+        };
+        (q - on).dot(normal) < 0.0
+    }
+
+    /// Bytes held.
+    pub fn memory_bytes(&self) -> usize {
+        std::mem::size_of_val(&self.positions[..])
+            + std::mem::size_of_val(&self.corners[..])
+            + std::mem::size_of_val(&self.edges[..])
+            + std::mem::size_of_val(&self.vertices[..])
+    }
+}
+
+/// Positions without repeats (equal bit for bit, with -0 and +0 alike), and
+/// for each input vertex its welded index.
+fn weld(positions: &[Vec3]) -> (Vec<DVec3>, Vec<u32>) {
+    let mut index: HashMap<[u32; 3], u32> = HashMap::with_capacity(positions.len());
+    let mut welded = Vec::with_capacity(positions.len());
+    let map = positions
+        .iter()
+        .map(|p| {
+            let bits = (*p + Vec3::ZERO).to_array().map(f32::to_bits);
+            *index.entry(bits).or_insert_with(|| {
+                welded.push(p.as_dvec3());
+                (welded.len() - 1) as u32
+            })
+        })
+        .collect();
+    (welded, map)
+}
+
+/// The feature of triangle `a`, `b`, `c` whose Voronoi region holds `p`
+/// (the region tests of Ericson, *Real-Time Collision Detection*, 5.1.5).
+/// A degenerate triangle is treated as its three edges.
+fn nearest_feature(a: DVec3, b: DVec3, c: DVec3, p: DVec3) -> Feature {
+    let (ab, ac) = (b - a, c - a);
+    if ab.cross(ac).length_squared() <= f64::MIN_POSITIVE {
+        return nearest_edge_feature([a, b, c], p);
+    }
+    let ap = p - a;
+    let (d1, d2) = (ab.dot(ap), ac.dot(ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return Feature::Vertex(0);
+    }
+    let bp = p - b;
+    let (d3, d4) = (ab.dot(bp), ac.dot(bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return Feature::Vertex(1);
+    }
+    if d1 * d4 - d3 * d2 <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return Feature::Edge(0);
+    }
+    let cp = p - c;
+    let (d5, d6) = (ab.dot(cp), ac.dot(cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return Feature::Vertex(2);
+    }
+    if d5 * d2 - d1 * d6 <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        // Edge a–c is edge 2 (from corner 2 to corner 0).
+        return Feature::Edge(2);
+    }
+    if d3 * d6 - d5 * d4 <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 {
+        return Feature::Edge(1);
+    }
+    Feature::Face
+}
+
+/// The nearest feature of a triangle with no area: the nearest of its edges,
+/// or of their ends.
+fn nearest_edge_feature(corners: [DVec3; 3], p: DVec3) -> Feature {
+    let mut best = (f64::INFINITY, Feature::Vertex(0));
+    for k in 0..3 {
+        let (s, e) = (corners[k], corners[(k + 1) % 3]);
+        let d = e - s;
+        let length2 = d.length_squared();
+        let t = if length2 > 0.0 {
+            ((p - s).dot(d) / length2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let feature = if t <= 0.0 {
+            Feature::Vertex(k)
+        } else if t >= 1.0 {
+            Feature::Vertex((k + 1) % 3)
+        } else {
+            Feature::Edge(k)
+        };
+        let distance = (s + d * t - p).length_squared();
+        if distance < best.0 {
+            best = (distance, feature);
+        }
+    }
+    best.1
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn features_of_a_right_triangle() {
+        let (a, b, c) = (DVec3::ZERO, DVec3::X, DVec3::Y);
+        let f = |x: f64, y: f64| nearest_feature(a, b, c, DVec3::new(x, y, 1.0));
+        assert_eq!(f(0.2, 0.2), Feature::Face);
+        assert_eq!(f(-1.0, -1.0), Feature::Vertex(0));
+        assert_eq!(f(2.0, -0.5), Feature::Vertex(1));
+        assert_eq!(f(-0.5, 2.0), Feature::Vertex(2));
+        assert_eq!(f(0.5, -1.0), Feature::Edge(0));
+        assert_eq!(f(1.0, 1.0), Feature::Edge(1));
+        assert_eq!(f(-1.0, 0.5), Feature::Edge(2));
+    }
+
+    #[test]
+    fn degenerate_triangles_answer_by_their_edges() {
+        let (a, b, c) = (DVec3::ZERO, DVec3::X, DVec3::X * 2.0);
+        assert_eq!(nearest_feature(a, b, c, DVec3::new(0.5, 1.0, 0.0)), Feature::Edge(0));
+        assert_eq!(nearest_feature(a, b, c, DVec3::new(3.0, 1.0, 0.0)), Feature::Vertex(2));
+        assert_eq!(nearest_feature(a, a, a, DVec3::ONE), Feature::Vertex(0));
+    }
+}

@@ -1,0 +1,392 @@
+//! Generalized winding numbers (Jacobson, Kavan and Sorkine-Hornung 2013),
+//! fast by a tree of dipole expansions (Barill, Dickson, Schmidt, Levin and
+//! Jacobson 2018).
+//!
+//! `w(p) = Σ Ω_t(p) / 4π` over the triangles `t`, `Ω_t` the signed solid
+//! angle ([`solid_angle`](super::solid_angle)). It is 1 inside and 0 outside
+//! a closed outward-oriented surface, `k` where `k` such surfaces overlap,
+//! and varies smoothly across the holes of an open one; `p` is inside when
+//! `w > ½`.
+//!
+//! A subtree of triangles seen from far away acts like a dipole: with `p̃`
+//! its area-weighted centroid, `N = Σ aₜnₜ` its vector area and `M = Σ
+//! aₜnₜ(cₜ − p̃)ᵀ` its first moment, its solid angle is, to second order,
+//! `r·N/|r|³ + tr M/|r|³ − 3 rᵀMr/|r|⁵` with `r = p̃ − p`. The expansion
+//! is used for a subtree whose bounding radius `ρ` (around `p̃`) satisfies
+//! `|r| > β ρ`; nearer subtrees are opened, and the triangles of the leaves
+//! reached are summed exactly. The remainder of one subtree's expansion is at
+//! most `3 A ρ² / (4π (|r| − ρ)⁴)` (`A` its unsigned area; the third
+//! derivatives of `1/|r|` are bounded by `3!/|r|⁴`), a worst case that the
+//! cancellations of real surfaces keep far from: the measured errors are in
+//! `docs/sdf.md`.
+//!
+//! The nodes and leaves are those of the [`WideTree`] that answers the closest
+//! queries: four children's expansions are evaluated at once in `f32x4`, and
+//! a leaf's triangles four at a time. Coordinates are first moved to the
+//! mesh's centre and scaled by a power of two to a unit size, so that the
+//! powers of `|r|` stay well inside `f32` on meshes of any scale.
+
+use super::solid_angle::{solid_angle_f64, solid_angle_x4};
+use crate::Triangle;
+use crate::aabb::Aabb;
+use crate::math::{Vec3, Vec3A};
+use crate::query::SpatialIndex;
+use crate::wide_tree::{WideChild, WideTree};
+use glam::{DMat3, DVec3};
+use wide::f32x4;
+
+/// The default accuracy parameter β: a subtree is replaced by its expansion
+/// when the query is farther than β times its radius. Barill et al. use 2.
+pub const DEFAULT_BETA: f32 = 2.0;
+
+/// `count` of an inner lane (a leaf lane holds its number of packets, an
+/// empty lane 0).
+const INNER: u32 = u32::MAX;
+
+/// Deepest stack a walk can need: three pushes per level of a tree at most
+/// [`MAX_DEPTH`](crate::bvh::MAX_DEPTH) deep, plus the root.
+const STACK: usize = 3 * crate::bvh::MAX_DEPTH as usize + 4;
+
+/// The expansions of a wide node's four children, structure of arrays.
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(64))]
+struct WindingNode {
+    /// Area-weighted centroid `p̃` per axis.
+    centre: [[f32; 4]; 3],
+    /// Vector area `N` per axis.
+    normal: [[f32; 4]; 3],
+    /// Symmetric part of `M`: xx, yy, zz, xy, xz, yz.
+    moment: [[f32; 4]; 6],
+    /// `ρ²`; `+inf` for an empty lane, which is then never expanded.
+    radius_squared: [f32; 4],
+    /// Inner lane: the child node. Leaf lane: its first packet.
+    child: [u32; 4],
+    /// [`INNER`], the number of packets of a leaf, or 0 for no child.
+    count: [u32; 4],
+}
+
+const _: () = assert!(std::mem::size_of::<WindingNode>() == 256);
+
+impl WindingNode {
+    const EMPTY: Self = Self {
+        centre: [[0.0; 4]; 3],
+        normal: [[0.0; 4]; 3],
+        moment: [[0.0; 4]; 6],
+        radius_squared: [f32::INFINITY; 4],
+        child: [0; 4],
+        count: [0; 4],
+    };
+}
+
+/// Four leaf triangles, vertices per axis (unused lanes are all zero, a
+/// degenerate triangle whose solid angle is exactly 0).
+#[derive(Clone, Copy, Debug, Default)]
+#[repr(C, align(16))]
+struct Packet {
+    a: [[f32; 4]; 3],
+    b: [[f32; 4]; 3],
+    c: [[f32; 4]; 3],
+}
+
+/// Sums over a subtree's triangles, in `f64`, from which its expansion is made.
+#[derive(Clone, Copy, Debug, Default)]
+struct Sums {
+    area: f64,
+    /// `Σ aₜ cₜ`.
+    weighted_centre: DVec3,
+    /// `N = Σ aₜ nₜ`.
+    normal: DVec3,
+    /// `Σ (aₜ nₜ) cₜᵀ` (column `k` holds the products with `cₜ[k]`).
+    second: DMat3,
+}
+
+impl Sums {
+    fn triangle(t: &Triangle, frame: &Frame) -> Self {
+        let [a, b, c] = [t.a, t.b, t.c].map(|v| frame.local_f64(v));
+        let vector_area = 0.5 * (b - a).cross(c - a);
+        let area = vector_area.length();
+        let centre = (a + b + c) / 3.0;
+        Self {
+            area,
+            weighted_centre: area * centre,
+            normal: vector_area,
+            second: DMat3::from_cols(vector_area * centre.x, vector_area * centre.y, vector_area * centre.z),
+        }
+    }
+
+    fn add(&mut self, o: &Self) {
+        self.area += o.area;
+        self.weighted_centre += o.weighted_centre;
+        self.normal += o.normal;
+        self.second += o.second;
+    }
+}
+
+/// The similarity that maps the mesh's box to a box of unit size centred
+/// on the origin, by a power-of-two scale.
+#[derive(Clone, Copy, Debug)]
+struct Frame {
+    centre: Vec3A,
+    scale: f32,
+}
+
+impl Frame {
+    fn new(bounds: &Aabb) -> Self {
+        if bounds.is_empty() {
+            return Self {
+                centre: Vec3A::ZERO,
+                scale: 1.0,
+            };
+        }
+        let extent = bounds.size().max_element().max(f32::MIN_POSITIVE);
+        // 2^-ceil(log2(extent)): exact, and the local box fits in [-1, 1]³.
+        let scale = 2f32.powi(-(extent.log2().ceil() as i32).clamp(-126, 126));
+        Self {
+            centre: Vec3A::from(bounds.center()),
+            scale,
+        }
+    }
+
+    fn local(&self, p: Vec3) -> Vec3A {
+        (Vec3A::from(p) - self.centre) * self.scale
+    }
+
+    fn local_f64(&self, p: Vec3) -> DVec3 {
+        (p.as_dvec3() - Vec3::from(self.centre).as_dvec3()) * self.scale as f64
+    }
+}
+
+/// Work of one winding-number query (for profiles and tests).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WindingStats {
+    /// Wide nodes visited.
+    pub nodes: u32,
+    /// Subtrees replaced by their expansion.
+    pub expansions: u32,
+    /// Leaf triangles summed exactly (in packets of four, padding included).
+    pub triangles: u32,
+}
+
+/// Winding numbers of a triangle mesh, fast (the tree of expansions, with
+/// accuracy parameter β) or exact (every triangle, in `f64`).
+///
+/// ```
+/// use proxima::prelude::*;
+/// use proxima::mesh::generate::noisy_icosphere;
+/// use proxima::sdf::WindingNumbers;
+/// let mesh = noisy_icosphere(8, 1); // closed, normals outward, around the origin
+/// let tree = WideTree::build_set(mesh.triangles(), &Default::default()).unwrap();
+/// let winding = WindingNumbers::new(&tree, 2.0);
+/// assert!(winding.winding_number(Vec3::ZERO) > 0.5); // inside
+/// assert!(winding.winding_number(Vec3::splat(3.0)) < 0.5); // outside
+/// assert!((winding.winding_number_exact(&tree, Vec3::ZERO) - 1.0).abs() < 1e-9);
+/// ```
+#[derive(Clone, Debug)]
+pub struct WindingNumbers {
+    nodes: Vec<WindingNode>,
+    packets: Vec<Packet>,
+    frame: Frame,
+    beta: f32,
+}
+
+impl WindingNumbers {
+    /// The expansions of every subtree of `tree`, for accuracy parameter
+    /// `beta` (β; [`DEFAULT_BETA`] is 2; larger is more accurate and slower;
+    /// not finite or below 1 counts as 1).
+    pub fn new(tree: &WideTree<Triangle>, beta: f32) -> Self {
+        let frame = Frame::new(&tree.bounds());
+        let mut out = Self {
+            nodes: vec![WindingNode::EMPTY; tree.node_count()],
+            packets: Vec::with_capacity(tree.len() / 3 + 1),
+            frame,
+            beta: if beta.is_finite() { beta.max(1.0) } else { 1.0 },
+        };
+        if tree.node_count() > 0 {
+            out.build_node(tree, 0);
+        }
+        out
+    }
+
+    /// The accuracy parameter β.
+    pub fn beta(&self) -> f32 {
+        self.beta
+    }
+
+    /// Fills node `index` and returns the sums of its whole subtree.
+    fn build_node(&mut self, tree: &WideTree<Triangle>, index: usize) -> Sums {
+        let mut node = WindingNode::EMPTY;
+        let mut total = Sums::default();
+        for lane in 0..4 {
+            let sums = match tree.child(index, lane) {
+                WideChild::Empty => continue,
+                WideChild::Inner(child) => {
+                    node.child[lane] = child as u32;
+                    node.count[lane] = INNER;
+                    self.build_node(tree, child)
+                }
+                WideChild::Leaf(slots) => {
+                    let triangles = &tree.leaves().primitives()[slots];
+                    node.child[lane] = self.packets.len() as u32;
+                    node.count[lane] = triangles.len().div_ceil(4) as u32;
+                    let mut sums = Sums::default();
+                    for four in triangles.chunks(4) {
+                        let mut packet = Packet::default();
+                        for (i, t) in four.iter().enumerate() {
+                            sums.add(&Sums::triangle(t, &self.frame));
+                            let [a, b, c] = [t.a, t.b, t.c].map(|v| self.frame.local(v));
+                            for axis in 0..3 {
+                                packet.a[axis][i] = a[axis];
+                                packet.b[axis][i] = b[axis];
+                                packet.c[axis][i] = c[axis];
+                            }
+                        }
+                        self.packets.push(packet);
+                    }
+                    sums
+                }
+            };
+            let bounds = tree.nodes()[index].child_bounds(lane);
+            let centre = if sums.area > 0.0 {
+                sums.weighted_centre / sums.area
+            } else {
+                self.frame.local_f64(bounds.center())
+            };
+            // First moment about the centre: Σ aₜnₜ(cₜ − p̃)ᵀ = second − N p̃ᵀ.
+            let m =
+                sums.second - DMat3::from_cols(sums.normal * centre.x, sums.normal * centre.y, sums.normal * centre.z);
+            // m.col(k)[j] = Σ n_j c_k; the expansion only sees its symmetric part.
+            let sym = |j: usize, k: usize| 0.5 * (m.col(k)[j] + m.col(j)[k]);
+            let (lo, hi) = (self.frame.local_f64(bounds.min), self.frame.local_f64(bounds.max));
+            let mut radius_squared = 0f64;
+            for corner in 0..8 {
+                let v = DVec3::new(
+                    if corner & 1 == 0 { lo.x } else { hi.x },
+                    if corner & 2 == 0 { lo.y } else { hi.y },
+                    if corner & 4 == 0 { lo.z } else { hi.z },
+                );
+                radius_squared = radius_squared.max((v - centre).length_squared());
+            }
+            for axis in 0..3 {
+                node.centre[axis][lane] = centre[axis] as f32;
+                node.normal[axis][lane] = sums.normal[axis] as f32;
+            }
+            let moment = [sym(0, 0), sym(1, 1), sym(2, 2), sym(0, 1), sym(0, 2), sym(1, 2)];
+            for (k, value) in moment.into_iter().enumerate() {
+                node.moment[k][lane] = value as f32;
+            }
+            // Rounded up a little, so that f32 rounding never expands a
+            // subtree the query is too near to.
+            node.radius_squared[lane] = (radius_squared * (1.0 + 1e-5)) as f32;
+            total.add(&sums);
+        }
+        self.nodes[index] = node;
+        total
+    }
+
+    /// The winding number at `p` by the tree of expansions; 0 for a mesh
+    /// without triangles or a `p` that is not finite.
+    pub fn winding_number(&self, p: Vec3) -> f32 {
+        self.winding_number_with_stats(p, &mut WindingStats::default())
+    }
+
+    /// [`winding_number`](Self::winding_number), adding its work to `stats`.
+    #[inline]
+    pub fn winding_number_with_stats(&self, p: Vec3, stats: &mut WindingStats) -> f32 {
+        if self.nodes.is_empty() || !p.is_finite() {
+            return 0.0;
+        }
+        let q = self.frame.local(p);
+        let (qx, qy, qz) = (f32x4::splat(q.x), f32x4::splat(q.y), f32x4::splat(q.z));
+        let beta_squared = f32x4::splat(self.beta * self.beta);
+        let mut far_sum = f32x4::ZERO;
+        let mut near_sum = f32x4::ZERO;
+        let mut stack = [0u32; STACK];
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let node = &self.nodes[stack[top] as usize];
+            stats.nodes += 1;
+            let rx = f32x4::new(node.centre[0]) - qx;
+            let ry = f32x4::new(node.centre[1]) - qy;
+            let rz = f32x4::new(node.centre[2]) - qz;
+            let d2 = rx * rx + ry * ry + rz * rz;
+            let far = d2.simd_gt(beta_squared * f32x4::new(node.radius_squared));
+            let far_bits = far.to_bitmask();
+            if far_bits != 0 {
+                stats.expansions += far_bits.count_ones();
+                far_sum += far.select(expansion(node, [rx, ry, rz], d2), f32x4::ZERO);
+            }
+            let mut near = !far_bits & 0xf;
+            while near != 0 {
+                let lane = near.trailing_zeros() as usize;
+                near &= near - 1;
+                let (child, count) = (node.child[lane], node.count[lane]);
+                if count == INNER {
+                    stack[top] = child;
+                    top += 1;
+                } else {
+                    stats.triangles += 4 * count;
+                    for packet in &self.packets[child as usize..(child + count) as usize] {
+                        let rel =
+                            |v: &[[f32; 4]; 3]| [f32x4::new(v[0]) - qx, f32x4::new(v[1]) - qy, f32x4::new(v[2]) - qz];
+                        near_sum += solid_angle_x4(rel(&packet.a), rel(&packet.b), rel(&packet.c));
+                    }
+                }
+            }
+        }
+        (far_sum + near_sum).reduce_add() * (1.0 / (4.0 * std::f32::consts::PI))
+    }
+
+    /// The winding number at `p` summed over every triangle of `tree` (the
+    /// tree this was built from) in `f64`: the oracle, and the exact mode.
+    /// Linear in the number of triangles. 0 for a `p` that is not finite.
+    pub fn winding_number_exact(&self, tree: &WideTree<Triangle>, p: Vec3) -> f64 {
+        winding_number_exact(tree.leaves().primitives(), p)
+    }
+}
+
+/// The winding number at `p` of `triangles`, every solid angle in `f64`
+/// (Van Oosterom–Strackee); 0 for a `p` that is not finite.
+///
+/// ```
+/// use proxima::{Triangle, Vec3};
+/// use proxima::sdf::winding_number_exact;
+/// let v = [Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z];
+/// let faces = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
+/// let tetrahedron: Vec<Triangle> = faces.iter().map(|f| Triangle::new(v[f[0]], v[f[1]], v[f[2]])).collect();
+/// assert!((winding_number_exact(&tetrahedron, Vec3::splat(0.1)) - 1.0).abs() < 1e-12);
+/// // An open mesh: one face alone, seen from near its middle.
+/// let w = winding_number_exact(&tetrahedron[3..], Vec3::splat(0.3));
+/// assert!(w > 0.0 && w < 0.5);
+/// ```
+pub fn winding_number_exact(triangles: &[Triangle], p: Vec3) -> f64 {
+    if !p.is_finite() {
+        return 0.0;
+    }
+    let q = p.as_dvec3();
+    let sum: f64 = triangles
+        .iter()
+        .map(|t| solid_angle_f64(t.a.as_dvec3() - q, t.b.as_dvec3() - q, t.c.as_dvec3() - q))
+        .sum();
+    sum / (4.0 * std::f64::consts::PI)
+}
+
+/// Four subtrees' second-order expansions of the solid angle at offsets `r`
+/// (`p̃ − p`) of squared length `d2`. Written over the unit vector `r/|r|` so
+/// that a `d2` overflowing to infinity gives 0, not NaN.
+#[inline(always)]
+fn expansion(node: &WindingNode, r: [f32x4; 3], d2: f32x4) -> f32x4 {
+    let inv_d = d2.sqrt().recip();
+    let inv_d2 = inv_d * inv_d;
+    let inv_d3 = inv_d2 * inv_d;
+    let u = [r[0] * inv_d, r[1] * inv_d, r[2] * inv_d];
+    let n = |k: usize| f32x4::new(node.normal[k]);
+    let m = |k: usize| f32x4::new(node.moment[k]);
+    let dipole = (u[0] * n(0) + u[1] * n(1) + u[2] * n(2)) * inv_d2;
+    let trace = m(0) + m(1) + m(2);
+    let quadratic = u[0] * u[0] * m(0)
+        + u[1] * u[1] * m(1)
+        + u[2] * u[2] * m(2)
+        + f32x4::splat(2.0) * (u[0] * u[1] * m(3) + u[0] * u[2] * m(4) + u[1] * u[2] * m(5));
+    dipole + (trace - f32x4::splat(3.0) * quadratic) * inv_d3
+}
