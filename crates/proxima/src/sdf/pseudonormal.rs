@@ -48,14 +48,18 @@ pub enum Feature {
 /// ```
 #[derive(Clone, Debug)]
 pub struct Pseudonormals {
-    /// Welded positions.
-    positions: Vec<DVec3>,
-    /// Welded corners of each triangle.
-    corners: Vec<[u32; 3]>,
-    /// Per triangle, its three edges' pseudonormals (edge `k` from corner `k`).
-    edges: Vec<[[f32; 3]; 3]>,
-    /// Per welded vertex.
-    vertices: Vec<[f32; 3]>,
+    /// Per triangle, all a query reads: one record, about two cache lines.
+    triangles: Vec<TriangleNormals>,
+}
+
+/// A triangle's corners and the pseudonormals of its edges and corners.
+#[derive(Clone, Copy, Debug, Default)]
+#[repr(C, align(16))]
+struct TriangleNormals {
+    corners: [[f32; 3]; 3],
+    /// Edge `k` runs from corner `k` to corner `(k + 1) % 3`.
+    edges: [[f32; 3]; 3],
+    vertices: [[f32; 3]; 3],
 }
 
 impl Pseudonormals {
@@ -87,6 +91,15 @@ impl Pseudonormals {
             }
         }
 
+        let to_f32 = |v: DVec3| v.as_vec3().to_array();
+        let mut triangles: Vec<TriangleNormals> = corners
+            .par_iter()
+            .map(|c| TriangleNormals {
+                corners: c.map(|v| to_f32(positions[v as usize])),
+                edges: [[0.0; 3]; 3],
+                vertices: c.map(|v| to_f32(vertices[v as usize])),
+            })
+            .collect();
         // Edges: every (edge, triangle corner) sorted by the edge's key, each
         // run of one key summed.
         let key = |a: u32, b: u32| ((a.min(b) as u64) << 32) | a.max(b) as u64;
@@ -96,24 +109,20 @@ impl Pseudonormals {
             .flat_map(|(t, c)| (0..3).map(move |k| (key(c[k], c[(k + 1) % 3]), (3 * t + k) as u32)))
             .collect();
         half_edges.par_sort_unstable();
-        let mut edges = vec![[[0f32; 3]; 3]; corners.len()];
         for run in half_edges.chunk_by(|x, y| x.0 == y.0) {
             let sum: DVec3 = run.iter().map(|&(_, h)| normals[h as usize / 3]).sum();
             for &(_, h) in run {
-                edges[h as usize / 3][h as usize % 3] = sum.as_vec3().to_array();
+                triangles[h as usize / 3].edges[h as usize % 3] = to_f32(sum);
             }
         }
-        Self {
-            positions,
-            corners,
-            edges,
-            vertices: vertices.into_iter().map(|v| v.as_vec3().to_array()).collect(),
-        }
+        Self { triangles }
     }
 
     /// The feature of triangle `triangle` nearest to `p` (Voronoi regions, in `f64`).
     pub fn feature(&self, triangle: u32, p: Vec3) -> Feature {
-        let [a, b, c] = self.corners[triangle as usize].map(|v| self.positions[v as usize]);
+        let [a, b, c] = self.triangles[triangle as usize]
+            .corners
+            .map(|v| Vec3::from(v).as_dvec3());
         nearest_feature(a, b, c, p.as_dvec3())
     }
 
@@ -121,31 +130,23 @@ impl Pseudonormals {
     /// triangle `triangle` (the triangle's index in [`Mesh::triangles`], as
     /// [`ClosestHit::primitive`](crate::ClosestHit) gives it). A point on the
     /// feature's tangent plane counts as outside.
+    #[inline]
     pub fn is_inside(&self, triangle: u32, p: Vec3) -> bool {
-        let t = triangle as usize;
-        let corners = self.corners[t];
-        let [a, b, c] = corners.map(|v| self.positions[v as usize]);
+        let record = &self.triangles[triangle as usize];
+        let d = |v: [f32; 3]| Vec3::from(v).as_dvec3();
+        let [a, b, c] = record.corners.map(d);
         let q = p.as_dvec3();
         let (on, normal) = match nearest_feature(a, b, c, q) {
             Feature::Face => (a, (b - a).cross(c - a)),
-            Feature::Edge(k) => (
-                self.positions[corners[k] as usize],
-                Vec3::from(self.edges[t][k]).as_dvec3(),
-            ),
-            Feature::Vertex(k) => {
-                let v = corners[k] as usize;
-                (self.positions[v], Vec3::from(self.vertices[v]).as_dvec3())
-            }
+            Feature::Edge(k) => ([a, b, c][k], d(record.edges[k])),
+            Feature::Vertex(k) => ([a, b, c][k], d(record.vertices[k])),
         };
         (q - on).dot(normal) < 0.0
     }
 
     /// Bytes held.
     pub fn memory_bytes(&self) -> usize {
-        std::mem::size_of_val(&self.positions[..])
-            + std::mem::size_of_val(&self.corners[..])
-            + std::mem::size_of_val(&self.edges[..])
-            + std::mem::size_of_val(&self.vertices[..])
+        std::mem::size_of_val(&self.triangles[..])
     }
 }
 
