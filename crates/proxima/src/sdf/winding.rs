@@ -259,7 +259,7 @@ impl WindingNumbers {
         let triangles = tree.leaves().primitives();
         let mut node = WindingNode::EMPTY;
         let mut total = Sums::default();
-        let mut span = usize::MAX..0;
+        let (mut first, mut end) = (usize::MAX, 0);
         for lane in 0..4 {
             let (sums, slots) = match tree.child(index, lane) {
                 WideChild::Empty => continue,
@@ -300,10 +300,10 @@ impl WindingNumbers {
                 .fold(0.0, f64::max);
             set_lane(&mut node, lane, &sums, centre, radius_squared);
             total.add(&sums);
-            span = span.start.min(slots.start)..span.end.max(slots.end);
+            (first, end) = (first.min(slots.start), end.max(slots.end));
         }
         self.nodes[index] = node;
-        (total, span)
+        (total, first..end)
     }
 
     /// The winding number at `p` by the tree of expansions; 0 for a mesh
