@@ -28,12 +28,23 @@ use crate::math::Vec3;
 /// assert_eq!(mesh.triangles().len(), 2); // the quad, fan-triangulated
 /// assert_eq!(mesh.edges().len(), 4);
 /// ```
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Mesh {
     positions: Vec<Vec3>,
     /// Face `f` uses `indices[offsets[f]..offsets[f + 1]]`; `offsets[0] == 0`.
     offsets: Vec<u32>,
     indices: Vec<u32>,
+}
+
+/// The empty mesh: no vertices, no faces.
+impl Default for Mesh {
+    fn default() -> Self {
+        Self {
+            positions: Vec::new(),
+            offsets: vec![0],
+            indices: Vec::new(),
+        }
+    }
 }
 
 impl Mesh {

@@ -32,6 +32,7 @@ use super::solid_angle::{solid_angle_f64, solid_angle_x4};
 use crate::Triangle;
 use crate::aabb::Aabb;
 use crate::math::{Vec3, Vec3A};
+use crate::memory::{HugePageArray, prefetch};
 use crate::query::SpatialIndex;
 use crate::wide_tree::{WideChild, WideTree};
 use glam::{DMat3, DVec3};
@@ -46,12 +47,15 @@ pub const DEFAULT_BETA: f32 = 2.0;
 /// empty lane 0).
 const INNER: u32 = u32::MAX;
 
+/// Marks a leaf lane on a walk's stack.
+const LEAF_ENTRY: u32 = 1 << 31;
+
 /// Deepest stack a walk can need: three pushes per level of a tree at most
 /// [`MAX_DEPTH`](crate::bvh::MAX_DEPTH) deep, plus the root.
 const STACK: usize = 3 * crate::bvh::MAX_DEPTH as usize + 4;
 
 /// The expansions of a wide node's four children, structure of arrays.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
 #[repr(C, align(64))]
 struct WindingNode {
     /// Area-weighted centroid `p̃` per axis.
@@ -77,6 +81,15 @@ struct WindingNode {
 
 const _: () = assert!(std::mem::size_of::<WindingNode>() == 448);
 
+/// Asks for all seven cache lines of a node about to be visited.
+#[inline(always)]
+fn prefetch_node(node: &WindingNode) {
+    let bytes: &[u8] = bytemuck::bytes_of(node);
+    for line in (0..std::mem::size_of::<WindingNode>()).step_by(64) {
+        prefetch(&bytes[line]);
+    }
+}
+
 impl WindingNode {
     const EMPTY: Self = Self {
         centre: [[0.0; 4]; 3],
@@ -92,7 +105,7 @@ impl WindingNode {
 
 /// Four leaf triangles, vertices per axis (unused lanes are all zero, a
 /// degenerate triangle whose solid angle is exactly 0).
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
 #[repr(C, align(16))]
 struct Packet {
     a: [[f32; 4]; 3],
@@ -224,8 +237,10 @@ pub struct WindingStats {
 /// ```
 #[derive(Clone, Debug)]
 pub struct WindingNumbers {
-    nodes: Vec<WindingNode>,
-    packets: Vec<Packet>,
+    /// One per wide node (same indices); on huge pages when large, as the
+    /// wide tree's: a query's loads are mostly cache and TLB misses.
+    nodes: HugePageArray<WindingNode>,
+    packets: HugePageArray<Packet>,
     frame: Frame,
     beta: f32,
 }
@@ -236,16 +251,24 @@ impl WindingNumbers {
     /// not finite or below 1 counts as 1).
     pub fn new(tree: &WideTree<Triangle>, beta: f32) -> Self {
         let frame = Frame::new(&tree.bounds());
-        let mut out = Self {
+        // A walk's stack names a leaf lane by 4 · node + lane below bit 31;
+        // a tree with 2^29 wide nodes would hold billions of triangles.
+        assert!(tree.node_count() < 1 << 29, "too many wide nodes for the winding walk");
+        let mut build = Build {
+            tree,
+            frame,
             nodes: vec![WindingNode::EMPTY; tree.node_count()],
             packets: Vec::with_capacity(tree.len() / 3 + 1),
-            frame,
-            beta: if beta.is_finite() { beta.max(1.0) } else { 1.0 },
         };
         if tree.node_count() > 0 {
-            out.build_node(tree, 0);
+            build.node(0);
         }
-        out
+        Self {
+            nodes: HugePageArray::new(build.nodes),
+            packets: HugePageArray::new(build.packets),
+            frame,
+            beta: if beta.is_finite() { beta.max(1.0) } else { 1.0 },
+        }
     }
 
     /// The accuracy parameter β.
@@ -253,9 +276,97 @@ impl WindingNumbers {
         self.beta
     }
 
+    /// The winding number at `p` by the tree of expansions; 0 for a mesh
+    /// without triangles or a `p` that is not finite.
+    pub fn winding_number(&self, p: Vec3) -> f32 {
+        self.winding_number_with_stats(p, &mut WindingStats::default())
+    }
+
+    /// [`winding_number`](Self::winding_number), adding its work to `stats`.
+    #[inline]
+    pub fn winding_number_with_stats(&self, p: Vec3, stats: &mut WindingStats) -> f32 {
+        if self.nodes.is_empty() || !p.is_finite() {
+            return 0.0;
+        }
+        let q = self.frame.local(p);
+        let (qx, qy, qz) = (f32x4::splat(q.x), f32x4::splat(q.y), f32x4::splat(q.z));
+        let beta_squared = f32x4::splat(self.beta * self.beta);
+        let mut far_sum = f32x4::ZERO;
+        let mut near_sum = f32x4::ZERO;
+        // Entries: a node's index, or `LEAF_ENTRY | 4 · node + lane` for a
+        // leaf lane. Leaves wait on the stack like nodes, so that their
+        // packets, prefetched when pushed, arrive while other work goes on.
+        let mut stack = [0u32; STACK];
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let entry = stack[top];
+            if entry & LEAF_ENTRY != 0 {
+                let lane_id = (entry & !LEAF_ENTRY) as usize;
+                let node = &self.nodes[lane_id / 4];
+                let (child, count) = (node.child[lane_id % 4] as usize, node.count[lane_id % 4] as usize);
+                stats.triangles += 4 * count as u32;
+                for packet in &self.packets[child..child + count] {
+                    let rel = |v: &[[f32; 4]; 3]| [f32x4::new(v[0]) - qx, f32x4::new(v[1]) - qy, f32x4::new(v[2]) - qz];
+                    near_sum += solid_angle_x4(rel(&packet.a), rel(&packet.b), rel(&packet.c));
+                }
+                continue;
+            }
+            let node = &self.nodes[entry as usize];
+            stats.nodes += 1;
+            let rx = f32x4::new(node.centre[0]) - qx;
+            let ry = f32x4::new(node.centre[1]) - qy;
+            let rz = f32x4::new(node.centre[2]) - qz;
+            let d2 = rx * rx + ry * ry + rz * rz;
+            let far = d2.simd_gt(beta_squared * f32x4::new(node.radius_squared));
+            let far_bits = far.to_bitmask();
+            if far_bits != 0 {
+                stats.expansions += far_bits.count_ones();
+                far_sum += far.select(expansion(node, [rx, ry, rz], d2), f32x4::ZERO);
+            }
+            let mut near = !far_bits & 0xf;
+            while near != 0 {
+                let lane = near.trailing_zeros() as usize;
+                near &= near - 1;
+                let (child, count) = (node.child[lane], node.count[lane]);
+                if count == INNER {
+                    prefetch_node(&self.nodes[child as usize]);
+                    stack[top] = child;
+                    top += 1;
+                } else if count > 0 {
+                    for packet in &self.packets[child as usize..(child + count) as usize] {
+                        prefetch(&packet.a);
+                        prefetch(&packet.c);
+                    }
+                    stack[top] = LEAF_ENTRY | (4 * entry + lane as u32);
+                    top += 1;
+                }
+            }
+        }
+        (far_sum + near_sum).reduce_add() * (1.0 / (4.0 * std::f32::consts::PI))
+    }
+
+    /// The winding number at `p` summed over every triangle of `tree` (the
+    /// tree this was built from) in `f64`: the oracle, and the exact mode.
+    /// Linear in the number of triangles. 0 for a `p` that is not finite.
+    pub fn winding_number_exact(&self, tree: &WideTree<Triangle>, p: Vec3) -> f64 {
+        winding_number_exact(tree.leaves().primitives(), p)
+    }
+}
+
+/// The expansions of a wide tree, made depth first.
+struct Build<'a> {
+    tree: &'a WideTree<Triangle>,
+    frame: Frame,
+    nodes: Vec<WindingNode>,
+    packets: Vec<Packet>,
+}
+
+impl Build<'_> {
     /// Fills node `index` and returns the sums of its whole subtree and the
     /// subtree's leaf-order slots (a subtree's slots are contiguous).
-    fn build_node(&mut self, tree: &WideTree<Triangle>, index: usize) -> (Sums, Range<usize>) {
+    fn node(&mut self, index: usize) -> (Sums, Range<usize>) {
+        let tree = self.tree;
         let triangles = tree.leaves().primitives();
         let mut node = WindingNode::EMPTY;
         let mut total = Sums::default();
@@ -266,7 +377,7 @@ impl WindingNumbers {
                 WideChild::Inner(child) => {
                     node.child[lane] = child as u32;
                     node.count[lane] = INNER;
-                    self.build_node(tree, child)
+                    self.node(child)
                 }
                 WideChild::Leaf(slots) => {
                     node.child[lane] = self.packets.len() as u32;
@@ -304,67 +415,6 @@ impl WindingNumbers {
         }
         self.nodes[index] = node;
         (total, first..end)
-    }
-
-    /// The winding number at `p` by the tree of expansions; 0 for a mesh
-    /// without triangles or a `p` that is not finite.
-    pub fn winding_number(&self, p: Vec3) -> f32 {
-        self.winding_number_with_stats(p, &mut WindingStats::default())
-    }
-
-    /// [`winding_number`](Self::winding_number), adding its work to `stats`.
-    #[inline]
-    pub fn winding_number_with_stats(&self, p: Vec3, stats: &mut WindingStats) -> f32 {
-        if self.nodes.is_empty() || !p.is_finite() {
-            return 0.0;
-        }
-        let q = self.frame.local(p);
-        let (qx, qy, qz) = (f32x4::splat(q.x), f32x4::splat(q.y), f32x4::splat(q.z));
-        let beta_squared = f32x4::splat(self.beta * self.beta);
-        let mut far_sum = f32x4::ZERO;
-        let mut near_sum = f32x4::ZERO;
-        let mut stack = [0u32; STACK];
-        let mut top = 1;
-        while top > 0 {
-            top -= 1;
-            let node = &self.nodes[stack[top] as usize];
-            stats.nodes += 1;
-            let rx = f32x4::new(node.centre[0]) - qx;
-            let ry = f32x4::new(node.centre[1]) - qy;
-            let rz = f32x4::new(node.centre[2]) - qz;
-            let d2 = rx * rx + ry * ry + rz * rz;
-            let far = d2.simd_gt(beta_squared * f32x4::new(node.radius_squared));
-            let far_bits = far.to_bitmask();
-            if far_bits != 0 {
-                stats.expansions += far_bits.count_ones();
-                far_sum += far.select(expansion(node, [rx, ry, rz], d2), f32x4::ZERO);
-            }
-            let mut near = !far_bits & 0xf;
-            while near != 0 {
-                let lane = near.trailing_zeros() as usize;
-                near &= near - 1;
-                let (child, count) = (node.child[lane], node.count[lane]);
-                if count == INNER {
-                    stack[top] = child;
-                    top += 1;
-                } else {
-                    stats.triangles += 4 * count;
-                    for packet in &self.packets[child as usize..(child + count) as usize] {
-                        let rel =
-                            |v: &[[f32; 4]; 3]| [f32x4::new(v[0]) - qx, f32x4::new(v[1]) - qy, f32x4::new(v[2]) - qz];
-                        near_sum += solid_angle_x4(rel(&packet.a), rel(&packet.b), rel(&packet.c));
-                    }
-                }
-            }
-        }
-        (far_sum + near_sum).reduce_add() * (1.0 / (4.0 * std::f32::consts::PI))
-    }
-
-    /// The winding number at `p` summed over every triangle of `tree` (the
-    /// tree this was built from) in `f64`: the oracle, and the exact mode.
-    /// Linear in the number of triangles. 0 for a `p` that is not finite.
-    pub fn winding_number_exact(&self, tree: &WideTree<Triangle>, p: Vec3) -> f64 {
-        winding_number_exact(tree.leaves().primitives(), p)
     }
 }
 
