@@ -10,7 +10,6 @@ mod common;
 use common::{bumpy_sphere, data_dir, random_soup, shared_meshes};
 use glam::DVec3;
 use proptest::prelude::*;
-use proxima::mesh::generate::noisy_icosphere;
 use proxima::prelude::*;
 use proxima::sample::Rng;
 use proxima::sdf::{SdfGrid, winding_number_exact};
