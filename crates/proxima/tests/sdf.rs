@@ -505,3 +505,31 @@ fn meshes_of_every_scale_give_the_same_winding_numbers() {
         );
     }
 }
+
+/// Near ½ the winding number is evaluated again at the refined accuracy:
+/// at the opening of a half sphere (w ≈ ½ across the disc) the answers
+/// are refined and within 2e-3 of the oracle.
+#[test]
+fn winding_numbers_near_one_half_are_refined() {
+    let half: Vec<[Vec3; 3]> = corners(&bumpy_sphere(12, 14))
+        .into_iter()
+        .filter(|t| t.iter().all(|v| v.z >= 0.0))
+        .collect();
+    let mesh = mesh_of(&half);
+    let winding = proxima::sdf::WindingNumbers::new(
+        &WideTree::build_set(mesh.triangles(), &Default::default()).unwrap(),
+        proxima::sdf::DEFAULT_BETA,
+    );
+    let triangles = mesh.triangles().primitives;
+    let mut rng = Rng::new(15);
+    let mut stats = proxima::sdf::WindingStats::default();
+    for _ in 0..200 {
+        let p = Vec3::new(rng.range(-0.6, 0.6), rng.range(-0.6, 0.6), rng.range(-0.05, 0.05));
+        let w = winding.winding_number_with_stats(p, &mut stats) as f64;
+        let e = oracle(&triangles, p);
+        if (e - 0.5).abs() < 0.04 {
+            assert!((w - e).abs() < 2e-3, "w({p}) = {w}, oracle {e}");
+        }
+    }
+    assert!(stats.refined > 100, "{stats:?}");
+}

@@ -25,4 +25,4 @@ pub use field::{SdfConfig, Sign, SignedDistance, SignedDistanceField};
 pub use grid::{Samples, SdfGrid};
 pub use pseudonormal::{Feature, Pseudonormals};
 pub use solid_angle::solid_angle;
-pub use winding::{DEFAULT_BETA, WindingNumbers, WindingStats, winding_number_exact};
+pub use winding::{DEFAULT_BETA, REFINE_MARGIN, WindingNumbers, WindingStats, winding_number_exact};
