@@ -533,3 +533,16 @@ fn winding_numbers_near_one_half_are_refined() {
     }
     assert!(stats.refined > 100, "{stats:?}");
 }
+
+/// The walk compiled for AVX2 and the baseline one give the same bits.
+#[test]
+fn avx2_and_baseline_walks_agree_bit_for_bit() {
+    let mesh = bumpy_sphere(16, 16);
+    let tree = WideTree::build_set(mesh.triangles(), &Default::default()).unwrap();
+    let mut winding = proxima::sdf::WindingNumbers::new(&tree, proxima::sdf::DEFAULT_BETA);
+    let probes = points(&mesh, 300, 17);
+    let with: Vec<u32> = probes.iter().map(|&p| winding.winding_number(p).to_bits()).collect();
+    winding.set_avx2(false);
+    let without: Vec<u32> = probes.iter().map(|&p| winding.winding_number(p).to_bits()).collect();
+    assert_eq!(with, without);
+}

@@ -34,6 +34,8 @@ use crate::aabb::Aabb;
 use crate::math::{Vec3, Vec3A};
 use crate::memory::{HugePageArray, prefetch};
 use crate::query::SpatialIndex;
+#[cfg(target_arch = "x86_64")]
+use crate::wide_tree::{Avx2, Avx2Task};
 use crate::wide_tree::{WideChild, WideTree};
 use glam::{DMat3, DVec3};
 use std::ops::Range;
@@ -250,6 +252,10 @@ pub struct WindingNumbers {
     packets: HugePageArray<Packet>,
     frame: Frame,
     beta: f32,
+    /// Present when the walk runs compiled for AVX2 (VEX encodings of the
+    /// same four-lane arithmetic: the same answers).
+    #[cfg(target_arch = "x86_64")]
+    avx2: Option<Avx2>,
 }
 
 impl WindingNumbers {
@@ -275,7 +281,19 @@ impl WindingNumbers {
             packets: HugePageArray::new(build.packets),
             frame,
             beta: if beta.is_finite() { beta.max(1.0) } else { 1.0 },
+            #[cfg(target_arch = "x86_64")]
+            avx2: Avx2::detect(),
         }
+    }
+
+    /// Runs the walk compiled for AVX2 or not (on by default where the CPU
+    /// has it), to compare the two; the answers are the same.
+    pub fn set_avx2(&mut self, enabled: bool) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            self.avx2 = if enabled { Avx2::detect() } else { None };
+        }
+        let _ = enabled;
     }
 
     /// The accuracy parameter β.
@@ -318,6 +336,21 @@ impl WindingNumbers {
         if self.nodes.is_empty() || !p.is_finite() {
             return 0.0;
         }
+        #[cfg(target_arch = "x86_64")]
+        if let Some(avx2) = self.avx2 {
+            return avx2.run(WalkTask {
+                numbers: self,
+                p,
+                beta,
+                stats,
+            });
+        }
+        self.walk_body(p, beta, stats)
+    }
+
+    /// The walk itself; `p` finite, the tree not empty.
+    #[inline(always)]
+    fn walk_body(&self, p: Vec3, beta: f32, stats: &mut WindingStats) -> f32 {
         let q = self.frame.local(p);
         let (qx, qy, qz) = (f32x4::splat(q.x), f32x4::splat(q.y), f32x4::splat(q.z));
         let beta_squared = f32x4::splat(beta * beta);
@@ -445,6 +478,24 @@ impl Build<'_> {
         }
         self.nodes[index] = node;
         (total, first..end)
+    }
+}
+
+/// [`WindingNumbers::walk_body`] as a task compiled for AVX2.
+#[cfg(target_arch = "x86_64")]
+struct WalkTask<'a> {
+    numbers: &'a WindingNumbers,
+    p: Vec3,
+    beta: f32,
+    stats: &'a mut WindingStats,
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Avx2Task for WalkTask<'_> {
+    type Output = f32;
+    #[inline(always)]
+    fn call(self, _: Avx2) -> f32 {
+        self.numbers.walk_body(self.p, self.beta, self.stats)
     }
 }
 

@@ -31,6 +31,8 @@
 
 #[cfg(target_arch = "x86_64")]
 mod avx2;
+#[cfg(target_arch = "x86_64")]
+pub(crate) use avx2::{Avx2, Avx2Task};
 #[cfg(feature = "experimental")]
 mod batch;
 mod convert;
