@@ -16,9 +16,13 @@ use proxima::sdf::{SdfGrid, winding_number_exact};
 use proxima::{SdfError, Sign};
 use rayon::prelude::*;
 
-/// The accuracy the default β promises (docs/sdf.md): the winding number
-/// within 0.01 of the exact sum, so the side is right wherever |w − ½| > 0.01.
+/// The side is right wherever the exact winding number is farther than this
+/// from ½ (the promise; the library re-evaluates near ½).
 const TOLERANCE: f64 = 0.01;
+
+/// The accuracy of the values at the default β (docs/sdf.md): 0.03 is the
+/// largest error measured on the shared meshes.
+const VALUE_TOLERANCE: f64 = 0.04;
 
 /// The signed solid angle of a triangle seen from `p` by Girard's theorem:
 /// the spherical triangle's excess (sum of its angles minus π), signed by
@@ -81,7 +85,7 @@ fn points(mesh: &Mesh, n: usize, seed: u64) -> Vec<Vec3> {
     out
 }
 
-/// The fast winding number is within [`TOLERANCE`] of the oracle at every
+/// The fast winding number is within [`VALUE_TOLERANCE`] of the oracle at every
 /// point, the exact mode within 1e-9, and the side (field and batch) is the
 /// oracle's wherever |w − ½| > 0.01. Returns the largest error.
 fn check_winding(mesh: &Mesh, points: &[Vec3], what: &str) -> f64 {
@@ -101,7 +105,7 @@ fn check_winding(mesh: &Mesh, points: &[Vec3], what: &str) -> f64 {
             "{what}: batch = single at {p}"
         );
         worst = worst.max((w - e).abs());
-        assert!((w - e).abs() < TOLERANCE, "{what}: w({p}) = {w}, oracle {e}");
+        assert!((w - e).abs() < VALUE_TOLERANCE, "{what}: w({p}) = {w}, oracle {e}");
         let exact = winding_number_exact(&triangles, p);
         // Girard's excess loses digits on slivers: 1e-6 is far below the tolerance.
         assert!((exact - e).abs() < 1e-6, "{what}: exact w({p}) = {exact}, oracle {e}");
@@ -140,11 +144,11 @@ fn closed_sphere_is_one_inside_and_zero_outside() {
     let mesh = bumpy_sphere(12, 3);
     let field = field(&mesh, Sign::WindingNumber);
     for p in [Vec3::ZERO, Vec3::new(0.3, -0.2, 0.1), Vec3::new(0.0, 0.0, 0.6)] {
-        assert!((field.winding_number(p) - 1.0).abs() < 0.01, "{p}");
+        assert!((field.winding_number(p) - 1.0).abs() < VALUE_TOLERANCE as f32, "{p}");
         assert!(field.contains(p) && field.signed_distance(p).unwrap().distance < 0.0);
     }
     for p in [Vec3::splat(2.0), Vec3::new(0.0, 0.0, 1.6), Vec3::new(-40.0, 3.0, 1.0)] {
-        assert!(field.winding_number(p).abs() < 0.01, "{p}");
+        assert!(field.winding_number(p).abs() < VALUE_TOLERANCE as f32, "{p}");
         assert!(!field.contains(p) && field.signed_distance(p).unwrap().distance > 0.0);
     }
     check_winding(&mesh, &points(&mesh, 200, 1), "closed sphere");
@@ -166,12 +170,12 @@ fn overlapping_spheres_are_inside_where_the_pseudonormal_is_wrong() {
     let winding = field(&mesh, Sign::WindingNumber);
     let pseudo = field(&mesh, Sign::Pseudonormal);
     let overlap = Vec3::new(0.25, 0.0, 0.0);
-    assert!((winding.winding_number(overlap) - 2.0).abs() < 0.01);
+    assert!((winding.winding_number(overlap) - 2.0).abs() < VALUE_TOLERANCE as f32);
     assert!(winding.signed_distance(overlap).unwrap().is_inside());
     // Inside the first sphere, just outside the second: nearest to the second's surface.
     let p = Vec3::new(-0.6, 0.0, 0.0);
     let (w, pn) = (winding.signed_distance(p).unwrap(), pseudo.signed_distance(p).unwrap());
-    assert!((w.winding_number.unwrap() - 1.0).abs() < 0.01);
+    assert!((w.winding_number.unwrap() - 1.0).abs() < VALUE_TOLERANCE as f32);
     assert!(
         w.is_inside() && !pn.is_inside(),
         "the pseudonormal's documented failure"
@@ -188,7 +192,7 @@ fn flipped_orientation_is_minus_one_and_outside() {
         .collect();
     let mesh = mesh_of(&flipped);
     let field = field(&mesh, Sign::WindingNumber);
-    assert!((field.winding_number(Vec3::ZERO) + 1.0).abs() < 0.01);
+    assert!((field.winding_number(Vec3::ZERO) + 1.0).abs() < VALUE_TOLERANCE as f32);
     assert!(!field.contains(Vec3::ZERO), "w = -1 is outside by the rule w > 1/2");
     assert!(field.signed_distance(Vec3::ZERO).unwrap().distance > 0.0);
     check_winding(&mesh, &points(&mesh, 100, 3), "flipped sphere");
@@ -200,7 +204,7 @@ fn duplicated_faces_count_twice() {
     twice.extend(twice.clone());
     let mesh = mesh_of(&twice);
     let field = field(&mesh, Sign::WindingNumber);
-    assert!((field.winding_number(Vec3::ZERO) - 2.0).abs() < 0.01);
+    assert!((field.winding_number(Vec3::ZERO) - 2.0).abs() < VALUE_TOLERANCE as f32);
     assert!(field.contains(Vec3::ZERO));
     check_winding(&mesh, &points(&mesh, 100, 4), "duplicated faces");
 }
@@ -498,9 +502,12 @@ fn meshes_of_every_scale_give_the_same_winding_numbers() {
         let scaled: Vec<[Vec3; 3]> = corners(&base).into_iter().map(|t| t.map(|v| v * scale)).collect();
         let mesh = mesh_of(&scaled);
         let field = field(&mesh, Sign::WindingNumber);
-        assert!((field.winding_number(Vec3::ZERO) - 1.0).abs() < 0.01, "scale {scale}");
         assert!(
-            field.winding_number(Vec3::splat(2.0 * scale)).abs() < 0.01,
+            (field.winding_number(Vec3::ZERO) - 1.0).abs() < VALUE_TOLERANCE as f32,
+            "scale {scale}"
+        );
+        assert!(
+            field.winding_number(Vec3::splat(2.0 * scale)).abs() < VALUE_TOLERANCE as f32,
             "scale {scale}"
         );
     }
