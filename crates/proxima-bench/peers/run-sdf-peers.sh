@@ -58,6 +58,7 @@ start=$(date +%s)
 rm -f "$out/status"
 {
     echo "# $(date -u +%Y-%m-%dT%H:%MZ), $(git -C "$root" rev-parse --short HEAD), $(getconf _NPROCESSORS_ONLN) cores, runs pinned to core 0"
+    echo "# load average $(cut -d' ' -f1-3 /proc/loadavg) (other processes share the cores)"
     echo "# QUERIES=$queries CHECK=$check LIBIGL_QUERIES=$libigl_queries $0 ${meshes[*]}"
     "${pin[@]}" "$root/target/release/sdf_compare" "${meshes[@]}" --queries "$queries" --check "$check" --export "$out" || echo $? >"$out/status"
     names=()

@@ -10,13 +10,13 @@ query set (near, uniform):
 - times, one thread, best of --rounds: Open3D `RaycastingScene.compute_signed_distance(points,
   nthreads=1)` (sign by the parity of one ray) and `compute_distance` (unsigned, for scale);
   libigl `signed_distance(P, V, F, sign_type=SIGNED_DISTANCE_TYPE_FAST_WINDING_NUMBER)`, whose
-  every call builds its trees: it is timed on the first --libigl-queries points and on one
-  point, and both the rate per call and the rate net of the one-point call (the build) are
+  every call builds its trees: it is timed (best of 2) on the first --libigl-queries points and
+  on one point, and both the rate per call and the rate net of the one-point call (the build) are
   printed;
 - prints proxima's rates (timings.json, measured by the Rust binary in the same run) and the
   ratios proxima / peer;
 - compares signs (inside = negative distance): proxima (winding-number sign) against Open3D
-  and against libigl on every point timed; where they differ, an exact winding number
+  and against libigl on every point timed, and against its own pseudonormal sign; where they differ, an exact winding number
   computed here in float64 numpy (sum of Van Oosterom-Strackee solid angles over every
   triangle, independent of proxima's) says who is right, on up to --oracle-cap points per
   set; and on the points with proxima's exported exact winding number (SET_exact_w.npy),
@@ -124,7 +124,8 @@ def main():
         from importlib.metadata import version
 
         igl_version = version("libigl")
-    print(f"numpy {np.__version__}, open3d {o3d.__version__}, libigl {igl_version}; "
+    print(f"load average {open('/proc/loadavg').read().split()[:3]}; "
+          f"numpy {np.__version__}, open3d {o3d.__version__}, libigl {igl_version}; "
           f"one thread, best of {args.rounds} rounds; affinity {sorted(os.sched_getaffinity(0))}")
     meshes = args.meshes or sorted(
         d for d in os.listdir(args.dir) if os.path.isfile(os.path.join(args.dir, d, "timings.json"))
@@ -159,8 +160,8 @@ def main():
             subset = points[:m].astype(np.float64)
             # Every call builds libigl's trees (the closest-point tree and the
             # winding numbers' expansions): time it alone on one point.
-            igl_sd, t_igl = best_time(lambda: igl.signed_distance(subset, v64, triangles, sign_type=fwn)[0], 1)
-            _, t_igl_build = best_time(lambda: igl.signed_distance(subset[:1], v64, triangles, sign_type=fwn)[0], 1)
+            igl_sd, t_igl = best_time(lambda: igl.signed_distance(subset, v64, triangles, sign_type=fwn)[0], 2)
+            _, t_igl_build = best_time(lambda: igl.signed_distance(subset[:1], v64, triangles, sign_type=fwn)[0], 2)
             rates = proxima["sets"][set_name]
             r_ours, r_batch = rates["sd_winding"], rates["sd_winding_batch"]
             r_o3d, r_igl = n / t_o3d, m / t_igl
@@ -169,17 +170,19 @@ def main():
                 f"| {mesh} | {set_name} | {r_ours:.0f} | {r_batch:.0f} | {rates['sd_pseudonormal']:.0f} | "
                 f"{rates['closest']:.0f} | {r_o3d:.0f} | {n / t_o3d_unsigned:.0f} | {r_igl:.0f} ({m}) | "
                 f"{r_igl_net:.0f} | {r_ours / r_o3d:.2f}x | {r_batch / r_o3d:.2f}x | {r_ours / r_igl:.1f}x | "
-                f"{r_ours / r_igl_net:.1f}x | {rates['sd_pseudonormal'] / rates['closest']:.2f} |"
+                f"{r_ours / r_igl_net:.1f}x | {rates['closest'] / rates['sd_pseudonormal']:.2f}x |"
             )
             # Signs: True = inside. A point at distance 0 counts as outside.
             ours_in, pn_in = ours_sd < 0, ours_pn < 0
             o3d_in, igl_in = o3d_sd < 0, igl_sd < 0
             d_o3d, c_o3d, right_o3d = judge("Open3D", ours_in, o3d_in, points, oracle, args.oracle_cap, rng)
             d_igl, c_igl, right_igl = judge("libigl", ours_in[:m], igl_in, points, oracle, args.oracle_cap, rng)
+            d_pn, c_pn, right_pn = judge("pseudonormal", ours_in, pn_in, points, oracle, args.oracle_cap, rng)
             sign_rows.append(
                 f"| {mesh} | {set_name} | {d_o3d} of {n} | {c_o3d}: {right_o3d['proxima']} / {right_o3d['Open3D']} / "
                 f"{right_o3d['unclear']} | {d_igl} of {m} | {c_igl}: {right_igl['proxima']} / "
-                f"{right_igl['libigl']} / {right_igl['unclear']} | {int(np.sum(ours_in != pn_in))} of {n} |"
+                f"{right_igl['libigl']} / {right_igl['unclear']} | {d_pn} of {n} | {c_pn}: {right_pn['proxima']} / "
+                f"{right_pn['pseudonormal']} / {right_pn['unclear']} |"
             )
             k = len(exact)
             clear = np.abs(exact - 0.5) > 0.01
@@ -196,6 +199,7 @@ def main():
                 f"{wrong(o3d_in)} | {wrong(igl_in)} (of {min(k, m)}) | {agree:.1e} |"
             )
             print(f"{set_name}: done ({time.perf_counter() - start:.0f} s since the mesh was read)")
+    print(f"load average at the end {open('/proc/loadavg').read().split()[:3]}")
     print("\n### Queries per second, one core (proxima columns from sdf_compare in the same run)")
     print("| mesh | set | proxima sd | proxima sd batch | proxima pseudonormal sd | proxima closest | Open3D sd | "
           "Open3D unsigned | libigl sd per call (queries) | libigl sd net of build | proxima/Open3D | "
@@ -205,8 +209,9 @@ def main():
     print("\n### Signs: proxima (winding number) against the peers; where they differ, checked against an exact "
           "winding number (numpy, float64): proxima right / peer right / |w - 1/2| <= 0.01")
     print("| mesh | set | differ from Open3D | checked: proxima / Open3D / unclear | differ from libigl | "
-          "checked: proxima / libigl / unclear | proxima pseudonormal differs from proxima winding |")
-    print("|---|---|---|---|---|---|---|")
+          "checked: proxima / libigl / unclear | proxima pseudonormal sign differs | "
+          "checked: winding / pseudonormal / unclear |")
+    print("|---|---|---|---|---|---|---|---|")
     print("\n".join(sign_rows))
     print("\n### Wrong signs on the points with proxima's exported exact winding number (|w - 1/2| > 0.01)")
     print("| mesh | set | points | proxima winding | proxima pseudonormal | Open3D | libigl | "
