@@ -312,11 +312,13 @@ pub fn zero_contour(plane: &SlicePlane, values: &[f32]) -> Vec<[Vec3; 2]> {
             match changed.len() {
                 2 => out.push([crossing(changed[0]), crossing(changed[1])]),
                 4 => {
-                    // A saddle: split by the centre's sign (the mean), joining
-                    // each crossing to the next one around the side that
-                    // differs from the centre.
+                    // A saddle: the centre's sign (the mean) decides which
+                    // diagonal is connected. The two corners of the other
+                    // sign are cut off, each by the segment between its two
+                    // edges: corners 1 and 3 (edges 0-1 and 2-3) when corner
+                    // 0 is on the centre's side, else corners 0 and 2.
                     let centre_inside = d.iter().sum::<f32>() < 0.0;
-                    let start = if inside[0] == centre_inside { 1 } else { 0 };
+                    let start = if inside[0] == centre_inside { 0 } else { 1 };
                     out.push([crossing(start), crossing(start + 1)]);
                     out.push([crossing(start + 2), crossing((start + 3) % 4)]);
                 }
@@ -439,29 +441,25 @@ mod tests {
         assert_eq!(diverging_color(-1.0, 1.0), colors::SLICE_INSIDE);
         assert_eq!(diverging_color(1.0, 1.0), colors::SLICE_OUTSIDE);
         assert_eq!(diverging_color(f32::NAN, 1.0), [128, 128, 128, 255]);
-        // Along d from -max to max: redness (r - b) never decreases, and the
-        // colour darkens (r + g + b falls) as |d| grows on each side.
-        let mut last_redness = i32::MIN;
-        let mut last: Option<(f32, i32)> = None;
+        // On each side every channel fades monotonically from white as |d|
+        // grows (so lightness falls), and the hue is blue inside, red outside.
+        let mut last: Option<(f32, [u8; 4])> = None;
         for step in -200..=200 {
             let d = step as f32 / 100.0; // past the scale: clamped
-            let [r, g, b, a] = diverging_color(d, 1.5);
+            let colour = diverging_color(d, 1.5);
+            let [r, g, b, a] = colour;
             assert_eq!(a, 255);
-            let redness = r as i32 - b as i32;
-            assert!(redness >= last_redness, "redness falls at {d}");
-            last_redness = redness;
-            let lightness = r as i32 + g as i32 + b as i32;
             if let Some((previous_d, previous)) = last
-                && previous_d.signum() == d.signum()
-                && d != 0.0
+                && (previous_d < 0.0) == (d < 0.0)
             {
-                if d.abs() > previous_d.abs() {
-                    assert!(lightness <= previous, "lightness rises at {d}");
+                let (near, far) = if d.abs() > previous_d.abs() {
+                    (previous, colour)
                 } else {
-                    assert!(lightness >= previous, "lightness falls at {d}");
-                }
+                    (colour, previous)
+                };
+                assert!((0..3).all(|k| far[k] <= near[k]), "{d}: {near:?} then {far:?}");
             }
-            last = Some((d, lightness));
+            last = Some((d, colour));
             // Inside is blue with red = green, outside red with green = blue.
             if d < 0.0 {
                 assert!(b >= r && r == g, "{d}: {r} {g} {b}");
@@ -489,9 +487,25 @@ mod tests {
         holed[1] = f32::NAN;
         assert_eq!(zero_contour(&plane, &holed).len(), 2);
         assert!(zero_contour(&plane, &values[1..]).is_empty());
-        // A saddle (checkerboard square) gives two segments.
+        // A saddle (checkerboard square) gives two segments, each cutting off
+        // a corner of the sign the centre (the mean) does not have.
         let tiny = SlicePlane::through(&bounds, Axis::Z, 0.0, 2).unwrap();
-        assert_eq!(zero_contour(&tiny, &[-1.0, 1.0, 1.0, -1.0]).len(), 2);
+        for values in [[-1.0, 1.0, 1.0, -3.0], [1.0, -1.0, -1.0, 3.0], [-3.0, 1.0, 1.0, -1.0]] {
+            let segments = zero_contour(&tiny, &values);
+            assert_eq!(segments.len(), 2);
+            let centre_inside = values.iter().sum::<f32>() < 0.0;
+            for [a, b] in segments {
+                let middle = 0.5 * (a + b);
+                let nearest = (0..4)
+                    .min_by(|&x, &y| {
+                        let px = tiny.point(x % 2, x / 2);
+                        let py = tiny.point(y % 2, y / 2);
+                        (px - middle).length().total_cmp(&(py - middle).length())
+                    })
+                    .unwrap();
+                assert_ne!(values[nearest] < 0.0, centre_inside, "{values:?}: {a} {b}");
+            }
+        }
     }
 
     #[test]
