@@ -12,7 +12,8 @@
 //!   otherwise;
 //! - the signed-distance slice, when asked for, shows both inside (blue) and
 //!   outside (red) pixels and its zero contour, and is absent otherwise;
-//! - a broken mesh file makes the scripted mode fail with the file's name.
+//! - a broken mesh file makes the scripted mode fail with the file's name, and
+//!   a slice asked of a mesh without faces fails with the library's reason.
 //!
 //! The event loop must run on a process's main thread, so this test has its
 //! own `main` (`harness = false`): the parent process starts itself again as
@@ -114,6 +115,17 @@ fn scenarios() -> Vec<Scenario> {
             frames: 3,
         },
         Scenario {
+            name: "points_slice",
+            mesh: point_cloud_file(),
+            kind: PrimitiveKind::Vertices,
+            query: Vec3::ZERO,
+            cells: None,
+            ray: None,
+            frustum: None,
+            slice: Some((Axis::Z, None, Sign::WindingNumber)),
+            frames: 3,
+        },
+        Scenario {
             name: "broken_file",
             mesh: broken_file(),
             kind: PrimitiveKind::Faces,
@@ -158,6 +170,12 @@ fn broken_file() -> PathBuf {
     }
 }
 
+/// A mesh of three vertices and no face (no signed distance), beside the
+/// broken file.
+fn point_cloud_file() -> PathBuf {
+    broken_file().with_file_name("points.obj")
+}
+
 fn main() -> ExitCode {
     if let Ok(name) = std::env::var("PROXIMA_VIEWER_CHILD") {
         return child(&name);
@@ -179,6 +197,7 @@ fn main() -> ExitCode {
         return ExitCode::SUCCESS;
     }
     std::fs::write(broken_file(), "v 0 0 0\nv 1 0 0\nf 1 2 7\n").expect("write the broken file");
+    std::fs::write(point_cloud_file(), "v 0 0 0\nv 1 0 0\nv 0 1 0\n").expect("write the point cloud");
     let dir = out_dir();
     let mut failures = 0;
     for scenario in scenarios() {
@@ -306,6 +325,15 @@ fn run_scenario(s: &Scenario, dir: &Path, xvfb: Option<&Path>) -> Result<String,
         check(
             log.contains(&expected),
             &format!("no '{expected}' in the output:\n{log}"),
+        )?;
+        return Ok("(error reported)".into());
+    }
+    if s.name == "points_slice" {
+        check(!success, "the scripted mode drew a slice of a mesh without faces")?;
+        check(!log.contains("panicked"), &format!("the viewer panicked:\n{log}"))?;
+        check(
+            log.contains("slice: the mesh has no faces"),
+            &format!("no 'slice: the mesh has no faces' in the output:\n{log}"),
         )?;
         return Ok("(error reported)".into());
     }
