@@ -34,6 +34,10 @@ fn bad_view_arguments_are_usage_errors() {
         vec!["view", "--primitives", "cells"],
         vec!["view", "--frames", "3"],
         vec!["view", "--size", "10x10"],
+        vec!["view", "--slice", "w"],
+        vec!["view", "--slice", "z,inf"],
+        vec!["view", "--slice-sign", "parity"],
+        vec!["view", "--camera", "0,120"],
     ] {
         let out = proxima().args(&args).output().unwrap();
         assert_eq!(

@@ -2,7 +2,8 @@
 //! builds, brute force) and the values derived from the settings. The side
 //! panel is `panel.rs`, the 3D view and the mouse `view.rs`, the scripted
 //! screenshot mode `script.rs`; the drawing itself is `frame::compose_frame`
-//! (what) and `gl::Renderer` (how).
+//! (what) and `gl::Renderer` (how). The signed distance fields (one per sign
+//! method, built on first use) and the slice are background jobs too.
 
 mod panel;
 mod script;
@@ -17,13 +18,14 @@ use crate::memo::Memo;
 use crate::model::{Model, ModelSource, Progress, QueryResult};
 use crate::scene::{BoxSet, Overlay};
 use crate::screenshot::{FrameTimer, ScreenshotReport};
-use crate::settings::Settings;
+use crate::settings::{Axis, Settings};
+use crate::slice::{SLICE_RESOLUTION, SdfReadout, SdfSlice, SlicePlane, signed_distance_field};
 use crate::spheres::spheres_overlay;
 use crate::{InitialView, ViewerOptions};
 use eframe::egui;
 use eframe::egui::mutex::Mutex;
 use eframe::glow;
-use proxima::{ClosestHit, PrimitiveKind, Vec3};
+use proxima::{ClosestHit, PrimitiveKind, Sign, SignedDistanceField, Vec3};
 use script::Script;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -40,6 +42,28 @@ type LinearKey = (PrimitiveKind, Vec3);
 type NodeKey = (PrimitiveKind, u32);
 /// Inputs of a grid build: kind, cell size.
 type GridKey = (PrimitiveKind, f32);
+
+/// Inputs of a signed-distance slice.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct SliceKey {
+    axis: Axis,
+    position: f32,
+    sign: Sign,
+}
+
+/// Inputs of the query point's signed distance: the point and the sign method.
+type ReadoutKey = (Vec3, Sign);
+
+/// A signed distance field, or why it could not be built.
+type FieldResult = Result<Arc<SignedDistanceField>, String>;
+
+/// The slot of a sign method's field in [`Derived::fields`].
+fn field_slot(sign: Sign) -> usize {
+    match sign {
+        Sign::WindingNumber => 0,
+        Sign::Pseudonormal => 1,
+    }
+}
 
 /// Inputs of the frustum query.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -110,6 +134,11 @@ struct Derived {
     /// Great circles of the sphere tree's nodes at the depth, and their count.
     spheres: Memo<NodeKey, (usize, Overlay)>,
     frustum: Memo<FrustumKey, Result<FrustumSelection, String>>,
+    /// The signed distance field per sign method ([`field_slot`]), each
+    /// built on a worker thread when first needed.
+    fields: [Background<Sign, FieldResult>; 2],
+    slice: Background<SliceKey, Result<Arc<SdfSlice>, String>>,
+    readout: Memo<ReadoutKey, SdfReadout>,
     pick_message: Option<String>,
 }
 
@@ -132,6 +161,9 @@ pub struct ViewerApp {
     timer: FrameTimer,
     frame_ms: f64,
     script: Option<Script>,
+    /// Camera yaw and pitch in degrees from the command line, applied when
+    /// the first model is fitted.
+    camera_angles: Option<[f32; 2]>,
 }
 
 impl ViewerApp {
@@ -151,6 +183,7 @@ impl ViewerApp {
             ModelSource::File(p) => p.display().to_string(),
             ModelSource::Mesh { .. } => String::new(),
         };
+        let camera_angles = options.initial.camera;
         let mut app = Self {
             renderer,
             gl_error: Arc::new(Mutex::new(renderer_error)),
@@ -167,6 +200,7 @@ impl ViewerApp {
             timer: FrameTimer::default(),
             frame_ms: 0.0,
             script: options.screenshot.map(|s| Script::new(s, outcome)),
+            camera_angles,
         };
         app.start_load(options.source, &cc.egui_ctx);
         app
@@ -215,7 +249,13 @@ impl ViewerApp {
         self.derived
             .grid
             .poll(|| Some(Err("the grid build failed".to_string())));
-        if self.load.is_some() || self.derived.grid.running() {
+        for field in &mut self.derived.fields {
+            field.poll(|| Some(Err("building the signed distance field failed".to_string())));
+        }
+        self.derived
+            .slice
+            .poll(|| Some(Err("computing the slice failed".to_string())));
+        if self.busy() {
             ctx.request_repaint_after(Duration::from_millis(100));
         }
     }
@@ -236,9 +276,16 @@ impl ViewerApp {
             settings.show_frustum = s.show_frustum;
             settings.show_spheres = s.show_spheres;
             settings.frustum_fov = s.frustum_fov;
+            settings.show_signed_distance = s.show_signed_distance;
+            settings.show_slice = s.show_slice;
+            settings.slice_axis = s.slice_axis;
+            settings.slice_sign = s.slice_sign;
+            settings.slice_cut_mesh = s.slice_cut_mesh;
+            let (lo, hi) = Settings::slice_range(&model.bounds, s.slice_axis);
+            settings.slice_position = 0.5 * (lo + hi);
         }
         if let Some(initial) = self.initial.take() {
-            initial.apply(&mut settings);
+            initial.apply(&mut settings, &model.bounds);
         }
         if !model.has(settings.kind) {
             settings.kind = PrimitiveKind::Vertices;
@@ -311,10 +358,96 @@ impl ViewerApp {
                 walk_ray(k.origin, k.direction, k.cell_size, k.steps, grid.map(|g| g.as_ref()))
             });
         }
+        self.update_signed_distance(&model, ctx);
+    }
+
+    /// Starts what the signed distance readout and the slice need: the
+    /// fields of the sign methods shown, then the slice; the readout itself
+    /// is one query, answered now.
+    fn update_signed_distance(&mut self, model: &Arc<Model>, ctx: &egui::Context) {
+        let (s, d) = (&self.settings, &mut self.derived);
+        if !(s.show_signed_distance || s.show_slice) {
+            return;
+        }
+        let mut needed = vec![s.slice_sign];
+        if s.show_signed_distance && s.slice_sign != Sign::WindingNumber {
+            needed.push(Sign::WindingNumber);
+        }
+        for sign in needed {
+            let background = &mut d.fields[field_slot(sign)];
+            let m = model.clone();
+            let started = background.request("sdf", sign, ctx, move |sign| signed_distance_field(&m.mesh, sign));
+            if let Err(e) = started {
+                background.memo.set(sign, Err(e));
+            }
+        }
+        let field = d.fields[field_slot(s.slice_sign)]
+            .memo
+            .get(&s.slice_sign)
+            .and_then(|f| f.as_ref().ok())
+            .cloned();
+        if s.show_slice
+            && let Some(field) = field.clone()
+        {
+            let key = SliceKey {
+                axis: s.slice_axis,
+                position: s.slice_position,
+                sign: s.slice_sign,
+            };
+            let bounds = model.bounds;
+            let started = d.slice.request("slice", key, ctx, move |k| {
+                SlicePlane::through(&bounds, k.axis, k.position, SLICE_RESOLUTION)
+                    .map(|plane| Arc::new(SdfSlice::compute(&field, plane)))
+            });
+            if let Err(e) = started {
+                d.slice.memo.set(key, Err(e));
+            }
+        }
+        let winding = d.fields[field_slot(Sign::WindingNumber)]
+            .memo
+            .get(&Sign::WindingNumber)
+            .and_then(|f| f.as_ref().ok());
+        if s.show_signed_distance
+            && let (Some(field), Some(winding)) = (&field, winding)
+        {
+            d.readout
+                .get_or_compute((s.query, s.slice_sign), |&(p, _)| SdfReadout::at(field, winding, p));
+        }
+    }
+
+    /// The field of `sign` if it was asked for: built, failed, or `None` while building.
+    fn field(&self, sign: Sign) -> Option<&FieldResult> {
+        self.derived.fields[field_slot(sign)].memo.get(&sign)
+    }
+
+    /// `true` while a signed distance field is being built.
+    fn building_field(&self) -> bool {
+        self.derived.fields.iter().any(|f| f.running())
+    }
+
+    /// The query point's signed distance, when shown and in.
+    fn current_readout(&self) -> Option<&SdfReadout> {
+        let s = &self.settings;
+        if !s.show_signed_distance {
+            return None;
+        }
+        self.derived.readout.get(&(s.query, s.slice_sign))
+    }
+
+    /// The latest slice computed, when the slice is shown.
+    fn current_slice(&self) -> Option<&Arc<SdfSlice>> {
+        if !self.settings.show_slice {
+            return None;
+        }
+        self.derived.slice.memo.latest()?.as_ref().ok()
     }
 
     fn busy(&self) -> bool {
-        self.load.is_some() || self.derived.grid.running() || self.derived.linear.running()
+        self.load.is_some()
+            || self.derived.grid.running()
+            || self.derived.linear.running()
+            || self.building_field()
+            || self.derived.slice.running()
     }
 
     /// The brute-force answer for the current query, if it is in.

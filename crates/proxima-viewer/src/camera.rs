@@ -180,6 +180,22 @@ impl OrbitCamera {
         (right, up, -back)
     }
 
+    /// Sets the viewing angles in degrees: `yaw` about +y (0 looks along −z)
+    /// and `pitch` above the horizon, kept short of ±90° so the view never
+    /// flips.
+    ///
+    /// ```
+    /// use proxima_viewer::OrbitCamera;
+    /// let mut camera = OrbitCamera::default();
+    /// camera.set_angles_degrees(90.0, 100.0);
+    /// assert!((camera.yaw - std::f32::consts::FRAC_PI_2).abs() < 1e-6);
+    /// assert!(camera.pitch < std::f32::consts::FRAC_PI_2);
+    /// ```
+    pub fn set_angles_degrees(&mut self, yaw: f32, pitch: f32) {
+        self.yaw = yaw.to_radians().rem_euclid(std::f32::consts::TAU);
+        self.pitch = pitch.to_radians().clamp(-PITCH_LIMIT, PITCH_LIMIT);
+    }
+
     /// Turns the camera by a mouse drag of `dx, dy` pixels (a drag across a
     /// 400-pixel view turns it by about 180°).
     pub fn orbit(&mut self, dx: f32, dy: f32) {

@@ -7,6 +7,7 @@ use crate::frustum_view::FrustumSelection;
 use crate::model::{Model, QueryResult, query_overlay};
 use crate::scene::{BoxLayer, BoxSet, DrawFrame, Overlay, colors};
 use crate::settings::Settings;
+use crate::slice::SdfSlice;
 use std::sync::Arc;
 
 /// What one frame shows, gathered from the viewer's state.
@@ -31,6 +32,11 @@ pub struct FrameInputs<'a> {
     pub spheres: Option<&'a Overlay>,
     /// The second camera's frustum query (drawn when its kind matches).
     pub frustum: Option<&'a FrustumSelection>,
+    /// The latest signed-distance slice (drawn where it was computed, so a
+    /// slider drag shows the last one until the next is in).
+    pub slice: Option<&'a SdfSlice>,
+    /// Whether the query point is inside the mesh, when known.
+    pub query_inside: Option<bool>,
 }
 
 /// The draw data of one frame.
@@ -91,10 +97,29 @@ pub fn compose_frame(inputs: &FrameInputs<'_>) -> DrawFrame {
     {
         frame.overlay.append(selection.overlay.clone());
     }
+    if s.show_slice
+        && let Some(slice) = inputs.slice
+    {
+        frame.slice = Some(slice.image.clone());
+        frame.overlay.append(slice.contour_overlay());
+        if s.slice_cut_mesh {
+            frame.clip_plane = cut_towards(frame.eye, slice.plane.axis.index(), slice.plane.position);
+        }
+    }
     if let Some(result) = inputs.result {
-        frame.overlay.append(query_overlay(model, result));
+        frame.overlay.append(query_overlay(model, result, inputs.query_inside));
     }
     frame
+}
+
+/// The clip plane that cuts away the half-space on the eye's side of the
+/// plane `x[axis] = position`, so the slice is seen with the mesh behind it.
+pub fn cut_towards(eye: proxima::Vec3, axis: usize, position: f32) -> [f32; 4] {
+    let side = if eye[axis] >= position { 1.0 } else { -1.0 };
+    let mut plane = [0.0; 4];
+    plane[axis] = side;
+    plane[3] = -side * position;
+    plane
 }
 
 #[cfg(test)]
@@ -155,6 +180,9 @@ mod tests {
         let selection = crate::frustum_view::select(&m, PrimitiveKind::Faces, &frustum, false);
         let spheres = crate::spheres::spheres_overlay(&m.sphere_nodes_at_depth(PrimitiveKind::Faces, 0));
         let viewport = Viewport::new([0.0, 0.0], [300.0, 200.0]);
+        let field = crate::slice::signed_distance_field(&m.mesh, proxima::Sign::WindingNumber).unwrap();
+        let plane = crate::slice::SlicePlane::through(&m.bounds, crate::settings::Axis::Z, 0.2, 16).unwrap();
+        let slice = crate::slice::SdfSlice::compute(&field, plane);
         let frame = |settings: &Settings| {
             compose_frame(&FrameInputs {
                 camera: &camera,
@@ -167,6 +195,8 @@ mod tests {
                 nodes: Some(&nodes),
                 spheres: Some(&spheres),
                 frustum: Some(&selection),
+                slice: Some(&slice),
+                query_inside: Some(true),
             })
         };
         let plain = frame(&settings);
@@ -174,6 +204,26 @@ mod tests {
         assert!(plain.mesh.is_some() && !plain.mesh_points);
         assert!(plain.boxes.is_empty());
         assert_eq!(plain.overlay.markers.len(), 2);
+        assert_eq!(plain.overlay.markers[0].color, colors::QUERY_INSIDE);
+        assert!(plain.slice.is_none() && plain.clip_plane == [0.0; 4]);
+        assert!(!plain.overlay.lines.iter().any(|v| v.color == colors::ZERO_CONTOUR));
+
+        // The slice: its picture, its contour, and the mesh cut on the eye's side.
+        settings.show_slice = true;
+        let sliced = frame(&settings);
+        assert_eq!(sliced.slice.as_ref().unwrap().id, slice.image.id);
+        let contour = sliced.overlay.lines.iter().filter(|v| v.color == colors::ZERO_CONTOUR);
+        assert_eq!(contour.count(), 2 * slice.contour.len());
+        assert!(!slice.contour.is_empty());
+        let eye = camera.eye();
+        let clip = sliced.clip_plane;
+        let cut = |p: Vec3| clip[0] * p.x + clip[1] * p.y + clip[2] * p.z + clip[3] > 0.0;
+        assert!(cut(Vec3::new(0.0, 0.0, 0.2) + 0.5 * (eye - Vec3::new(0.0, 0.0, 0.2))) == (eye.z > 0.2));
+        assert!(cut(eye) && !cut(Vec3::new(eye.x, eye.y, 0.2 - (eye.z - 0.2))));
+        settings.slice_cut_mesh = false;
+        assert_eq!(frame(&settings).clip_plane, [0.0; 4]);
+        settings.show_slice = false;
+        settings.slice_cut_mesh = true;
 
         settings.show_cells = true;
         settings.show_nodes = true;
@@ -228,7 +278,18 @@ mod tests {
             nodes: None,
             spheres: None,
             frustum: None,
+            slice: Some(&slice),
+            query_inside: None,
         });
         assert!(empty.mesh.is_none() && empty.boxes.is_empty() && empty.overlay.is_empty());
+        assert!(empty.slice.is_none());
+    }
+
+    #[test]
+    fn the_cut_removes_the_eye_side_of_the_plane() {
+        let plane = cut_towards(Vec3::new(0.0, 5.0, 0.0), 1, 2.0);
+        assert_eq!(plane, [0.0, 1.0, 0.0, -2.0]);
+        let plane = cut_towards(Vec3::new(-3.0, 0.0, 0.0), 0, 1.0);
+        assert_eq!(plane, [-1.0, 0.0, 0.0, 1.0]);
     }
 }

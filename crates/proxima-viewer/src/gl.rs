@@ -1,7 +1,8 @@
 //! The OpenGL renderer of the 3D view: raw glow calls inside an egui paint
 //! callback. It uploads and draws a [`DrawFrame`]: the mesh as indexed
-//! triangles, each box set as instanced `GL_LINES` of one unit cube, and the
-//! overlay from one small dynamic buffer. Buffers are uploaded again only
+//! triangles (optionally cut away on one side of a plane), each box set as
+//! instanced `GL_LINES` of one unit cube, the signed-distance slice as one
+//! textured quad, and the overlay from one small dynamic buffer. Buffers are uploaded again only
 //! when their identity ([`crate::scene::next_id`]) changes.
 //!
 //! The picture is drawn into an offscreen framebuffer and copied to the
@@ -40,8 +41,13 @@ in vec3 v_normal;
 in vec3 v_position;
 uniform vec3 u_eye;
 uniform vec4 u_color;
+uniform vec4 u_clip;
 out vec4 o_color;
 void main() {
+    // The half-space in front of the slice is cut away (u_clip = 0: nothing is).
+    if (dot(vec4(v_position, 1.0), u_clip) > 0.0) {
+        discard;
+    }
     // Head light, lit from both sides (meshes are not always consistently oriented).
     vec3 n = normalize(v_normal);
     vec3 l = normalize(u_eye - v_position);
@@ -95,6 +101,34 @@ void main() {
 }
 "#;
 
+const SLICE_VS: &str = r#"
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec2 a_uv;
+uniform mat4 u_view_projection;
+out vec2 v_uv;
+void main() {
+    v_uv = a_uv;
+    gl_Position = u_view_projection * vec4(a_position, 1.0);
+}
+"#;
+
+const SLICE_FS: &str = r#"
+in vec2 v_uv;
+uniform sampler2D u_texture;
+out vec4 o_color;
+void main() {
+    o_color = vec4(texture(u_texture, v_uv).rgb, 1.0);
+}
+"#;
+
+/// One corner of the slice quad: position and texture coordinate.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct SliceVertex {
+    position: [f32; 3],
+    uv: [f32; 2],
+}
+
 fn rgba(c: [u8; 4]) -> [f32; 4] {
     c.map(|x| x as f32 / 255.0)
 }
@@ -137,6 +171,11 @@ pub struct Renderer {
     boxes: HashMap<u64, GpuBoxes>,
     overlay_vao: glow::VertexArray,
     overlay_vbo: glow::Buffer,
+    slice_program: glow::Program,
+    slice_vao: glow::VertexArray,
+    slice_vbo: glow::Buffer,
+    /// The slice's texture and the identity of the image in it.
+    slice_texture: Option<(u64, glow::Texture)>,
     embedded: bool,
 }
 
@@ -187,6 +226,18 @@ impl Renderer {
             let mesh_program = compile(gl, header, MESH_VS, MESH_FS)?;
             let line_program = compile(gl, header, LINE_VS, LINE_FS)?;
             let box_program = compile(gl, header, BOX_VS, BOX_FS)?;
+            let slice_program = compile(gl, header, SLICE_VS, SLICE_FS)?;
+            let slice_vao = gl.create_vertex_array()?;
+            let slice_vbo = gl.create_buffer()?;
+            gl.bind_vertex_array(Some(slice_vao));
+            gl.bind_buffer(glow::ARRAY_BUFFER, Some(slice_vbo));
+            let slice_stride = size_of::<SliceVertex>() as i32;
+            gl.enable_vertex_attrib_array(0);
+            gl.vertex_attrib_pointer_f32(0, 3, glow::FLOAT, false, slice_stride, 0);
+            gl.enable_vertex_attrib_array(1);
+            gl.vertex_attrib_pointer_f32(1, 2, glow::FLOAT, false, slice_stride, 12);
+            gl.bind_vertex_array(None);
+            gl.bind_buffer(glow::ARRAY_BUFFER, None);
             let cube = gl.create_buffer()?;
             gl.bind_buffer(glow::ARRAY_BUFFER, Some(cube));
             gl.buffer_data_u8_slice(
@@ -219,6 +270,10 @@ impl Renderer {
                 boxes: HashMap::new(),
                 overlay_vao,
                 overlay_vbo,
+                slice_program,
+                slice_vao,
+                slice_vbo,
+                slice_texture: None,
                 embedded,
             })
         }
@@ -243,7 +298,57 @@ impl Renderer {
             gl.delete_buffer(self.cube);
             gl.delete_vertex_array(self.overlay_vao);
             gl.delete_buffer(self.overlay_vbo);
+            gl.delete_program(self.slice_program);
+            gl.delete_vertex_array(self.slice_vao);
+            gl.delete_buffer(self.slice_vbo);
+            if let Some((_, texture)) = self.slice_texture.take() {
+                gl.delete_texture(texture);
+            }
         }
+    }
+
+    /// Uploads the frame's slice picture when it is new, and frees the
+    /// texture when no slice is drawn.
+    unsafe fn upload_slice(&mut self, gl: &glow::Context, frame: &DrawFrame) -> Result<(), String> {
+        let wanted = frame.slice.as_ref().map(|s| s.id);
+        if self.slice_texture.map(|(id, _)| id) == wanted {
+            return Ok(());
+        }
+        unsafe {
+            if let Some((_, texture)) = self.slice_texture.take() {
+                gl.delete_texture(texture);
+            }
+            let Some(image) = &frame.slice else {
+                return Ok(());
+            };
+            let texture = gl.create_texture()?;
+            gl.active_texture(glow::TEXTURE0);
+            gl.bind_texture(glow::TEXTURE_2D, Some(texture));
+            gl.tex_image_2d(
+                glow::TEXTURE_2D,
+                0,
+                glow::RGBA8 as i32,
+                image.size[0] as i32,
+                image.size[1] as i32,
+                0,
+                glow::RGBA,
+                glow::UNSIGNED_BYTE,
+                glow::PixelUnpackData::Slice(Some(bytemuck::cast_slice(&image.pixels))),
+            );
+            // Linear filtering between cell centres: texel centres sit on
+            // the sampled points, so the colours interpolate the values.
+            for (parameter, value) in [
+                (glow::TEXTURE_MIN_FILTER, glow::LINEAR),
+                (glow::TEXTURE_MAG_FILTER, glow::LINEAR),
+                (glow::TEXTURE_WRAP_S, glow::CLAMP_TO_EDGE),
+                (glow::TEXTURE_WRAP_T, glow::CLAMP_TO_EDGE),
+            ] {
+                gl.tex_parameter_i32(glow::TEXTURE_2D, parameter, value as i32);
+            }
+            gl.bind_texture(glow::TEXTURE_2D, None);
+            self.slice_texture = Some((image.id, texture));
+        }
+        Ok(())
     }
 
     unsafe fn drop_mesh(gl: &glow::Context, m: GpuMesh) {
@@ -476,6 +581,7 @@ impl Renderer {
         unsafe {
             self.upload_meshes(gl, frame)?;
             self.upload_boxes(gl, frame)?;
+            self.upload_slice(gl, frame)?;
             if self.direct {
                 return self.draw(gl, frame, background);
             }
@@ -550,6 +656,7 @@ impl Renderer {
                     gl.get_uniform_location(p, "u_color").as_ref(),
                     &rgba(crate::scene::colors::MESH),
                 );
+                gl.uniform_4_f32_slice(gl.get_uniform_location(p, "u_clip").as_ref(), &frame.clip_plane);
                 gl.bind_vertex_array(Some(mesh.vao));
                 if mesh.index_count > 0 {
                     gl.enable(glow::POLYGON_OFFSET_FILL);
@@ -560,6 +667,39 @@ impl Renderer {
                 if frame.mesh_points {
                     gl.draw_arrays(glow::POINTS, 0, mesh.vertex_count);
                 }
+            }
+
+            // The slice, pushed back like the mesh so that its zero contour wins.
+            if let (Some(image), Some((id, texture))) = (&frame.slice, self.slice_texture)
+                && image.id == id
+            {
+                let p = self.slice_program;
+                gl.use_program(Some(p));
+                gl.uniform_matrix_4_f32_slice(gl.get_uniform_location(p, "u_view_projection").as_ref(), false, &vp);
+                gl.uniform_1_i32(gl.get_uniform_location(p, "u_texture").as_ref(), 0);
+                gl.active_texture(glow::TEXTURE0);
+                gl.bind_texture(glow::TEXTURE_2D, Some(texture));
+                let c = image.corners;
+                let corner = |k: usize, uv: [f32; 2]| SliceVertex {
+                    position: c[k].to_array(),
+                    uv,
+                };
+                let quad = [
+                    corner(0, [0.0, 0.0]),
+                    corner(1, [1.0, 0.0]),
+                    corner(2, [1.0, 1.0]),
+                    corner(0, [0.0, 0.0]),
+                    corner(2, [1.0, 1.0]),
+                    corner(3, [0.0, 1.0]),
+                ];
+                gl.bind_vertex_array(Some(self.slice_vao));
+                gl.bind_buffer(glow::ARRAY_BUFFER, Some(self.slice_vbo));
+                gl.buffer_data_u8_slice(glow::ARRAY_BUFFER, bytemuck::cast_slice(&quad), glow::STREAM_DRAW);
+                gl.enable(glow::POLYGON_OFFSET_FILL);
+                gl.polygon_offset(1.0, 1.0);
+                gl.draw_arrays(glow::TRIANGLES, 0, 6);
+                gl.disable(glow::POLYGON_OFFSET_FILL);
+                gl.bind_texture(glow::TEXTURE_2D, None);
             }
 
             // Boxes: one instanced draw per set.

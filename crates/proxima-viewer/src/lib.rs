@@ -4,7 +4,9 @@
 //! shaded mesh with a query point and its closest vertex, edge or face
 //! (tree and brute-force timings side by side), the k nearest primitives,
 //! the occupied cells of a hash grid, a ray with the cells it walks through,
-//! the AABB tree's nodes at a chosen depth, and statistics.
+//! the AABB tree's nodes at a chosen depth, the signed distance and winding
+//! number at the query point, a slice through the mesh coloured by signed
+//! distance, and statistics.
 //!
 //! The only crate of the workspace with windowing and GPU dependencies
 //! (eframe/egui with the glow backend). The 3D view is drawn in an egui paint
@@ -18,6 +20,8 @@
 //! - [`frustum_view`]: a second camera's frustum and the primitives its
 //!   frustum query selects;
 //! - [`spheres`]: the sphere tree's nodes at a depth as great circles;
+//! - [`slice`]: the signed-distance slice (values, colours, zero contour)
+//!   and the query point's signed distance;
 //! - [`settings`]: what the side panel edits;
 //! - [`frame`]: the composition of a frame's draw data;
 //! - [`screenshot`]: the scripted mode (one PNG and exit);
@@ -40,6 +44,7 @@ pub mod model;
 pub mod scene;
 pub mod screenshot;
 pub mod settings;
+pub mod slice;
 pub mod spheres;
 
 pub use camera::{OrbitCamera, Viewport};
@@ -47,10 +52,11 @@ pub use model::{Model, ModelSource};
 /// The library's primitive kinds, re-exported for the command line.
 pub use proxima::PrimitiveKind;
 pub use screenshot::{ScreenshotOptions, ScreenshotReport};
-pub use settings::Settings;
+pub use settings::{Axis, Settings};
 
 use eframe::egui;
 use proxima::math::Vec3;
+use proxima::{Aabb, Sign};
 use std::sync::Arc;
 
 /// Settings given on the command line, applied when the first model is
@@ -75,11 +81,19 @@ pub struct InitialView {
     pub frustum: Option<(Vec3, Vec3)>,
     /// Vertical field of view of the second camera, in degrees.
     pub frustum_fov: Option<f32>,
+    /// Show the signed-distance slice normal to this axis, at this
+    /// coordinate (the middle of the model's box when `None`).
+    pub slice: Option<(Axis, Option<f32>)>,
+    /// How the slice and the query point's signed distance decide the side.
+    pub slice_sign: Option<Sign>,
+    /// The camera's yaw about +y and pitch, in degrees (yaw 0 looks along
+    /// −z, pitch 90 looks straight down); the default view when `None`.
+    pub camera: Option<[f32; 2]>,
 }
 
 impl InitialView {
-    /// Overrides `settings` with what was given.
-    pub fn apply(&self, settings: &mut Settings) {
+    /// Overrides `settings` (made for a model in `bounds`) with what was given.
+    pub fn apply(&self, settings: &mut Settings, bounds: &Aabb) {
         if let Some(q) = self.query {
             settings.query = q;
         }
@@ -116,6 +130,15 @@ impl InitialView {
         }
         if let Some(fov) = self.frustum_fov {
             settings.frustum_fov = fov;
+        }
+        if let Some((axis, position)) = self.slice {
+            settings.show_slice = true;
+            settings.slice_axis = axis;
+            let (lo, hi) = Settings::slice_range(bounds, axis);
+            settings.slice_position = position.unwrap_or(0.5 * (lo + hi));
+        }
+        if let Some(sign) = self.slice_sign {
+            settings.slice_sign = sign;
         }
     }
 }
@@ -217,7 +240,8 @@ mod tests {
     fn the_initial_view_overrides_only_what_was_given() {
         let mut s = Settings::default();
         let before = s.clone();
-        InitialView::default().apply(&mut s);
+        let bounds = Aabb::new(Vec3::ZERO, Vec3::new(2.0, 4.0, 6.0));
+        InitialView::default().apply(&mut s, &bounds);
         assert_eq!(s, before);
         let v = InitialView {
             query: Some(Vec3::ONE),
@@ -229,8 +253,11 @@ mod tests {
             k: Some(3),
             frustum: Some((Vec3::new(5.0, 0.0, 0.0), Vec3::ZERO)),
             frustum_fov: Some(40.0),
+            slice: Some((Axis::Y, None)),
+            slice_sign: Some(Sign::Pseudonormal),
+            camera: Some([0.0, 90.0]),
         };
-        v.apply(&mut s);
+        v.apply(&mut s, &bounds);
         assert_eq!(s.query, Vec3::ONE);
         assert_eq!(s.kind, PrimitiveKind::Edges);
         assert!(s.show_cells && s.cell_size == 0.05);
@@ -239,6 +266,14 @@ mod tests {
         assert_eq!(s.k, 3);
         assert!(s.show_frustum && s.frustum_eye == Vec3::new(5.0, 0.0, 0.0) && s.frustum_fov == 40.0);
         assert!(crate::frustum_view::settings_frustum(&s).is_ok());
+        assert!(s.show_slice && s.slice_axis == Axis::Y && s.slice_sign == Sign::Pseudonormal);
+        assert!((s.slice_position - 2.0).abs() < 1e-6, "{}", s.slice_position);
+        let at = InitialView {
+            slice: Some((Axis::X, Some(-0.25))),
+            ..Default::default()
+        };
+        at.apply(&mut s, &bounds);
+        assert_eq!((s.slice_axis, s.slice_position), (Axis::X, -0.25));
     }
 
     #[test]

@@ -430,8 +430,10 @@ impl Model {
 
 /// The overlay of a closest-point answer: the query point, the line to the
 /// closest point, the closest primitive filled, the other k-nearest
-/// primitives outlined, and the closest-point marker on top.
-pub fn query_overlay(model: &Model, result: &QueryResult) -> Overlay {
+/// primitives outlined, and the closest-point marker on top. The query
+/// marker is blue ([`colors::QUERY_INSIDE`]) when `inside` says the point is
+/// inside the mesh, orange otherwise (outside or not known).
+pub fn query_overlay(model: &Model, result: &QueryResult, inside: Option<bool>) -> Overlay {
     let mut overlay = Overlay::default();
     for hit in result.nearest.iter().skip(1) {
         if let Some(shape) = model.primitive_shape(result.kind, hit.source) {
@@ -444,7 +446,12 @@ pub fn query_overlay(model: &Model, result: &QueryResult) -> Overlay {
         }
         overlay.line(result.point, hit.point, colors::QUERY_LINE);
     }
-    overlay.marker(result.point, colors::QUERY, scene::MARKER_SIZE);
+    let query_color = if inside == Some(true) {
+        colors::QUERY_INSIDE
+    } else {
+        colors::QUERY
+    };
+    overlay.marker(result.point, query_color, scene::MARKER_SIZE);
     if let Some(hit) = result.tree {
         overlay.marker(hit.point, colors::CLOSEST, scene::MARKER_SIZE);
     }
@@ -615,7 +622,12 @@ mod tests {
         .unwrap();
         let q = Vec3::new(0.25, 0.5, 2.0);
         let result = model.query(PrimitiveKind::Faces, q, 3, false);
-        let overlay = query_overlay(&model, &result);
+        let overlay = query_overlay(&model, &result, None);
+        assert_eq!(overlay.markers[0].color, colors::QUERY);
+        assert_eq!(query_overlay(&model, &result, Some(false)), overlay);
+        let inside = query_overlay(&model, &result, Some(true));
+        assert_eq!(inside.markers[0].color, colors::QUERY_INSIDE);
+        assert_eq!(inside.markers[1], overlay.markers[1]);
         let hit = result.tree.unwrap();
         assert_eq!(hit.point, Vec3::new(0.25, 0.5, 1.0));
         // The query line runs from the query point to the closest point.
@@ -645,7 +657,7 @@ mod tests {
         assert_eq!(others, 16);
 
         let vertices = model.query(PrimitiveKind::Vertices, q, 1, false);
-        let overlay = query_overlay(&model, &vertices);
+        let overlay = query_overlay(&model, &vertices, None);
         assert_eq!(overlay.points.len(), 1);
         assert!(overlay.triangles.is_empty());
     }

@@ -46,6 +46,17 @@ pub mod colors {
     pub const FRUSTUM: [u8; 4] = [200, 110, 255, 255];
     /// Primitives the frustum query selects (a colour nothing else uses).
     pub const FRUSTUM_SELECTED: [u8; 4] = [160, 255, 0, 255];
+    /// The query point marker when the point is inside the mesh.
+    pub const QUERY_INSIDE: [u8; 4] = [40, 110, 255, 255];
+    /// The slice's colour far inside (the diverging map's blue end; red and
+    /// green equal, unlike the mesh's blue, so the two can be told apart).
+    pub const SLICE_INSIDE: [u8; 4] = [25, 25, 200, 255];
+    /// The slice's colour far outside (the red end; green and blue equal).
+    pub const SLICE_OUTSIDE: [u8; 4] = [200, 25, 25, 255];
+    /// The slice's colour on the surface.
+    pub const SLICE_ZERO: [u8; 4] = [255, 255, 255, 255];
+    /// The zero contour of the slice: where the sign changes.
+    pub const ZERO_CONTOUR: [u8; 4] = [10, 10, 10, 255];
 }
 
 /// Diameter in pixels of the query and closest-point markers.
@@ -445,6 +456,22 @@ pub fn pick(tree: &AabbTree<Triangle>, origin: Vec3, direction: Vec3) -> Option<
     })
 }
 
+/// A picture laid on a rectangle in space: the signed-distance slice as a
+/// texture of `size` texels, pixel `(i, j)` at `pixels[i + size[0] j]`,
+/// stretched over the quad `corners` (texel rows along `corners[0] →
+/// corners[1]`, columns along `corners[0] → corners[3]`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SliceImage {
+    /// Identity for re-upload (see [`next_id`]).
+    pub id: u64,
+    /// Width and height in texels.
+    pub size: [usize; 2],
+    /// RGBA texels, rows first.
+    pub pixels: Vec<[u8; 4]>,
+    /// The quad's corners in order around it.
+    pub corners: [Vec3; 4],
+}
+
 /// A set of boxes and the colour to draw them in.
 #[derive(Clone, Debug)]
 pub struct BoxLayer {
@@ -471,6 +498,11 @@ pub struct DrawFrame {
     pub boxes: Vec<BoxLayer>,
     /// Lines, triangles, points and markers.
     pub overlay: Overlay,
+    /// The signed-distance slice, if shown.
+    pub slice: Option<Arc<SliceImage>>,
+    /// Mesh fragments where `clip · (x, y, z, 1) > 0` are not drawn (all
+    /// zero: nothing is cut away).
+    pub clip_plane: [f32; 4],
     /// The camera is moving: draw many boxes as points (one per box) to
     /// keep the frame rate up; the full picture follows when it stops.
     pub interactive: bool,
@@ -491,6 +523,8 @@ pub struct FrameKey {
     mesh_points: bool,
     boxes: Vec<(u64, [u8; 4])>,
     overlay: Overlay,
+    slice: Option<u64>,
+    clip_plane: [f32; 4],
     boxes_as_points: bool,
 }
 
@@ -523,6 +557,8 @@ impl DrawFrame {
             mesh_points: self.mesh_points,
             boxes: self.boxes.iter().map(|l| (l.set.id, l.color)).collect(),
             overlay: self.overlay.clone(),
+            slice: self.slice.as_ref().map(|s| s.id),
+            clip_plane: self.clip_plane,
             boxes_as_points: self.boxes_as_points(),
         }
     }
@@ -727,6 +763,13 @@ pub(crate) mod tests {
         frame.boxes[0].color = colors::NODES;
         assert_ne!(frame.key(), key);
         frame.boxes[0].color = colors::CELLS;
+        frame.clip_plane = [1.0, 0.0, 0.0, -0.5];
+        assert_ne!(frame.key(), key);
+        frame.clip_plane = [0.0; 4];
+        frame.slice = Some(Arc::new(SliceImage::default()));
+        assert_ne!(frame.key(), key);
+        frame.slice = None;
+        assert_eq!(frame.key(), key);
         frame.view_projection = Mat4::from_scale(Vec3::splat(2.0));
         assert_ne!(frame.key(), key);
         // A few boxes are always drawn in full.

@@ -109,6 +109,10 @@ pub struct ScreenshotReport {
     pub triangles: usize,
     /// Occupied grid cells drawn (0 when none).
     pub cells: usize,
+    /// Cells of the signed-distance slice drawn (0 when none).
+    pub slice_cells: usize,
+    /// Of those, the cells inside the mesh.
+    pub slice_inside: usize,
 }
 
 impl ScreenshotReport {
@@ -119,7 +123,7 @@ impl ScreenshotReport {
         format!(
             "{{\n  \"image_size\": [{}, {}],\n  \"pixels_per_point\": {:?},\n  \"viewport\": [{:?}, {:?}, {:?}, {:?}],\n  \
              \"frame_ms_mean\": {},\n  \"frame_ms_median\": {},\n  \"frame_ms_max\": {},\n  \"frames_measured\": {},\n  \
-             \"model\": {:?},\n  \"triangles\": {},\n  \"cells\": {}\n}}\n",
+             \"model\": {:?},\n  \"triangles\": {},\n  \"cells\": {},\n  \"slice_cells\": {},\n  \"slice_inside\": {}\n}}\n",
             self.image_size[0],
             self.image_size[1],
             self.pixels_per_point,
@@ -134,6 +138,8 @@ impl ScreenshotReport {
             self.model,
             self.triangles,
             self.cells,
+            self.slice_cells,
+            self.slice_inside,
         )
     }
 }
@@ -179,10 +185,16 @@ mod tests {
             model: "a \"b\"".into(),
             triangles: 3,
             cells: 0,
+            slice_cells: 12,
+            slice_inside: 5,
         };
         let json = report.to_json();
         assert!(json.contains("\"viewport\": [300.5, 0.0, 339.5, 480.0]"), "{json}");
         assert!(json.contains("\"frame_ms_mean\": null"));
+        assert!(
+            json.contains("\"slice_cells\": 12,\n  \"slice_inside\": 5\n}"),
+            "{json}"
+        );
         assert!(json.contains(r#""model": "a \"b\"""#), "{json}");
     }
 

@@ -1,6 +1,45 @@
 //! The viewer's settings: what the side panel edits. Plain data.
 
-use proxima::{Aabb, PrimitiveKind, Vec3};
+use proxima::{Aabb, PrimitiveKind, Sign, Vec3};
+
+/// A coordinate axis: the normal of the signed-distance slice.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Axis {
+    /// The x axis.
+    X,
+    /// The y axis.
+    Y,
+    /// The z axis (the default: the slice faces the default camera).
+    #[default]
+    Z,
+}
+
+impl Axis {
+    /// The three axes in order.
+    pub const ALL: [Axis; 3] = [Axis::X, Axis::Y, Axis::Z];
+
+    /// Index of the coordinate (x = 0).
+    pub fn index(self) -> usize {
+        self as usize
+    }
+
+    /// `"x"`, `"y"` or `"z"`.
+    pub fn name(self) -> &'static str {
+        ["x", "y", "z"][self.index()]
+    }
+}
+
+impl std::str::FromStr for Axis {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.trim() {
+            "x" | "X" => Ok(Axis::X),
+            "y" | "Y" => Ok(Axis::Y),
+            "z" | "Z" => Ok(Axis::Z),
+            _ => Err(format!("expected the axis x, y or z, got '{s}'")),
+        }
+    }
+}
 
 /// Everything the side panel edits.
 #[derive(Clone, Debug, PartialEq)]
@@ -48,6 +87,20 @@ pub struct Settings {
     pub frustum_near: f32,
     /// Far plane distance of the second camera.
     pub frustum_far: f32,
+    /// Show the signed distance and winding number at the query point (the
+    /// signed distance field is built on a worker thread when first asked).
+    pub show_signed_distance: bool,
+    /// Draw a plane through the mesh coloured by signed distance.
+    pub show_slice: bool,
+    /// The slice plane's normal.
+    pub slice_axis: Axis,
+    /// The slice plane's coordinate along its axis.
+    pub slice_position: f32,
+    /// How the slice (and the query point's signed distance) decide inside
+    /// from outside.
+    pub slice_sign: Sign,
+    /// Hide the part of the mesh between the slice and the camera.
+    pub slice_cut_mesh: bool,
 }
 
 impl Default for Settings {
@@ -91,7 +144,26 @@ impl Settings {
             frustum_fov: 25.0,
             frustum_near: 0.2 * diagonal,
             frustum_far: 2.0 * diagonal,
+            show_signed_distance: true,
+            show_slice: false,
+            slice_axis: Axis::Z,
+            slice_position: b.center().z,
+            slice_sign: Sign::WindingNumber,
+            slice_cut_mesh: true,
         }
+    }
+
+    /// Range of the slice position along `axis`: the bounding box grown by
+    /// [`SLICE_MARGIN`] of its size on each side (the slice's extent).
+    pub fn slice_range(bounds: &Aabb, axis: Axis) -> (f32, f32) {
+        let b = if bounds.is_empty() || !bounds.is_finite() {
+            Aabb::new(Vec3::splat(-1.0), Vec3::splat(1.0))
+        } else {
+            *bounds
+        };
+        let a = axis.index();
+        let grow = SLICE_MARGIN * b.size()[a];
+        (b.min[a] - grow, b.max[a] + grow)
     }
 
     /// Range of the query sliders: the bounding box grown by half its size
@@ -114,6 +186,10 @@ impl Settings {
         (d / 2000.0, d / 2.0)
     }
 }
+
+/// The slice covers the bounding box grown by this fraction of its size on
+/// every side (as the CLI's `proxima sdf --grid`).
+pub const SLICE_MARGIN: f32 = 0.05;
 
 /// `x` rounded to one significant digit of 1, 2 or 5 (0.0123 → 0.01).
 pub fn nice_size(x: f32) -> f32 {
@@ -148,5 +224,21 @@ mod tests {
         assert_eq!(nice_size(8.0), 10.0);
         assert_eq!(nice_size(0.0), 1.0);
         assert_eq!(nice_size(f32::NAN), 1.0);
+    }
+
+    #[test]
+    fn axes_parse_and_slice_ranges_grow_the_box() {
+        assert_eq!("y".parse::<Axis>(), Ok(Axis::Y));
+        assert_eq!(" Z ".parse::<Axis>(), Ok(Axis::Z));
+        assert!("w".parse::<Axis>().is_err());
+        assert_eq!(Axis::ALL.map(Axis::name), ["x", "y", "z"]);
+        let b = Aabb::new(Vec3::new(0.0, -2.0, 1.0), Vec3::new(10.0, 2.0, 1.0));
+        assert_eq!(Settings::slice_range(&b, Axis::X), (-0.5, 10.5));
+        let (lo, hi) = Settings::slice_range(&b, Axis::Y);
+        assert!((lo + 2.2).abs() < 1e-6 && (hi - 2.2).abs() < 1e-6);
+        assert_eq!(Settings::slice_range(&b, Axis::Z), (1.0, 1.0));
+        let s = Settings::for_bounds(&b);
+        assert_eq!((s.slice_axis, s.slice_position), (Axis::Z, 1.0));
+        assert!(!s.show_slice && s.show_signed_distance && s.slice_cut_mesh);
     }
 }

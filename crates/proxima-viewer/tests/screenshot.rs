@@ -10,7 +10,10 @@
 //!   the closest point, computed here independently with an [`AabbTree`];
 //! - the query line, grid cells, ray and frustum selection appear when asked for, and not
 //!   otherwise;
-//! - a broken mesh file makes the scripted mode fail with the file's name.
+//! - the signed-distance slice, when asked for, shows both inside (blue) and
+//!   outside (red) pixels and its zero contour, and is absent otherwise;
+//! - a broken mesh file makes the scripted mode fail with the file's name, and
+//!   a slice asked of a mesh without faces fails with the library's reason.
 //!
 //! The event loop must run on a process's main thread, so this test has its
 //! own `main` (`harness = false`): the parent process starts itself again as
@@ -21,10 +24,10 @@
 
 use proxima::math::Vec3;
 use proxima::prelude::*;
-use proxima::{AabbTree, BuildConfig, Mesh};
+use proxima::{AabbTree, BuildConfig, Mesh, Sign};
 use proxima_viewer::scene::colors;
 use proxima_viewer::{
-    InitialView, ModelSource, OrbitCamera, PrimitiveKind, ScreenshotOptions, ViewerOptions, Viewport,
+    Axis, InitialView, ModelSource, OrbitCamera, PrimitiveKind, ScreenshotOptions, ViewerOptions, Viewport,
 };
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode, Stdio};
@@ -43,6 +46,8 @@ struct Scenario {
     ray: Option<(Vec3, Vec3)>,
     /// A second camera's eye and target (frustum query shown).
     frustum: Option<(Vec3, Vec3)>,
+    /// A signed-distance slice: its axis, position and sign method.
+    slice: Option<(Axis, Option<f32>, Sign)>,
     frames: u32,
 }
 
@@ -62,6 +67,7 @@ fn scenarios() -> Vec<Scenario> {
             cells: None,
             ray: None,
             frustum: None,
+            slice: None,
             frames: 5,
         },
         Scenario {
@@ -72,6 +78,7 @@ fn scenarios() -> Vec<Scenario> {
             cells: Some(0.5),
             ray: Some((Vec3::new(-6.0, 1.0, -4.0), Vec3::new(1.0, 0.45, 0.7))),
             frustum: None,
+            slice: None,
             frames: 5,
         },
         Scenario {
@@ -82,6 +89,40 @@ fn scenarios() -> Vec<Scenario> {
             cells: None,
             ray: None,
             frustum: Some((Vec3::new(-15.0, 5.0, 0.0), Vec3::new(0.0, 6.0, 0.0))),
+            slice: None,
+            frames: 3,
+        },
+        Scenario {
+            name: "bunny_slice_winding",
+            mesh: BUNNY.into(),
+            kind: PrimitiveKind::Faces,
+            query: Vec3::new(3.0, 6.0, 4.0),
+            cells: None,
+            ray: None,
+            frustum: None,
+            slice: Some((Axis::Z, None, Sign::WindingNumber)),
+            frames: 3,
+        },
+        Scenario {
+            name: "bunny_slice_pseudonormal_x",
+            mesh: BUNNY.into(),
+            kind: PrimitiveKind::Faces,
+            query: Vec3::new(3.0, 6.0, 4.0),
+            cells: None,
+            ray: None,
+            frustum: None,
+            slice: Some((Axis::X, Some(0.5), Sign::Pseudonormal)),
+            frames: 3,
+        },
+        Scenario {
+            name: "points_slice",
+            mesh: point_cloud_file(),
+            kind: PrimitiveKind::Vertices,
+            query: Vec3::ZERO,
+            cells: None,
+            ray: None,
+            frustum: None,
+            slice: Some((Axis::Z, None, Sign::WindingNumber)),
             frames: 3,
         },
         Scenario {
@@ -92,6 +133,7 @@ fn scenarios() -> Vec<Scenario> {
             cells: None,
             ray: None,
             frustum: None,
+            slice: None,
             frames: 3,
         },
     ];
@@ -104,6 +146,7 @@ fn scenarios() -> Vec<Scenario> {
             cells: Some(0.002),
             ray: None,
             frustum: None,
+            slice: None,
             frames: 8,
         });
     } else {
@@ -127,6 +170,12 @@ fn broken_file() -> PathBuf {
     }
 }
 
+/// A mesh of three vertices and no face (no signed distance), beside the
+/// broken file.
+fn point_cloud_file() -> PathBuf {
+    broken_file().with_file_name("points.obj")
+}
+
 fn main() -> ExitCode {
     if let Ok(name) = std::env::var("PROXIMA_VIEWER_CHILD") {
         return child(&name);
@@ -148,6 +197,7 @@ fn main() -> ExitCode {
         return ExitCode::SUCCESS;
     }
     std::fs::write(broken_file(), "v 0 0 0\nv 1 0 0\nf 1 2 7\n").expect("write the broken file");
+    std::fs::write(point_cloud_file(), "v 0 0 0\nv 1 0 0\nv 0 1 0\n").expect("write the point cloud");
     let dir = out_dir();
     let mut failures = 0;
     for scenario in scenarios() {
@@ -200,6 +250,8 @@ fn child(name: &str) -> ExitCode {
             cells: scenario.cells,
             ray: scenario.ray,
             frustum: scenario.frustum,
+            slice: scenario.slice.map(|(axis, position, _)| (axis, position)),
+            slice_sign: scenario.slice.map(|(_, _, sign)| sign),
             ..Default::default()
         },
         screenshot: Some(ScreenshotOptions {
@@ -276,6 +328,15 @@ fn run_scenario(s: &Scenario, dir: &Path, xvfb: Option<&Path>) -> Result<String,
         )?;
         return Ok("(error reported)".into());
     }
+    if s.name == "points_slice" {
+        check(!success, "the scripted mode drew a slice of a mesh without faces")?;
+        check(!log.contains("panicked"), &format!("the viewer panicked:\n{log}"))?;
+        check(
+            log.contains("slice: the mesh has no faces"),
+            &format!("no 'slice: the mesh has no faces' in the output:\n{log}"),
+        )?;
+        return Ok("(error reported)".into());
+    }
     check(success, &format!("the viewer failed:\n{log}"))?;
     let sidecar: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string(format!("{}.json", out.display())).map_err(|e| format!("sidecar: {e}"))?,
@@ -345,8 +406,9 @@ fn run_scenario(s: &Scenario, dir: &Path, xvfb: Option<&Path>) -> Result<String,
     let coverage = mesh as f64 / view_pixels;
     let bg = colors::BACKGROUND;
     let (background, _) = count(&|p| near(p[0], bg[0], 2) && near(p[1], bg[1], 2) && near(p[2], bg[2], 2));
+    // The slice hides the mesh behind it and the cut removes the mesh in front.
     check(
-        (0.03..0.85).contains(&coverage),
+        s.slice.is_some() || (0.03..0.85).contains(&coverage),
         &format!("mesh covers {:.1}% of the view", 100.0 * coverage),
     )?;
     check(
@@ -440,15 +502,43 @@ fn run_scenario(s: &Scenario, dir: &Path, xvfb: Option<&Path>) -> Result<String,
             &format!("{selected} frustum-highlight pixels without a frustum"),
         )?;
     }
+    // The slice: blue inside (red = green, unlike the mesh's blue), red
+    // outside (green = blue), a dark zero contour; none without a slice.
+    let (slice_blue, _) = count(&|p| p[2] as i32 > p[0] as i32 + 60 && p[0].abs_diff(p[1]) <= 4);
+    let (slice_red, _) = count(&|p| p[0] as i32 > p[2] as i32 + 60 && p[1].abs_diff(p[2]) <= 4);
+    let z = colors::ZERO_CONTOUR;
+    let (contour, _) = count(&|p| near(p[0], z[0], 12) && near(p[1], z[1], 12) && near(p[2], z[2], 12));
+    let slice_cells = sidecar["slice_cells"].as_u64().unwrap_or(0);
+    let slice_inside = sidecar["slice_inside"].as_u64().unwrap_or(0);
+    if s.slice.is_some() {
+        check(
+            slice_cells > 1000 && slice_inside > 0 && slice_inside < slice_cells,
+            &format!("slice: {slice_inside} of {slice_cells} cells inside"),
+        )?;
+        check(
+            slice_blue as f64 > 0.01 * view_pixels && slice_red as f64 > 0.01 * view_pixels,
+            &format!("slice: {slice_blue} blue and {slice_red} red pixels"),
+        )?;
+        check(contour > 50, &format!("zero contour: only {contour} dark pixels"))?;
+    } else {
+        check(
+            slice_cells == 0 && slice_blue < 50,
+            &format!("{slice_blue} slice-blue pixels and {slice_cells} slice cells without a slice"),
+        )?;
+    }
     let frames = format!(
-        "frame {} ms mean, {} ms max; {} triangles, {} cells; mesh {:.1}% of the view, marker {:.1} px from the projection, {} frustum-highlight pixels",
+        "frame {} ms mean, {} ms max; {} triangles, {} cells; mesh {:.1}% of the view, marker {:.1} px from the projection, {} frustum-highlight pixels, slice {}/{} cells inside, {} blue and {} red pixels",
         sidecar["frame_ms_mean"],
         sidecar["frame_ms_max"],
         sidecar["triangles"],
         sidecar_cells,
         100.0 * coverage,
         dx.hypot(dy),
-        selected
+        selected,
+        slice_inside,
+        slice_cells,
+        slice_blue,
+        slice_red
     );
     Ok(frames)
 }

@@ -3,8 +3,8 @@
 
 use crate::common::{DEFAULT_MODEL_NAME, kind_parser, load_or_default, parse_vec3};
 use anyhow::Result;
-use proxima::{PrimitiveKind, Vec3};
-use proxima_viewer::{InitialView, ModelSource, ScreenshotOptions, ViewerOptions};
+use proxima::{PrimitiveKind, Sign, Vec3};
+use proxima_viewer::{Axis, InitialView, ModelSource, ScreenshotOptions, ViewerOptions};
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -49,6 +49,18 @@ pub struct Args {
     /// Vertical field of view of the second camera, in degrees.
     #[arg(long, value_name = "DEG", value_parser = parse_fov, requires = "frustum")]
     frustum_fov: Option<f32>,
+    /// Show a slice coloured by signed distance, normal to AXIS (x, y or z), at POSITION
+    /// (the middle of the model's box when omitted).
+    #[arg(long, value_name = "AXIS[,POSITION]", value_parser = parse_slice, allow_hyphen_values = true)]
+    slice: Option<(Axis, Option<f32>)>,
+    /// How the slice and the query point's signed distance decide inside: winding (the
+    /// generalized winding number) or pseudonormal.
+    #[arg(long, value_name = "METHOD", value_parser = parse_sign)]
+    slice_sign: Option<Sign>,
+    /// Camera yaw about +y and pitch above the horizon, in degrees (yaw 0 looks along -z;
+    /// the default view is 29,17).
+    #[arg(long, value_name = "YAW,PITCH", value_parser = parse_angles, allow_hyphen_values = true)]
+    camera: Option<[f32; 2]>,
     /// Window size in points.
     #[arg(long, value_name = "WxH", default_value = "1280x800", value_parser = parse_size)]
     size: [f32; 2],
@@ -96,6 +108,37 @@ fn parse_fov(text: &str) -> Result<f32, String> {
     }
 }
 
+fn parse_slice(text: &str) -> Result<(Axis, Option<f32>), String> {
+    let (axis, position) = match text.split_once(',') {
+        Some((axis, position)) => (axis, Some(position)),
+        None => (text, None),
+    };
+    let axis: Axis = axis.parse()?;
+    let position = match position {
+        None => None,
+        Some(p) => match p.trim().parse::<f32>() {
+            Ok(v) if v.is_finite() => Some(v),
+            _ => return Err(format!("expected a finite slice position after the axis, got '{p}'")),
+        },
+    };
+    Ok((axis, position))
+}
+
+fn parse_sign(text: &str) -> Result<Sign, String> {
+    text.trim().parse()
+}
+
+fn parse_angles(text: &str) -> Result<[f32; 2], String> {
+    let numbers: Vec<&str> = text.split([',', ' ', '\t']).filter(|s| !s.is_empty()).collect();
+    let angles: Vec<f32> = numbers.iter().filter_map(|s| s.parse::<f32>().ok()).collect();
+    match angles[..] {
+        [yaw, pitch] if numbers.len() == 2 && yaw.is_finite() && (-90.0..=90.0).contains(&pitch) => Ok([yaw, pitch]),
+        _ => Err(format!(
+            "expected YAW,PITCH in degrees with the pitch between -90 and 90, got '{text}'"
+        )),
+    }
+}
+
 fn parse_size(text: &str) -> Result<[f32; 2], String> {
     let (w, h) = text
         .split_once(['x', 'X'])
@@ -134,6 +177,9 @@ pub fn run(args: Args) -> Result<()> {
             k: args.k,
             frustum: args.frustum,
             frustum_fov: args.frustum_fov,
+            slice: args.slice,
+            slice_sign: args.slice_sign,
+            camera: args.camera,
         },
         screenshot: args.screenshot.map(|path| ScreenshotOptions {
             path,
@@ -190,5 +236,19 @@ mod tests {
         assert_eq!(parse_fov("30").unwrap(), 30.0);
         assert!(parse_fov("0").is_err() && parse_fov("180").is_err() && parse_fov("x").is_err());
         assert!(parse_cell_size("0").is_err() && parse_cell_size("-1").is_err() && parse_cell_size("x").is_err());
+    }
+
+    #[test]
+    fn slice_sign_and_camera_arguments() {
+        assert_eq!(parse_slice("z").unwrap(), (Axis::Z, None));
+        assert_eq!(parse_slice("x,-0.25").unwrap(), (Axis::X, Some(-0.25)));
+        assert!(parse_slice("w").is_err() && parse_slice("y,nan").is_err() && parse_slice("y,").is_err());
+        assert_eq!(parse_sign("winding").unwrap(), Sign::WindingNumber);
+        assert_eq!(parse_sign("pseudonormal").unwrap(), Sign::Pseudonormal);
+        assert!(parse_sign("parity").is_err());
+        assert_eq!(parse_angles("0,90").unwrap(), [0.0, 90.0]);
+        assert_eq!(parse_angles("-30 10").unwrap(), [-30.0, 10.0]);
+        assert!(parse_angles("0,91").is_err() && parse_angles("1").is_err() && parse_angles("1,x").is_err());
+        assert!(parse_angles("inf,0").is_err() && parse_angles("1,2,3").is_err());
     }
 }

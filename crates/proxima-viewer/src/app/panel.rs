@@ -3,9 +3,10 @@
 
 use super::{Keys, ViewerApp};
 use crate::model::{Model, ModelSource};
-use crate::settings::{Settings, nice_size};
+use crate::settings::{Axis, Settings, nice_size};
+use crate::slice::sign_name;
 use eframe::egui::{self, Color32, RichText};
-use proxima::{PrimitiveKind, Vec3};
+use proxima::{PrimitiveKind, Sign, Vec3};
 use std::path::PathBuf;
 
 impl ViewerApp {
@@ -20,7 +21,13 @@ impl ViewerApp {
         };
         egui::CollapsingHeader::new("Closest point")
             .default_open(true)
-            .show(ui, |ui| self.query_section(ui, &model));
+            .show(ui, |ui| {
+                self.query_section(ui, &model);
+                self.readout_section(ui);
+            });
+        egui::CollapsingHeader::new("Signed distance slice")
+            .default_open(true)
+            .show(ui, |ui| self.slice_section(ui, &model));
         egui::CollapsingHeader::new("Hash grid and ray")
             .default_open(true)
             .show(ui, |ui| self.grid_section(ui, &model));
@@ -153,6 +160,124 @@ impl ViewerApp {
                 ui.end_row();
             }
         });
+    }
+
+    /// The query point's signed distance and winding number, next to its
+    /// closest point.
+    fn readout_section(&mut self, ui: &mut egui::Ui) {
+        ui.checkbox(
+            &mut self.settings.show_signed_distance,
+            "signed distance and winding number",
+        );
+        let s = &self.settings;
+        if !s.show_signed_distance {
+            return;
+        }
+        if let Some(Err(e)) = self.field(s.slice_sign) {
+            ui.colored_label(Color32::from_rgb(255, 110, 110), e);
+            return;
+        }
+        let Some(r) = self.current_readout() else {
+            if self.building_field() {
+                ui.horizontal(|ui| {
+                    ui.spinner();
+                    ui.label("building the signed distance field…");
+                });
+            }
+            return;
+        };
+        egui::Grid::new("signed distance").num_columns(2).show(ui, |ui| {
+            ui.label("signed distance");
+            match r.signed_distance {
+                Some(d) => {
+                    ui.label(format!("{:.6}", d.distance));
+                    ui.end_row();
+                    ui.label("side");
+                    let side = if d.is_inside() { "inside" } else { "outside" };
+                    ui.label(format!("{side} (by the {})", sign_name(r.sign)))
+                }
+                None => ui.label("no answer"),
+            };
+            ui.end_row();
+            ui.label("winding number");
+            ui.label(format!("{:.4}", r.winding_number));
+            ui.end_row();
+        });
+        if r.methods_disagree() {
+            let by_winding = if r.winding_number > 0.5 { "inside" } else { "outside" };
+            ui.colored_label(
+                Color32::from_rgb(255, 200, 80),
+                format!("the winding number says {by_winding}: the methods disagree here"),
+            );
+        }
+    }
+
+    fn slice_section(&mut self, ui: &mut egui::Ui, model: &Model) {
+        let running = self.derived.slice.running();
+        let s = &mut self.settings;
+        ui.checkbox(&mut s.show_slice, "show a slice coloured by signed distance");
+        let axis_before = s.slice_axis;
+        ui.horizontal(|ui| {
+            ui.label("normal");
+            for axis in Axis::ALL {
+                ui.radio_value(&mut s.slice_axis, axis, axis.name());
+            }
+        });
+        let (lo, hi) = Settings::slice_range(&model.bounds, s.slice_axis);
+        if s.slice_axis != axis_before {
+            s.slice_position = 0.5 * (lo + hi);
+        }
+        let mut position = s.slice_position;
+        let slider = egui::Slider::new(&mut position, lo..=hi)
+            .text("position")
+            .clamping(egui::SliderClamping::Never)
+            .drag_value_speed(((hi - lo).max(1e-6) / 500.0) as f64);
+        if ui.add(slider).changed() && position.is_finite() {
+            s.slice_position = position;
+        }
+        ui.horizontal(|ui| {
+            ui.label("sign by");
+            for sign in [Sign::WindingNumber, Sign::Pseudonormal] {
+                ui.radio_value(&mut s.slice_sign, sign, sign_name(sign));
+            }
+        });
+        ui.checkbox(&mut s.slice_cut_mesh, "cut the mesh away in front of the slice");
+        ui.label(
+            RichText::new("Blue inside, red outside, white on the surface; the black line is where the sign changes.")
+                .weak(),
+        );
+        if !s.show_slice {
+            return;
+        }
+        let sign = s.slice_sign;
+        if let Some(Err(e)) = self.field(sign) {
+            ui.colored_label(Color32::from_rgb(255, 110, 110), e);
+            return;
+        }
+        if running || self.building_field() {
+            ui.horizontal(|ui| {
+                ui.spinner();
+                ui.label("computing…");
+            });
+        }
+        match self.derived.slice.memo.latest() {
+            Some(Ok(slice)) => {
+                let [nu, nv] = slice.plane.resolution;
+                ui.label(format!(
+                    "{nu} × {nv} cells at {} = {:.4} by the {}: {} inside, max |d| {:.4}, in {}",
+                    slice.plane.axis.name(),
+                    slice.plane.position,
+                    sign_name(slice.sign),
+                    slice.inside,
+                    slice.max_abs,
+                    format_seconds(slice.seconds)
+                ));
+            }
+            Some(Err(e)) => {
+                ui.colored_label(Color32::from_rgb(255, 110, 110), e);
+            }
+            None => {}
+        }
     }
 
     fn grid_section(&mut self, ui: &mut egui::Ui, model: &Model) {

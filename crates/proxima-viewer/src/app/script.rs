@@ -52,6 +52,16 @@ impl ViewerApp {
         } else {
             0
         };
+        // A slice asked for that cannot be made fails the script (the
+        // readout alone does not: it is not in the picture's purpose).
+        let slice_error = if self.settings.show_slice {
+            let field_error = self.field(self.settings.slice_sign).and_then(|f| f.as_ref().err());
+            let slice_error = self.derived.slice.memo.latest().and_then(|s| s.as_ref().err());
+            field_error.or(slice_error).cloned()
+        } else {
+            None
+        };
+        let (slice_cells, slice_inside) = self.current_slice().map_or((0, 0), |s| (s.values.len(), s.inside));
         let Some(script) = &mut self.script else {
             return;
         };
@@ -83,6 +93,9 @@ impl ViewerApp {
                     if let Some(Err(e)) = self.derived.ray.latest() {
                         return fail(script, format!("ray: {e}"));
                     }
+                    if let Some(e) = slice_error {
+                        return fail(script, format!("slice: {e}"));
+                    }
                     script.stage = ScriptStage::Rendering(0);
                     self.timer.reset();
                 }
@@ -108,6 +121,8 @@ impl ViewerApp {
                         model: self.model.as_ref().map_or(String::new(), |m| m.name.clone()),
                         triangles: self.model.as_ref().map_or(0, |m| m.count(PrimitiveKind::Faces)),
                         cells: cells_drawn,
+                        slice_cells,
+                        slice_inside,
                     };
                     let path = script.options.path.clone();
                     let written = save_png(&path, &image).and_then(|()| {

@@ -19,7 +19,11 @@ impl ViewerApp {
             && self.needs_fit
             && rect.width() > 1.0
         {
-            self.camera = OrbitCamera::fit(&model.bounds, self.viewport.aspect());
+            self.camera = OrbitCamera::default();
+            if let Some([yaw, pitch]) = self.camera_angles.take() {
+                self.camera.set_angles_degrees(yaw, pitch);
+            }
+            self.camera.fit_to(&model.bounds, self.viewport.aspect());
             self.needs_fit = false;
         }
         let interactive = self.handle_mouse(ui, &response);
@@ -40,6 +44,8 @@ impl ViewerApp {
             nodes: d.nodes.latest(),
             spheres: d.spheres.latest().map(|(_, o)| o),
             frustum: d.frustum.latest().and_then(|f| f.as_ref().ok()),
+            slice: self.current_slice().map(|s| s.as_ref()),
+            query_inside: self.current_readout().and_then(|r| r.inside()),
         });
         frame.interactive = interactive;
         if let Some(script) = &self.script {
@@ -80,6 +86,12 @@ impl ViewerApp {
         }
         if self.derived.grid.running() {
             status.push("building the grid…".to_string());
+        }
+        if self.building_field() {
+            status.push("building the signed distance field…".to_string());
+        }
+        if self.derived.slice.running() {
+            status.push("computing the slice…".to_string());
         }
         let hovering_files = ui.input(|i| !i.raw.hovered_files.is_empty());
         if hovering_files {
