@@ -1,6 +1,7 @@
 //! A fuzz target for the command line's argument space, run as a smoke test:
 //! a few hundred seeded random combinations of the options that size work
-//! (resolutions, cell sizes, thread counts, step counts, query counts, k)
+//! (resolutions, cell sizes, thread counts, step counts, query counts, k,
+//! sample counts and spreads)
 //! and of coordinates at the extremes (0, -0, 1e-45, 1e-30, 1e30, 3.4e38,
 //! inf, nan, u64 and i64 extremes), on a tiny mesh and the embedded bunny.
 //!
@@ -117,7 +118,7 @@ fn arguments(rng: &mut Rng, meshes: &[&str]) -> Vec<String> {
     let mesh = rng.pick(meshes).to_string();
     let mut args: Vec<String> = Vec::new();
     let mut push = |a: &[&str]| args.extend(a.iter().map(|s| s.to_string()));
-    match rng.next() % 6 {
+    match rng.next() % 7 {
         0 => {
             push(&["voxelize", &mesh, "--res", rng.pick(RESOLUTIONS)]);
             if rng.chance(50) {
@@ -165,6 +166,30 @@ fn arguments(rng: &mut Rng, meshes: &[&str]) -> Vec<String> {
             push(&["closest", &mesh, "--point", &p, "-k", rng.pick(KS)]);
             if rng.chance(30) {
                 push(&["--method", "linear"]);
+            }
+        }
+        5 => {
+            match rng.next() % 3 {
+                0 => {
+                    let p = point(rng);
+                    push(&["sdf", &mesh, "--point", &p]);
+                    if rng.chance(30) {
+                        push(&["--exact"]);
+                    }
+                }
+                1 => push(&["sdf", &mesh, "--grid", rng.pick(RESOLUTIONS), "--out", "g.npy"]),
+                _ => {
+                    push(&["sdf", &mesh, "--sample", rng.pick(QUERIES), "--out", "s.npz"]);
+                    if rng.chance(40) {
+                        push(&["--near-sigma", rng.pick(NUMBERS)]);
+                    }
+                }
+            }
+            if rng.chance(30) {
+                push(&["--sign", "pseudonormal"]);
+            }
+            if rng.chance(30) {
+                push(&["--threads", rng.pick(THREADS)]);
             }
         }
         _ => {
