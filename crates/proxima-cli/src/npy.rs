@@ -94,6 +94,8 @@ mod tests {
         let mut bytes = Vec::new();
         write(&mut bytes, &[2], false, &[1.0, -2.5]).unwrap();
         assert_eq!(bytes.len() as u64, file_len(&[2], 2));
-        assert_eq!(&bytes[64..], [1f32.to_le_bytes(), (-2.5f32).to_le_bytes()].concat());
+        let data = header(&[2], false).len();
+        assert_eq!(data, 128, "the dict does not fit the first 64 bytes");
+        assert_eq!(&bytes[data..], [1f32.to_le_bytes(), (-2.5f32).to_le_bytes()].concat());
     }
 }
