@@ -109,7 +109,7 @@ pub fn run(options: &Options) -> Result<()> {
         let field = |sign| {
             let config = SdfConfig {
                 sign,
-                build: options.build.clone(),
+                build: options.build,
                 ..SdfConfig::default()
             };
             timed(|| SignedDistanceField::new(&mesh, &config))
