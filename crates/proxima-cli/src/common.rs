@@ -53,6 +53,20 @@ pub fn read_points(path: &Path) -> Result<Vec<Vec3>> {
     Ok(proxima::io::load_points(path, &load_options()?)?)
 }
 
+/// The query points of `--point X,Y,Z` (checked against the trees' range,
+/// see [`check_query_point`]) or `--points FILE` (see [`read_points`]),
+/// whichever was given.
+pub fn query_points(point: Option<Vec3>, points: Option<&Path>) -> Result<Vec<Vec3>> {
+    match (point, points) {
+        (Some(p), _) => {
+            check_query_point(p, "--point")?;
+            Ok(vec![p])
+        }
+        (None, Some(file)) => read_points(file),
+        (None, None) => bail!("give --point X,Y,Z or --points FILE"),
+    }
+}
+
 /// The environment variable that lowers (or raises) the decompression cap of
 /// `.gz` meshes, in bytes (default [`proxima::io::default_max_input_bytes`]).
 pub const MAX_DECOMPRESSED_ENV: &str = "PROXIMA_MAX_DECOMPRESSED_BYTES";

@@ -6,6 +6,7 @@
 
 mod commands;
 mod common;
+mod npy;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -38,6 +39,8 @@ enum Command {
     Traverse(commands::traverse::Args),
     /// The first face a ray hits, through a hash grid.
     Raycast(commands::raycast::Args),
+    /// Signed distances (negative inside) at points as CSV, on an N³ grid as .npy, or at training samples as .npz.
+    Sdf(commands::sdf::Args),
     /// Interactive viewer (needs a display); `--screenshot` renders one frame to a PNG.
     View(commands::view::Args),
 }
@@ -55,6 +58,7 @@ fn main() -> ExitCode {
         Command::Voxelize(args) => commands::voxelize::run(args),
         Command::Traverse(args) => commands::traverse::run(args),
         Command::Raycast(args) => commands::raycast::run(args),
+        Command::Sdf(args) => commands::sdf::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,6 +1,7 @@
 //! A fuzz target for the command line's argument space, run as a smoke test:
 //! a few hundred seeded random combinations of the options that size work
-//! (resolutions, cell sizes, thread counts, step counts, query counts, k)
+//! (resolutions, cell sizes, thread counts, step counts, query counts, k,
+//! sample counts and spreads)
 //! and of coordinates at the extremes (0, -0, 1e-45, 1e-30, 1e30, 3.4e38,
 //! inf, nan, u64 and i64 extremes), on a tiny mesh and the embedded bunny.
 //!
@@ -180,6 +181,37 @@ fn arguments(rng: &mut Rng, meshes: &[&str]) -> Vec<String> {
     args
 }
 
+/// One random `sdf` command line, drawn from its own generator so that the
+/// other commands' lines stay those of the seeds before `sdf` existed.
+fn sdf_arguments(rng: &mut Rng, meshes: &[&str]) -> Vec<String> {
+    let mesh = rng.pick(meshes).to_string();
+    let mut args: Vec<String> = Vec::new();
+    let mut push = |a: &[&str]| args.extend(a.iter().map(|s| s.to_string()));
+    match rng.next() % 3 {
+        0 => {
+            let p = point(rng);
+            push(&["sdf", &mesh, "--point", &p]);
+            if rng.chance(30) {
+                push(&["--exact"]);
+            }
+        }
+        1 => push(&["sdf", &mesh, "--grid", rng.pick(RESOLUTIONS), "--out", "g.npy"]),
+        _ => {
+            push(&["sdf", &mesh, "--sample", rng.pick(QUERIES), "--out", "s.npz"]);
+            if rng.chance(40) {
+                push(&["--near-sigma", rng.pick(NUMBERS)]);
+            }
+        }
+    }
+    if rng.chance(30) {
+        push(&["--sign", "pseudonormal"]);
+    }
+    if rng.chance(30) {
+        push(&["--threads", rng.pick(THREADS)]);
+    }
+    args
+}
+
 /// The peak resident memory of a running process (`VmHWM`), in bytes.
 fn peak_bytes(pid: u32) -> Option<u64> {
     let status = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
@@ -249,17 +281,25 @@ fn cli_argument_space() {
     let mut rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1);
     let start = Instant::now();
     let mut failures = Vec::new();
-    for _ in 0..runs {
-        let args = arguments(&mut rng, &meshes);
+    let mut sdf_rng = Rng(seed.wrapping_mul(0xd1b5_4a32_d192_ed03) | 1);
+    let lines = (0..runs)
+        .map(|_| arguments(&mut rng, &meshes))
+        .chain((0..runs / 5).map(|_| sdf_arguments(&mut sdf_rng, &meshes)));
+    for args in lines {
         if let Err(e) = run(&args, dir.path()) {
             failures.push(format!("proxima {}: {e}", args.join(" ")));
         }
     }
-    println!("{runs} command lines in {:.1} s", start.elapsed().as_secs_f64());
+    println!(
+        "{} command lines in {:.1} s",
+        runs + runs / 5,
+        start.elapsed().as_secs_f64()
+    );
     assert!(
         failures.is_empty(),
-        "{} of {runs} failed:\n{}",
+        "{} of {} failed:\n{}",
         failures.len(),
+        runs + runs / 5,
         failures.join("\n")
     );
 }

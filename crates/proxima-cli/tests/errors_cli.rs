@@ -810,3 +810,119 @@ fn ray_origin_too_far() {
     let out = proxima(&["raycast", &mesh, "--origin", "0.2,0.2,1e8", "--dir", "0,0,-1"]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
 }
+
+// ------------------------------------------------------ signed distance ---
+
+#[test]
+fn sdf_non_finite_query_point() {
+    let mesh = triangle_file("sdf_non_finite_query_point");
+    for point in ["nan,0,0", "0,inf,0", "0,0,-inf"] {
+        let out = proxima(&["sdf", &mesh, "--point", point]);
+        assert_one_line_error(&out, 2, &["not a finite number"]);
+    }
+    let (_dir, points) = file_with("nan.pts", b"0 0 0\n0.1 nan 0\n");
+    let out = proxima(&["sdf", &mesh, "--points", &points]);
+    assert_one_line_error(&out, 1, &["nan.pts:2", "'nan' is not a finite number"]);
+}
+
+#[test]
+fn sdf_grid_resolution_zero() {
+    let mesh = triangle_file("sdf_grid_resolution_zero");
+    let dir = temp_dir("sdf_grid_resolution_zero_out");
+    let out_path = dir.join("g.npy");
+    let out = proxima(&["sdf", &mesh, "--grid", "0", "--out", out_path.to_str().unwrap()]);
+    assert_one_line_error(&out, 1, &["--grid must be at least 1"]);
+    assert!(!out_path.exists(), "nothing written");
+}
+
+#[test]
+fn sdf_grid_beyond_the_memory_budget() {
+    let mesh = triangle_file("sdf_grid_beyond_the_memory_budget");
+    let dir = temp_dir("sdf_grid_beyond_the_memory_budget_out");
+    let out_path = dir.join("g.npy");
+    let start = std::time::Instant::now();
+    let out = proxima(&["sdf", &mesh, "--grid", "100000", "--out", out_path.to_str().unwrap()]);
+    assert_one_line_error(
+        &out,
+        1,
+        &[
+            "--grid 100000: 1000000000000000 cells of 4 bytes need about 3.6 PiB (4000000000000000 bytes), \
+             more than the memory budget of",
+        ],
+    );
+    assert!(start.elapsed().as_secs_f64() < 5.0, "refused before any work");
+    assert!(!out_path.exists(), "nothing written");
+    // The budget of the environment applies: 64³ cells of 4 bytes are 1 MiB.
+    let args = ["sdf", &mesh, "--grid", "65", "--out", out_path.to_str().unwrap()];
+    let out = proxima_env(&args, &[("PROXIMA_MEMORY_BUDGET", "1M")]);
+    assert_one_line_error(&out, 1, &["--grid 65: 274625 cells", "memory budget of 1.0 MiB"]);
+    let args = ["sdf", &mesh, "--grid", "64", "--out", out_path.to_str().unwrap()];
+    assert!(proxima_env(&args, &[("PROXIMA_MEMORY_BUDGET", "1M")]).status.success());
+}
+
+#[test]
+fn sdf_sample_count_zero() {
+    let mesh = triangle_file("sdf_sample_count_zero");
+    let dir = temp_dir("sdf_sample_count_zero_out");
+    let out_path = dir.join("s.npz");
+    let out = proxima(&["sdf", &mesh, "--sample", "0", "--out", out_path.to_str().unwrap()]);
+    assert_one_line_error(&out, 1, &["--sample must be at least 1"]);
+    assert!(!out_path.exists(), "nothing written");
+    // And beyond the budget: 128 bytes per sample counted.
+    let args = [
+        "sdf",
+        &mesh,
+        "--sample",
+        "18446744073709551615",
+        "--out",
+        out_path.to_str().unwrap(),
+    ];
+    assert_one_line_error(&proxima(&args), 1, &["--sample 18446744073709551615", "memory budget"]);
+    // Without --out: a usage error.
+    assert_one_line_error(&proxima(&["sdf", &mesh, "--sample", "10"]), 2, &["--out"]);
+}
+
+#[test]
+fn sdf_mesh_without_faces() {
+    let (_dir, vertices) = file_with("verts.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\n");
+    for args in [
+        vec!["sdf", &vertices, "--point", "0,0,0"],
+        vec!["sdf", &vertices, "--grid", "4", "--out", "/dev/null"],
+        vec!["bench", &vertices, "--query", "sdf", "--queries", "10"],
+    ] {
+        assert_one_line_error(&proxima(&args), 1, &["verts.obj: the mesh has no faces"]);
+    }
+}
+
+#[test]
+fn sdf_points_file_bad_line() {
+    let mesh = triangle_file("sdf_points_file_bad_line");
+    let (_dir, points) = file_with("bad.pts", b"0 0 0\n# ok\n1 2\n");
+    let out = proxima(&["sdf", &mesh, "--points", &points]);
+    assert_one_line_error(&out, 1, &["bad.pts:3", "expected three numbers X,Y,Z, got '1 2'"]);
+}
+
+#[test]
+fn sdf_near_sigma_negative() {
+    let mesh = triangle_file("sdf_near_sigma_negative");
+    let dir = temp_dir("sdf_near_sigma_negative_out");
+    let out_path = dir.join("s.npz");
+    for (sigma, shown) in [("-1", "-1"), ("nan", "NaN"), ("inf", "inf")] {
+        let args = [
+            "sdf",
+            &mesh,
+            "--sample",
+            "10",
+            "--near-sigma",
+            sigma,
+            "--out",
+            out_path.to_str().unwrap(),
+        ];
+        assert_one_line_error(
+            &proxima(&args),
+            1,
+            &[&format!("--near-sigma must be finite and not negative, got {shown}")],
+        );
+    }
+    assert!(!out_path.exists(), "nothing written");
+}

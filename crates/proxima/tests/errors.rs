@@ -900,3 +900,129 @@ fn ray_origin_too_far() {
         .unwrap();
     assert_eq!(hit.primitive, 0);
 }
+
+// ------------------------------------------------------ signed distance ---
+
+/// The field of a closed sphere of radius about 1 around the origin.
+fn sphere_field() -> proxima::SignedDistanceField {
+    let sphere = proxima::mesh::generate::noisy_icosphere(3, 1);
+    proxima::SignedDistanceField::new(&sphere, &proxima::SdfConfig::default()).unwrap()
+}
+
+#[test]
+fn sdf_non_finite_query_point() {
+    // Not an error: no answer, winding number 0, not inside; batches alike.
+    for sign in [proxima::Sign::WindingNumber, proxima::Sign::Pseudonormal] {
+        let sphere = proxima::mesh::generate::noisy_icosphere(3, 1);
+        let config = proxima::SdfConfig {
+            sign,
+            ..Default::default()
+        };
+        let field = proxima::SignedDistanceField::new(&sphere, &config).unwrap();
+        let points = [
+            Vec3::new(f32::NAN, 0.0, 0.0),
+            Vec3::new(0.0, f32::INFINITY, 0.0),
+            Vec3::new(0.0, 0.0, f32::NEG_INFINITY),
+        ];
+        for p in points {
+            assert_eq!(field.signed_distance(p), None);
+            assert_eq!(field.winding_number(p), 0.0);
+            assert!(!field.contains(p));
+        }
+        let batch = field.signed_distance_batch(&[points[0], Vec3::ZERO, points[1]]);
+        assert_eq!((batch[0], batch[2]), (None, None));
+        assert!(batch[1].unwrap().distance < 0.0, "the finite point between is answered");
+    }
+}
+
+#[test]
+fn sdf_grid_resolution_zero() {
+    let field = sphere_field();
+    let e = proxima::sdf::SdfGrid::around(&field.bounds(), 0, 0.05).unwrap_err();
+    assert_eq!(e, proxima::SdfError::Zero { option: "resolution" });
+    assert_eq!(e.to_string(), "resolution must be at least 1");
+}
+
+#[test]
+fn sdf_grid_beyond_the_memory_budget() {
+    let field = sphere_field();
+    let grid = proxima::sdf::SdfGrid::around(&field.bounds(), 100_000, 0.05).unwrap();
+    let start = std::time::Instant::now();
+    let mut reports = 0;
+    let e = field.sdf_grid(&grid, |_, _| reports += 1).unwrap_err();
+    assert!(start.elapsed().as_secs_f64() < 1.0, "refused before any work");
+    assert_eq!(reports, 0);
+    let budget = proxima::budget::default_memory_budget();
+    assert_eq!(
+        e,
+        proxima::SdfError::MemoryBudget {
+            option: "resolution",
+            value: 1_000_000_000_000_000,
+            bytes: 4_000_000_000_000_000,
+            budget
+        }
+    );
+    assert!(e.to_string().contains("more than the memory budget"), "{e}");
+}
+
+#[test]
+fn sdf_sample_count_zero() {
+    let field = sphere_field();
+    let zero = proxima::SdfError::Zero { option: "count" };
+    assert_eq!(field.sample_near_surface(0, 0.01, 1).unwrap_err(), zero);
+    assert_eq!(field.sample_uniform(0, 0.05, 1).unwrap_err(), zero);
+    assert_eq!(zero.to_string(), "count must be at least 1");
+    // A count beyond the budget is refused before anything is drawn.
+    let e = field.sample_uniform(usize::MAX, 0.05, 1).unwrap_err();
+    assert!(
+        matches!(e, proxima::SdfError::MemoryBudget { option: "count", .. }),
+        "{e}"
+    );
+}
+
+#[test]
+fn sdf_mesh_without_faces() {
+    let mesh = proxima::io::parse(
+        b"v 0 0 0\nv 1 0 0\nv 0 1 0\n",
+        proxima::io::Format::Obj,
+        "verts.obj".as_ref(),
+    )
+    .unwrap();
+    let e = proxima::SignedDistanceField::new(&mesh, &proxima::SdfConfig::default()).unwrap_err();
+    assert_eq!(e, proxima::SdfError::NoFaces);
+    assert_eq!(
+        e.to_string(),
+        "the mesh has no faces: a signed distance needs triangles"
+    );
+}
+
+#[test]
+fn sdf_points_file_bad_line() {
+    // The points reader `sdf --points` shares with `closest --points`.
+    let e = proxima::io::parse_points(b"0 0 0\n# ok\n1 2\n", "bad.pts".as_ref()).unwrap_err();
+    assert_load_error(
+        &e,
+        Path::new("bad.pts"),
+        Some(3),
+        "expected three numbers X,Y,Z, got '1 2'",
+        |k| matches!(k, LoadErrorKind::Syntax(_)),
+    );
+}
+
+#[test]
+fn sdf_near_sigma_negative() {
+    let field = sphere_field();
+    for sigma in [-1.0, f32::NAN, f32::INFINITY] {
+        let e = field.sample_near_surface(10, sigma, 1).unwrap_err();
+        assert!(
+            matches!(e, proxima::SdfError::Parameter { option: "sigma", value } if value.to_bits() == sigma.to_bits()),
+            "{e}"
+        );
+    }
+    assert_eq!(
+        field.sample_near_surface(10, -1.0, 1).unwrap_err().to_string(),
+        "sigma must be finite and not negative, got -1"
+    );
+    // Zero is a spread: the points on the surface.
+    assert_eq!(field.sample_near_surface(10, 0.0, 1).unwrap().points.len(), 10);
+}

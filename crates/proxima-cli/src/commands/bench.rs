@@ -1,6 +1,7 @@
-//! `proxima bench MESH [--primitives P] [--queries N | --points FILE] [--threads T] [--json]`:
+//! `proxima bench MESH [--query closest|sdf] [--primitives P] [--queries N | --points FILE] [--threads T] [--json]`:
 //! linear search against the AABB tree (binary, 4-wide, batch) and the
-//! sphere tree on the same queries.
+//! sphere tree on the same queries; with `--query sdf`, signed distances
+//! (`bench_sdf.rs`).
 
 use crate::common::{DEFAULT_KINDS, Split, kind_parser, load_mesh, parse_planarity, read_points};
 use anyhow::Context;
@@ -20,6 +21,18 @@ pub enum QuerySet {
     Uniform,
 }
 
+/// What is measured.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum QueryKind {
+    /// Closest-point queries, per primitive type.
+    Closest,
+    /// Signed distances on the faces: winding-number and pseudonormal signs,
+    /// single queries and batches, against the plain closest query and linear
+    /// search (the exact winding number); the near and uniform sets unless
+    /// --set or --points chooses one.
+    Sdf,
+}
+
 /// Arguments of `proxima bench`.
 #[derive(clap::Args)]
 pub struct Args {
@@ -34,9 +47,12 @@ pub struct Args {
     /// Query points from a file instead of generated ones.
     #[arg(long)]
     points: Option<PathBuf>,
-    /// Which generated query set.
-    #[arg(long, value_enum, default_value = "near")]
-    set: QuerySet,
+    /// Which generated query set (default: near; with --query sdf, both).
+    #[arg(long, value_enum)]
+    set: Option<QuerySet>,
+    /// What is measured.
+    #[arg(long, value_enum, default_value = "closest")]
+    query: QueryKind,
     /// Seed of the generated query set.
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -79,7 +95,8 @@ pub struct Record {
 }
 
 impl Record {
-    fn queries_per_second(&self) -> f64 {
+    /// Queries answered per second.
+    pub fn queries_per_second(&self) -> f64 {
         self.queries as f64 / self.seconds.max(1e-12)
     }
 }
@@ -220,13 +237,14 @@ fn bench_set<T: MeshPrimitive>(
 }
 
 /// Runs `f`, returning its value and its time in seconds.
-fn timed<R>(f: impl FnOnce() -> R) -> (R, f64) {
+pub fn timed<R>(f: impl FnOnce() -> R) -> (R, f64) {
     let start = Instant::now();
     let value = f();
     (value, start.elapsed().as_secs_f64())
 }
 
-fn bar(enabled: bool, len: usize, message: &str) -> ProgressBar {
+/// A progress bar on standard error, or a hidden one when not `enabled`.
+pub fn bar(enabled: bool, len: usize, message: &str) -> ProgressBar {
     if !enabled {
         return ProgressBar::hidden();
     }
@@ -303,6 +321,24 @@ pub fn print_table(records: &[Record]) -> std::io::Result<()> {
 /// Runs `proxima bench`.
 pub fn run(args: Args) -> anyhow::Result<()> {
     crate::common::thread_count(args.threads)?;
+    if args.query == QueryKind::Sdf {
+        if args.primitives.is_some_and(|kind| kind != PrimitiveKind::Faces) {
+            anyhow::bail!("--query sdf measures signed distances to the faces; --primitives cannot change that");
+        }
+        return super::bench_sdf::run(&super::bench_sdf::Options {
+            mesh: &args.mesh,
+            queries: args.queries,
+            points: args.points.as_deref(),
+            sets: args
+                .set
+                .map_or(vec![QuerySet::Near, QuerySet::Uniform], |set| vec![set]),
+            seed: args.seed,
+            threads: args.threads,
+            build: args.split.config(),
+            split: format!("{:?}", args.split).to_lowercase(),
+            json: args.json,
+        });
+    }
     let budget = crate::common::memory_budget()?;
     if args.points.is_none() && args.queries as u128 * BYTES_PER_QUERY as u128 > budget as u128 {
         anyhow::bail!(
@@ -315,7 +351,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let mesh = load_mesh(&args.mesh)?;
     let (points, set_name) = match &args.points {
         Some(file) => (read_points(file)?, file.display().to_string()),
-        None => match args.set {
+        None => match args.set.unwrap_or(QuerySet::Near) {
             QuerySet::Near => (
                 proxima::sample::near_surface(&mesh, args.queries, 0.01, args.seed),
                 "near".to_string(),

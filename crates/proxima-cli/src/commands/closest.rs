@@ -1,9 +1,9 @@
 //! `proxima closest MESH --primitives P (--point X,Y,Z | --points FILE) [-k K] [--method tree|linear]`.
 
 use crate::common::{
-    Split, kind_parser, load_mesh, parse_planarity, parse_vec3, read_points, require_primitives, run_kind,
+    Split, kind_parser, load_mesh, parse_planarity, parse_vec3, query_points, require_primitives, run_kind,
 };
-use anyhow::{Context, bail};
+use anyhow::Context;
 use proxima::prelude::*;
 use rayon::prelude::*;
 use std::io::{BufWriter, StdoutLock, Write};
@@ -53,14 +53,7 @@ pub struct Args {
 /// Prints CSV `query,rank,primitive,cx,cy,cz,distance`, k rows per query.
 pub fn run(args: Args) -> anyhow::Result<()> {
     let mesh = load_mesh(&args.mesh)?;
-    let points = match (&args.point, &args.points) {
-        (Some(p), _) => {
-            crate::common::check_query_point(*p, "--point")?;
-            vec![*p]
-        }
-        (None, Some(file)) => read_points(file)?,
-        (None, None) => bail!("give --point X,Y,Z or --points FILE"),
-    };
+    let points = query_points(args.point, args.points.as_deref())?;
     require_primitives(&mesh, args.primitives, &args.mesh)?;
     let mut rows = Rows::new();
     writeln!(rows.out, "query,rank,primitive,cx,cy,cz,distance")?;

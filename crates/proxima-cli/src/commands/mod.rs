@@ -2,12 +2,14 @@
 
 pub mod bench;
 pub mod bench_peer;
+pub mod bench_sdf;
 pub mod closest;
 pub mod demo;
 pub mod frustum;
 pub mod grid;
 pub mod info;
 pub mod raycast;
+pub mod sdf;
 pub mod traverse;
 pub mod view;
 pub mod voxelize;

@@ -1,0 +1,506 @@
+//! `proxima sdf MESH (--point X,Y,Z | --points FILE | --grid N | --sample N) [--sign winding|pseudonormal]
+//! [--exact] [--beta B] [--threads T] [--json]`: signed distances (negative inside) at query points as
+//! CSV, on a dense grid as a `.npy`, or at training samples as a `.npz`.
+
+use crate::common::{load_mesh, memory_budget, note, parse_vec3, query_points, thread_count};
+use crate::npy;
+use anyhow::{Context, Result, bail};
+use indicatif::{ProgressBar, ProgressStyle};
+use proxima::budget::human_bytes;
+use proxima::sdf::{DEFAULT_BETA, SdfGrid};
+use proxima::{SdfConfig, SdfError, Sign, SignedDistance, SignedDistanceField, Vec3};
+use rayon::prelude::*;
+use serde_json::{Value, json};
+use std::io::{BufWriter, IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// How the side of a point is decided, on the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum SignMethod {
+    /// The generalized winding number (inside above ½): right on open,
+    /// non-manifold and self-crossing meshes.
+    Winding,
+    /// The angle-weighted pseudonormal of the closest feature: faster, right
+    /// on closed, consistently oriented meshes that do not cross themselves.
+    Pseudonormal,
+}
+
+impl SignMethod {
+    /// The library's sign.
+    pub fn sign(self) -> Sign {
+        match self {
+            SignMethod::Winding => Sign::WindingNumber,
+            SignMethod::Pseudonormal => Sign::Pseudonormal,
+        }
+    }
+
+    /// The name the command line and the JSON output use.
+    pub fn name(self) -> &'static str {
+        match self {
+            SignMethod::Winding => "winding",
+            SignMethod::Pseudonormal => "pseudonormal",
+        }
+    }
+}
+
+/// Arguments of `proxima sdf`.
+#[derive(clap::Args)]
+#[command(group(clap::ArgGroup::new("what").required(true).args(["point", "points", "grid", "sample"])))]
+pub struct Args {
+    /// Mesh file (.obj, .ply, .stl, .off, optionally .gz).
+    mesh: PathBuf,
+    /// One query point.
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
+    point: Option<Vec3>,
+    /// A file of query points, with the rules of `proxima closest --points`:
+    /// one per line, three numbers separated by commas or white space; `#`
+    /// comments and blank lines are skipped.
+    #[arg(long, value_name = "FILE")]
+    points: Option<PathBuf>,
+    /// The signed distances at the centres of N³ cells over the bounding box
+    /// grown by 5% on every side, as a float32 .npy of shape (N, N, N),
+    /// index [i, j, k] = x, y, z. Written to --out, or to standard output
+    /// when it is redirected (never to a terminal).
+    #[arg(long, value_name = "N")]
+    grid: Option<usize>,
+    /// N training samples, half near the surface and half uniform in the
+    /// bounding box grown by 5%, written to --out as a .npz with `points`
+    /// (N, 3) and `sdf` (N,) float32 arrays (the DeepSDF layout).
+    #[arg(long, value_name = "N", requires = "out")]
+    sample: Option<usize>,
+    /// With --sample: the standard deviation of the near samples' offsets
+    /// from the surface, per axis, in mesh units (default 1% of the bounding
+    /// box diagonal).
+    #[arg(long, value_name = "S", requires = "sample", allow_hyphen_values = true)]
+    near_sigma: Option<f32>,
+    /// With --sample: the seed (the same seed gives the same samples on every machine).
+    #[arg(long, value_name = "K", default_value_t = 1)]
+    seed: u64,
+    /// The output file of --grid (.npy) or --sample (.npz).
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["point", "points"])]
+    out: Option<PathBuf>,
+    /// How the side (the sign) is decided.
+    #[arg(long, value_enum, default_value = "winding")]
+    sign: SignMethod,
+    /// With --sign winding: sum the solid angles of every triangle in f64
+    /// (the exact winding number; linear in the triangles per query).
+    #[arg(long)]
+    exact: bool,
+    /// With --sign winding: the accuracy parameter β of the winding numbers'
+    /// far field (at least 1; larger is more accurate and slower).
+    #[arg(long, value_name = "B", value_parser = parse_beta, default_value_t = DEFAULT_BETA)]
+    beta: f32,
+    /// Worker threads (default: all cores; at most 4 per core, at least 8).
+    #[arg(long, value_name = "T")]
+    threads: Option<usize>,
+    /// Print one JSON object (the answers, or the grid's or samples' summary)
+    /// instead of CSV and notes.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Parses β: a finite number of at least 1.
+fn parse_beta(text: &str) -> Result<f32, String> {
+    match text.parse::<f32>() {
+        Ok(beta) if beta.is_finite() && beta >= 1.0 => Ok(beta),
+        _ => Err(format!("'{text}' is not a finite number >= 1")),
+    }
+}
+
+/// Bytes per grid cell: its `f32` value; the `.npy` is written from it in blocks.
+const BYTES_PER_CELL: u128 = 4;
+
+/// Bytes per training sample, counted generously: the point and its value
+/// (16), the closest hits and signed answers of the batch (28 + 40), and the
+/// arrays written (16).
+const BYTES_PER_SAMPLE: u128 = 128;
+
+/// Queries answered and written at a time: memory holds one chunk's answers
+/// (about 40 MiB), whatever the size of the points file.
+const CHUNK: usize = 1 << 20;
+
+/// The margin of grids and uniform samples around the bounding box, per side,
+/// as a fraction of its size.
+const MARGIN: f32 = 0.05;
+
+/// Runs `proxima sdf`.
+pub fn run(args: Args) -> Result<()> {
+    let threads = match args.threads {
+        Some(t) => thread_count(t)?,
+        None => 0,
+    };
+    // Everything that sizes work is checked before the mesh is read.
+    check_sizes(&args)?;
+    let points = match (args.point, &args.points) {
+        (None, None) => None,
+        (point, points) => Some(query_points(point, points.as_deref())?),
+    };
+    let mesh = load_mesh(&args.mesh)?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .context("thread pool")?;
+    pool.install(|| {
+        let config = SdfConfig {
+            sign: args.sign.sign(),
+            beta: args.beta,
+            exact: args.exact,
+            ..SdfConfig::default()
+        };
+        let start = Instant::now();
+        let field = SignedDistanceField::new(&mesh, &config).with_context(|| args.mesh.display().to_string())?;
+        let summary = Summary {
+            args: &args,
+            triangles: mesh.triangle_count(),
+            threads: rayon::current_num_threads(),
+            build_seconds: start.elapsed().as_secs_f64(),
+        };
+        match (points, args.grid, args.sample) {
+            (Some(points), _, _) => answer_points(&field, &points, &summary),
+            (None, Some(n), _) => write_grid(&field, n, &summary),
+            (None, None, Some(n)) => write_samples(&field, n, &summary),
+            (None, None, None) => unreachable!("clap requires one of --point, --points, --grid, --sample"),
+        }
+    })
+}
+
+/// Refuses zero counts, a spread that is negative or not finite, and grids
+/// and sample sets beyond the memory budget, before anything is read or
+/// allocated; and a grid bound for a terminal.
+fn check_sizes(args: &Args) -> Result<()> {
+    let budget = memory_budget()?;
+    let beyond_budget = |option: &str, n: usize, what: &str, count: u128, each: u128| -> Result<()> {
+        let bytes = count.saturating_mul(each);
+        if bytes > u128::from(budget) {
+            bail!(
+                "{option} {n}: {count} {what} of {each} bytes need about {} ({bytes} bytes), more than the memory budget \
+                 of {} ({budget} bytes; PROXIMA_MEMORY_BUDGET sets it)",
+                human_bytes(bytes),
+                human_bytes(budget.into()),
+            );
+        }
+        Ok(())
+    };
+    if let Some(n) = args.grid {
+        if n == 0 {
+            return Err(SdfError::Zero { option: "--grid" }.into());
+        }
+        let cells = (n as u128).pow(3);
+        beyond_budget("--grid", n, "cells", cells, BYTES_PER_CELL)?;
+        if args.out.is_none() {
+            if args.json {
+                bail!("--grid with --json prints the summary on standard output: give --out FILE.npy for the values");
+            }
+            if std::io::stdout().is_terminal() {
+                bail!("--grid writes binary .npy data: give --out FILE.npy, or redirect standard output to a file");
+            }
+        }
+    }
+    if let Some(n) = args.sample {
+        if n == 0 {
+            return Err(SdfError::Zero { option: "--sample" }.into());
+        }
+        beyond_budget("--sample", n, "samples", n as u128, BYTES_PER_SAMPLE)?;
+    }
+    if let Some(sigma) = args.near_sigma
+        && !(sigma.is_finite() && sigma >= 0.0)
+    {
+        return Err(SdfError::Parameter {
+            option: "--near-sigma",
+            value: sigma,
+        }
+        .into());
+    }
+    Ok(())
+}
+
+/// What every output says of the run.
+struct Summary<'a> {
+    args: &'a Args,
+    triangles: usize,
+    threads: usize,
+    build_seconds: f64,
+}
+
+impl Summary<'_> {
+    /// The JSON keys every output shares.
+    fn json(&self) -> serde_json::Map<String, Value> {
+        let args = self.args;
+        let mut out = serde_json::Map::new();
+        out.insert("mesh".into(), json!(args.mesh.display().to_string()));
+        out.insert("triangles".into(), json!(self.triangles));
+        out.insert("sign".into(), json!(args.sign.name()));
+        out.insert("exact".into(), json!(args.exact));
+        out.insert("beta".into(), json!(args.beta));
+        out.insert("threads".into(), json!(self.threads));
+        out.insert("build_seconds".into(), json!(self.build_seconds));
+        out
+    }
+}
+
+/// The CSV header of the answers at query points.
+pub const CSV_HEADER: &str = "query,signed_distance,winding_number,primitive,cx,cy,cz";
+
+/// Answers the query points chunk by chunk in input order, as CSV rows or a
+/// JSON object whose answers are written as they come.
+fn answer_points(field: &SignedDistanceField, points: &[Vec3], summary: &Summary) -> Result<()> {
+    let json = summary.args.json;
+    let mut out = BufWriter::new(std::io::stdout().lock());
+    if json {
+        // The summary first and the answers streamed after it; the totals,
+        // known at the end, close the object.
+        let head = serde_json::to_string_pretty(&Value::Object(summary.json()))?;
+        write!(out, "{},\n  \"answers\": [", head.trim_end_matches('}').trim_end())?;
+    } else {
+        writeln!(out, "{CSV_HEADER}")?;
+    }
+    let (mut seconds, mut inside) = (0.0, 0usize);
+    for (chunk_index, chunk) in points.chunks(CHUNK).enumerate() {
+        let start = Instant::now();
+        let answers = field.signed_distance_batch(chunk);
+        seconds += start.elapsed().as_secs_f64();
+        inside += answers.iter().flatten().filter(|a| a.is_inside()).count();
+        let first = chunk_index * CHUNK;
+        // Formatting is spread over the cores too: on one thread it took
+        // about as long as the queries.
+        let texts: Vec<Vec<u8>> = answers
+            .par_chunks(4096)
+            .enumerate()
+            .map(|(block, answers)| {
+                let mut text = Vec::with_capacity(96 * answers.len());
+                for (offset, answer) in answers.iter().enumerate() {
+                    let query = first + block * 4096 + offset;
+                    if json {
+                        let separator = if query == 0 { "" } else { "," };
+                        let object = answer_json(query, answer.as_ref());
+                        write!(text, "{separator}\n    {object}").expect("writing to memory does not fail");
+                    } else {
+                        csv_row(&mut text, query, answer.as_ref());
+                    }
+                }
+                text
+            })
+            .collect();
+        for text in &texts {
+            out.write_all(text)?;
+        }
+    }
+    if json {
+        let totals = json!({
+            "queries": points.len(),
+            "inside": inside,
+            "seconds": seconds,
+            "queries_per_second": points.len() as f64 / seconds.max(1e-12),
+        });
+        let totals = serde_json::to_string_pretty(&totals)?;
+        writeln!(out, "\n  ],{}", totals.trim_start_matches('{'))?;
+    }
+    out.flush()?;
+    Ok(())
+}
+
+/// One CSV row: `query,signed_distance,winding_number,primitive,cx,cy,cz`,
+/// the primitive being the face (as `closest` prints it); the winding number
+/// empty when the sign came from pseudonormals, every field but the first
+/// empty for a point without an answer.
+fn csv_row(text: &mut Vec<u8>, query: usize, answer: Option<&SignedDistance>) {
+    let result = match answer {
+        Some(a) => {
+            let winding = a.winding_number.map(|w| w.to_string()).unwrap_or_default();
+            let hit = &a.closest;
+            writeln!(
+                text,
+                "{query},{},{winding},{},{},{},{}",
+                a.distance, hit.source, hit.point.x, hit.point.y, hit.point.z
+            )
+        }
+        None => writeln!(text, "{query},,,,,,"),
+    };
+    result.expect("writing to memory does not fail");
+}
+
+/// One answer as a JSON object on one line.
+fn answer_json(query: usize, answer: Option<&SignedDistance>) -> Value {
+    match answer {
+        Some(a) => json!({
+            "query": query,
+            "signed_distance": a.distance,
+            "winding_number": a.winding_number,
+            "inside": a.is_inside(),
+            "primitive": a.closest.source,
+            "closest": a.closest.point.to_array(),
+        }),
+        None => json!({"query": query, "signed_distance": null}),
+    }
+}
+
+/// Evaluates the `n`³ grid and writes it as a `.npy` (x fastest, so in
+/// Fortran order for numpy's `[i, j, k]` = x, y, z).
+fn write_grid(field: &SignedDistanceField, n: usize, summary: &Summary) -> Result<()> {
+    let args = summary.args;
+    let grid = SdfGrid::around(&field.bounds(), n, MARGIN).with_context(|| args.mesh.display().to_string())?;
+    let start = Instant::now();
+    let mut bar = LateBar::new("sdf grid");
+    let values = field
+        .sdf_grid(&grid, |done, total| bar.update(done, total))
+        .with_context(|| format!("--grid {n}"))?;
+    bar.finish();
+    let seconds = start.elapsed().as_secs_f64();
+    let shape = [n; 3];
+    match &args.out {
+        Some(path) => write_file(path, |out| npy::write(out, &shape, true, &values))?,
+        None => {
+            let mut out = BufWriter::new(std::io::stdout().lock());
+            npy::write(&mut out, &shape, true, &values)?;
+            out.flush()?;
+        }
+    }
+    let inside = values.par_iter().filter(|&&v| v < 0.0).count();
+    let (origin, cell) = (grid.origin(), grid.cell);
+    if args.json {
+        let mut out = summary.json();
+        out.insert("grid".into(), json!(n));
+        out.insert("shape".into(), json!(shape));
+        out.insert("cells".into(), json!(values.len()));
+        out.insert("origin".into(), json!(origin.to_array()));
+        out.insert("cell".into(), json!(cell.to_array()));
+        out.insert("inside".into(), json!(inside));
+        out.insert("seconds".into(), json!(seconds));
+        out.insert(
+            "cells_per_second".into(),
+            json!(values.len() as f64 / seconds.max(1e-12)),
+        );
+        out.insert("out".into(), json!(args.out.as_ref().map(|p| p.display().to_string())));
+        crate::outln!("{:#}", Value::Object(out));
+    } else {
+        let to = args
+            .out
+            .as_ref()
+            .map_or("standard output".to_string(), |p| p.display().to_string());
+        note(&format!(
+            "{n}x{n}x{n} grid (index [i,j,k] = x,y,z): origin {},{},{} (the first cell's centre), cell {},{},{}; \
+             {inside} of {} cells inside; {seconds:.3} s; written to {to}",
+            origin.x,
+            origin.y,
+            origin.z,
+            cell.x,
+            cell.y,
+            cell.z,
+            values.len()
+        ));
+    }
+    Ok(())
+}
+
+/// Draws `n` training samples (the near ones first, then the uniform ones)
+/// and writes them as a `.npz`.
+fn write_samples(field: &SignedDistanceField, n: usize, summary: &Summary) -> Result<()> {
+    let args = summary.args;
+    let path = args.out.as_ref().expect("clap requires --out with --sample");
+    let (near_count, uniform_count) = (n / 2 + n % 2, n / 2);
+    let sigma = args.near_sigma.unwrap_or(0.01 * field.bounds().size().length());
+    let start = Instant::now();
+    let mesh = || args.mesh.display().to_string();
+    let near = field
+        .sample_near_surface(near_count, sigma, args.seed)
+        .with_context(mesh)?;
+    // Another stream than the near samples', so the two sets are not drawn
+    // from the same random numbers.
+    let uniform_seed = args.seed ^ 0x5851_f42d_4c95_7f2d;
+    let uniform = match uniform_count {
+        0 => Default::default(),
+        count => field.sample_uniform(count, MARGIN, uniform_seed).with_context(mesh)?,
+    };
+    let seconds = start.elapsed().as_secs_f64();
+    let points: Vec<f32> = near
+        .points
+        .iter()
+        .chain(&uniform.points)
+        .flat_map(|p| p.to_array())
+        .collect();
+    let sdf: Vec<f32> = near
+        .signed_distances
+        .iter()
+        .chain(&uniform.signed_distances)
+        .copied()
+        .collect();
+    drop((near, uniform));
+    let inside = sdf.iter().filter(|&&v| v < 0.0).count();
+    write_file(path, |out| {
+        npy::write_npz(out, &[("points", &[n, 3], &points), ("sdf", &[n], &sdf)])
+            .map(drop)
+            .map_err(std::io::Error::other)
+    })?;
+    if args.json {
+        let mut out = summary.json();
+        out.insert("samples".into(), json!(n));
+        out.insert("near".into(), json!(near_count));
+        out.insert("uniform".into(), json!(uniform_count));
+        out.insert("near_sigma".into(), json!(sigma));
+        out.insert("margin".into(), json!(MARGIN));
+        out.insert("seed".into(), json!(args.seed));
+        out.insert("inside".into(), json!(inside));
+        out.insert("seconds".into(), json!(seconds));
+        out.insert("out".into(), json!(path.display().to_string()));
+        crate::outln!("{:#}", Value::Object(out));
+    } else {
+        note(&format!(
+            "{n} samples ({near_count} near the surface, sigma {sigma}; {uniform_count} uniform in the box grown by 5%), \
+             {inside} inside; {seconds:.3} s; written to {}",
+            path.display()
+        ));
+    }
+    Ok(())
+}
+
+/// Creates `path` and writes it through a buffer; errors name the file.
+fn write_file(path: &Path, write: impl FnOnce(&mut BufWriter<std::fs::File>) -> std::io::Result<()>) -> Result<()> {
+    let name = || path.display().to_string();
+    let mut out = BufWriter::new(std::fs::File::create(path).with_context(name)?);
+    write(&mut out).with_context(name)?;
+    out.flush().with_context(name)?;
+    Ok(())
+}
+
+/// A progress bar on standard error that appears only once the work has
+/// taken a second, and only on a terminal: short runs and redirected
+/// output stay clean.
+struct LateBar {
+    start: Instant,
+    message: &'static str,
+    terminal: bool,
+    bar: Option<ProgressBar>,
+}
+
+impl LateBar {
+    fn new(message: &'static str) -> Self {
+        Self {
+            start: Instant::now(),
+            message,
+            terminal: std::io::stderr().is_terminal(),
+            bar: None,
+        }
+    }
+
+    fn update(&mut self, done: u64, total: u64) {
+        if self.bar.is_none() && self.terminal && self.start.elapsed() > Duration::from_secs(1) && done < total {
+            let bar = ProgressBar::new(total);
+            bar.set_style(
+                ProgressStyle::with_template("{msg} {wide_bar} {percent}% {eta}")
+                    .unwrap_or(ProgressStyle::default_bar()),
+            );
+            bar.set_message(self.message);
+            self.bar = Some(bar);
+        }
+        if let Some(bar) = &self.bar {
+            bar.set_position(done);
+        }
+    }
+
+    fn finish(self) {
+        if let Some(bar) = self.bar {
+            bar.finish_and_clear();
+        }
+    }
+}

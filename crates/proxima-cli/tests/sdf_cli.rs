@@ -1,0 +1,320 @@
+//! `proxima sdf` and `proxima bench --query sdf`: the CSV against the
+//! library's answers computed here, `closest`'s distances, and the `.npy` and
+//! `.npz` files read back by an independent reader (`npyz`, the container by
+//! `zip`'s reader).
+
+mod common;
+
+use common::temp_dir;
+use proxima::sdf::SdfGrid;
+use proxima::{Mesh, SdfConfig, Sign, SignedDistanceField, Vec3};
+use std::path::Path;
+use std::process::{Command, Output};
+
+const BUNNY: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/bunny-npm.obj");
+
+fn proxima(args: &[&str]) -> Output {
+    let out = Command::new(env!("CARGO_BIN_EXE_proxima"))
+        .args(args)
+        .output()
+        .expect("run proxima");
+    assert!(
+        out.status.success(),
+        "proxima {}: {}",
+        args.join(" "),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
+fn bunny() -> Mesh {
+    proxima::io::load(BUNNY).unwrap()
+}
+
+fn field(mesh: &Mesh, sign: Sign) -> SignedDistanceField {
+    SignedDistanceField::new(
+        mesh,
+        &SdfConfig {
+            sign,
+            ..SdfConfig::default()
+        },
+    )
+    .unwrap()
+}
+
+/// Near-surface and uniform points around the bunny, written as a points
+/// file (`{}` prints each `f32` so that it parses back to the same value).
+fn points_file(mesh: &Mesh, dir: &Path) -> (Vec<Vec3>, String) {
+    let mut points = proxima::sample::near_surface(mesh, 150, 0.01, 3);
+    points.extend(proxima::sample::uniform_in_box(mesh, 100, 4));
+    let text: String = points.iter().map(|p| format!("{} {} {}\n", p.x, p.y, p.z)).collect();
+    let path = dir.join("q.pts");
+    std::fs::write(&path, text).unwrap();
+    (points, path.display().to_string())
+}
+
+/// The CSV rows of standard output, split at commas, after the header.
+fn rows(out: &Output, header: &str) -> Vec<Vec<String>> {
+    let text = String::from_utf8(out.stdout.clone()).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some(header));
+    lines.map(|l| l.split(',').map(str::to_string).collect()).collect()
+}
+
+const HEADER: &str = "query,signed_distance,winding_number,primitive,cx,cy,cz";
+
+#[test]
+fn csv_rows_are_the_library_answers_in_input_order() {
+    let dir = temp_dir("sdf_csv");
+    let mesh = bunny();
+    let (points, path) = points_file(&mesh, &dir);
+    let rows = rows(&proxima(&["sdf", BUNNY, "--points", &path]), HEADER);
+    assert_eq!(rows.len(), points.len());
+    let field = field(&mesh, Sign::WindingNumber);
+    let mut inside = 0;
+    for (i, (row, &p)) in rows.iter().zip(&points).enumerate() {
+        let expected = field.signed_distance(p).unwrap();
+        assert_eq!(row[0], i.to_string());
+        assert_eq!(row[1].parse::<f32>().unwrap(), expected.distance, "row {i}");
+        assert_eq!(
+            row[2].parse::<f32>().unwrap(),
+            expected.winding_number.unwrap(),
+            "row {i}"
+        );
+        assert_eq!(row[3].parse::<u32>().unwrap(), expected.closest.source, "row {i}");
+        let closest: Vec<f32> = row[4..].iter().map(|v| v.parse().unwrap()).collect();
+        assert_eq!(closest, expected.closest.point.to_array(), "row {i}");
+        inside += usize::from(expected.distance < 0.0);
+    }
+    // Both sides are exercised.
+    assert!(inside > 10 && inside < points.len() - 10, "{inside} inside");
+}
+
+#[test]
+fn distances_are_closest_distances_and_the_faces_its_faces() {
+    let dir = temp_dir("sdf_closest");
+    let mesh = bunny();
+    let (points, path) = points_file(&mesh, &dir);
+    let closest = rows(
+        &proxima(&["closest", BUNNY, "--points", &path]),
+        "query,rank,primitive,cx,cy,cz,distance",
+    );
+    for sign in ["winding", "pseudonormal"] {
+        let sdf = rows(&proxima(&["sdf", BUNNY, "--points", &path, "--sign", sign]), HEADER);
+        assert_eq!(sdf.len(), points.len());
+        assert_eq!(closest.len(), points.len());
+        for (s, c) in sdf.iter().zip(&closest) {
+            assert_eq!(s[0], c[0]);
+            let signed: f32 = s[1].parse().unwrap();
+            assert_eq!(signed.abs(), c[6].parse::<f32>().unwrap(), "{sign}: {s:?} / {c:?}");
+            assert_eq!(s[3], c[2], "{sign}: the face");
+            assert_eq!(s[4..7], c[3..6], "{sign}: the closest point");
+        }
+    }
+}
+
+#[test]
+fn pseudonormal_sign_leaves_the_winding_number_empty() {
+    let dir = temp_dir("sdf_pseudonormal");
+    let mesh = bunny();
+    let (points, path) = points_file(&mesh, &dir);
+    let rows = rows(
+        &proxima(&["sdf", BUNNY, "--points", &path, "--sign", "pseudonormal"]),
+        HEADER,
+    );
+    let field = field(&mesh, Sign::Pseudonormal);
+    for (row, &p) in rows.iter().zip(&points) {
+        assert_eq!(row.len(), 7);
+        assert_eq!(row[2], "", "{row:?}");
+        assert_eq!(
+            row[1].parse::<f32>().unwrap(),
+            field.signed_distance(p).unwrap().distance
+        );
+    }
+}
+
+#[test]
+fn json_answers_and_timings() {
+    let mesh = bunny();
+    let p = Vec3::new(0.1, 4.0, 0.2);
+    let out = proxima(&["sdf", BUNNY, "--point", "0.1,4,0.2", "--threads", "2", "--json"]);
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let expected = field(&mesh, Sign::WindingNumber).signed_distance(p).unwrap();
+    assert_eq!(json["queries"], 1);
+    assert_eq!(json["inside"], usize::from(expected.is_inside()));
+    assert_eq!(json["threads"], 2);
+    assert_eq!(json["sign"], "winding");
+    assert_eq!(json["triangles"], mesh.triangle_count());
+    for key in ["seconds", "queries_per_second", "build_seconds"] {
+        assert!(json[key].as_f64().unwrap() > 0.0, "{key}: {json}");
+    }
+    let answer = &json["answers"][0];
+    assert_eq!(answer["query"], 0);
+    assert_eq!(answer["signed_distance"].as_f64().unwrap() as f32, expected.distance);
+    assert_eq!(
+        answer["winding_number"].as_f64().unwrap() as f32,
+        expected.winding_number.unwrap()
+    );
+    assert_eq!(answer["primitive"], expected.closest.source);
+    assert_eq!(answer["inside"], expected.is_inside());
+
+    let out = proxima(&["sdf", BUNNY, "--point", "0.1,4,0.2", "--sign", "pseudonormal", "--json"]);
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["sign"], "pseudonormal");
+    assert!(json["answers"][0]["winding_number"].is_null(), "{json}");
+}
+
+/// Reads a `.npy` with `npyz`: its shape, whether it is in Fortran order,
+/// and its values in file order.
+fn read_npy(bytes: &[u8]) -> (Vec<u64>, bool, Vec<f32>) {
+    let file = npyz::NpyFile::new(bytes).unwrap();
+    assert_eq!(file.dtype(), npyz::DType::Plain("<f4".parse().unwrap()));
+    let shape = file.shape().to_vec();
+    let fortran = file.order() == npyz::Order::Fortran;
+    (shape, fortran, file.into_vec::<f32>().unwrap())
+}
+
+#[test]
+fn grid_npy_reads_back_as_x_y_z_indexed_values() {
+    let dir = temp_dir("sdf_grid");
+    let path = dir.join("g.npy");
+    let n = 13;
+    let out = proxima(&["sdf", BUNNY, "--grid", "13", "--out", path.to_str().unwrap(), "--json"]);
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let bytes = std::fs::read(&path).unwrap();
+    let (shape, fortran, values) = read_npy(&bytes);
+    assert_eq!(shape, [13, 13, 13]);
+    assert!(fortran, "x varies fastest: Fortran order");
+    assert_eq!(values.len(), n * n * n);
+
+    let mesh = bunny();
+    let field = field(&mesh, Sign::WindingNumber);
+    let grid = SdfGrid::around(&field.bounds(), n, 0.05).unwrap();
+    let origin: Vec<f32> = json["origin"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap() as f32)
+        .collect();
+    assert_eq!(origin, grid.origin().to_array());
+    assert_eq!(json["cells"], n * n * n);
+    // Asymmetric cells, so a transposed layout would be caught.
+    for (i, j, k) in [
+        (0, 0, 0),
+        (12, 0, 0),
+        (0, 12, 3),
+        (6, 6, 6),
+        (3, 7, 11),
+        (12, 12, 12),
+        (5, 2, 9),
+    ] {
+        let expected = field.signed_distance(grid.point(i, j, k)).unwrap().distance;
+        let value = values[i + n * (j + n * k)];
+        assert!(
+            (value - expected).abs() <= 1e-6 * expected.abs().max(1e-3),
+            "[{i},{j},{k}]: {value} against {expected}"
+        );
+    }
+    assert!(values.iter().any(|&v| v < 0.0) && values[0] > 0.0);
+
+    // To a redirected standard output: the same bytes, and the note (and a
+    // progress bar, were stderr a terminal) only on stderr.
+    let out = proxima(&["sdf", BUNNY, "--grid", "13"]);
+    assert!(out.stdout == bytes, "stdout differs from the --out file");
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("origin") && err.contains("cell"), "{err}");
+}
+
+#[test]
+fn samples_npz_reads_back_with_their_signed_distances() {
+    let dir = temp_dir("sdf_sample");
+    let path = dir.join("s.npz");
+    let n = 101;
+    proxima(&[
+        "sdf",
+        BUNNY,
+        "--sample",
+        "101",
+        "--near-sigma",
+        "0.02",
+        "--seed",
+        "5",
+        "--out",
+        path.to_str().unwrap(),
+    ]);
+    let mut archive = zip::ZipArchive::new(std::fs::File::open(&path).unwrap()).unwrap();
+    let mut names: Vec<String> = archive.file_names().map(|n| n.unwrap().to_string()).collect();
+    names.sort();
+    assert_eq!(names, ["points.npy", "sdf.npy"]);
+    let mut read = |name: &str| {
+        let mut entry = archive.by_name(name).unwrap();
+        assert_eq!(entry.compression(), zip::CompressionMethod::Stored);
+        let mut bytes = Vec::new();
+        std::io::Read::read_to_end(&mut entry, &mut bytes).unwrap();
+        read_npy(&bytes)
+    };
+    let (points_shape, points_fortran, points) = read("points.npy");
+    let (sdf_shape, sdf_fortran, sdf) = read("sdf.npy");
+    assert_eq!(points_shape, [n as u64, 3]);
+    assert_eq!(sdf_shape, [n as u64]);
+    assert!(!points_fortran && !sdf_fortran, "C order");
+
+    let mesh = bunny();
+    let field = field(&mesh, Sign::WindingNumber);
+    let points: Vec<Vec3> = points.chunks(3).map(Vec3::from_slice).collect();
+    for (i, (&p, &value)) in points.iter().zip(&sdf).enumerate() {
+        assert_eq!(value, field.signed_distance(p).unwrap().distance, "sample {i}");
+    }
+    // The first half (rounded up) near the surface, as the library draws them.
+    let near = field.sample_near_surface(51, 0.02, 5).unwrap();
+    assert_eq!(points[..51], near.points[..]);
+    assert!(sdf[..51].iter().all(|d| d.abs() < 0.2), "near samples within 10 sigma");
+    // The rest uniform in the box grown by 5%.
+    let bounds = field.bounds();
+    let grow = bounds.size() * 0.05;
+    assert!(
+        points[51..]
+            .iter()
+            .all(|p| p.cmpge(bounds.min - grow).all() && p.cmple(bounds.max + grow).all())
+    );
+    assert!(
+        sdf[51..].iter().any(|d| d.abs() > 1.0),
+        "uniform samples reach away from the surface"
+    );
+}
+
+#[test]
+fn bench_measures_signed_distances_on_both_sets() {
+    let out = proxima(&["bench", BUNNY, "--query", "sdf", "--queries", "300", "--json"]);
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["query"], "sdf");
+    let results = json["results"].as_array().unwrap();
+    for set in ["near", "uniform"] {
+        for method in [
+            "linear",
+            "closest",
+            "closest-batch",
+            "winding",
+            "winding-batch",
+            "pseudonormal",
+            "pseudonormal-batch",
+        ] {
+            let r = results
+                .iter()
+                .find(|r| r["query_set"] == set && r["method"] == method)
+                .unwrap_or_else(|| panic!("{set} {method} missing: {json}"));
+            assert_eq!(r["agree"], true, "{r}");
+            assert!(r["queries_per_second"].as_f64().unwrap() > 0.0);
+        }
+    }
+    for signs in json["signs"].as_array().unwrap() {
+        assert!(signs["decisive"].as_u64().unwrap() > 0, "{signs}");
+        assert_eq!(signs["winding_agrees"], signs["decisive"], "{signs}");
+    }
+    // The table names both sets.
+    let out = proxima(&["bench", BUNNY, "--query", "sdf", "--queries", "100", "--set", "uniform"]);
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("uniform set") && !text.contains("near set"), "{text}");
+    assert!(text.contains("pseudonormal takes"), "{text}");
+}
