@@ -926,3 +926,28 @@ fn sdf_near_sigma_negative() {
     }
     assert!(!out_path.exists(), "nothing written");
 }
+
+/// A spread that would put samples where no query is answered (NaN
+/// distances before the library refused it).
+#[test]
+fn sdf_near_sigma_too_far() {
+    let mesh = triangle_file("sdf_near_sigma_too_far");
+    let dir = temp_dir("sdf_near_sigma_too_far_out");
+    let out_path = dir.join("s.npz");
+    let args = [
+        "sdf",
+        &mesh,
+        "--sample",
+        "10",
+        "--near-sigma",
+        "1e30",
+        "--out",
+        out_path.to_str().unwrap(),
+    ];
+    assert_one_line_error(
+        &proxima(&args),
+        1,
+        &["--near-sigma = 1000000000000000000000000000000 puts samples beyond"],
+    );
+    assert!(!out_path.exists(), "nothing written");
+}

@@ -488,6 +488,18 @@ pub enum SdfError {
         /// The budget.
         budget: u64,
     },
+    /// A spread or margin so large that samples would lie beyond the
+    /// coordinates a query accepts
+    /// ([`MAX_QUERY_COORDINATE`](crate::bvh::MAX_QUERY_COORDINATE)).
+    #[error("{option} = {value} puts samples beyond ±{bound:e}, where squared distances overflow f32")]
+    TooFar {
+        /// The option.
+        option: &'static str,
+        /// Its value.
+        value: f32,
+        /// The largest coordinate a query accepts.
+        bound: f32,
+    },
     /// A length (a sample spread or margin, a grid's bounds) that is negative or not finite.
     #[error("{option} must be finite and not negative, got {value}")]
     Parameter {

@@ -1026,3 +1026,20 @@ fn sdf_near_sigma_negative() {
     // Zero is a spread: the points on the surface.
     assert_eq!(field.sample_near_surface(10, 0.0, 1).unwrap().points.len(), 10);
 }
+
+/// A spread that would put samples where no query is answered.
+#[test]
+fn sdf_near_sigma_too_far() {
+    let field = sphere_field();
+    let e = field.sample_near_surface(10, 1e30, 1).unwrap_err();
+    assert!(matches!(e, proxima::SdfError::TooFar { option: "sigma", .. }), "{e}");
+    assert!(
+        e.to_string()
+            .starts_with("sigma = 1000000000000000000000000000000 puts samples beyond ±"),
+        "{e}"
+    );
+    assert!(matches!(
+        field.sample_uniform(10, 1e30, 1),
+        Err(proxima::SdfError::TooFar { option: "margin", .. })
+    ));
+}

@@ -404,6 +404,14 @@ fn write_samples(field: &SignedDistanceField, n: usize, summary: &Summary) -> Re
     let mesh = || args.mesh.display().to_string();
     let near = field
         .sample_near_surface(near_count, sigma, args.seed)
+        .map_err(|e| match e {
+            SdfError::TooFar { value, bound, .. } => SdfError::TooFar {
+                option: "--near-sigma",
+                value,
+                bound,
+            },
+            e => e,
+        })
         .with_context(mesh)?;
     // Another stream than the near samples', so the two sets are not drawn
     // from the same random numbers.

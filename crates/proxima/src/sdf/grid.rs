@@ -5,6 +5,7 @@
 use super::field::SignedDistanceField;
 use crate::aabb::Aabb;
 use crate::budget::default_memory_budget;
+use crate::bvh::MAX_QUERY_COORDINATE;
 use crate::error::SdfError;
 use crate::math::Vec3;
 use crate::query::NearestQuery;
@@ -182,6 +183,8 @@ impl SignedDistanceField {
     /// `n` beyond the memory budget.
     pub fn sample_near_surface(&self, n: usize, sigma: f32, seed: u64) -> Result<Samples, SdfError> {
         check_length("sigma", sigma)?;
+        // A gaussian of 53-bit uniforms (Box–Muller) stays within 8.6 sigma.
+        self.check_reach("sigma", sigma, 9.0 * sigma)?;
         check_budget("count", n as u64, 32)?;
         Ok(self.samples(near_triangles(self.triangles(), n, sigma, seed)))
     }
@@ -191,10 +194,27 @@ impl SignedDistanceField {
     /// [`sample_near_surface`](Self::sample_near_surface)).
     pub fn sample_uniform(&self, n: usize, margin: f32, seed: u64) -> Result<Samples, SdfError> {
         check_length("margin", margin)?;
+        self.check_reach("margin", margin, self.bounds().size().max_element() * margin)?;
         check_budget("count", n as u64, 32)?;
         let b = self.bounds();
         let grow = b.size() * margin;
         Ok(self.samples(uniform_in(&Aabb::new(b.min - grow, b.max + grow), n, seed)))
+    }
+
+    /// Fails when points up to `reach` beyond the mesh's box would lie
+    /// beyond the coordinates a query accepts.
+    fn check_reach(&self, option: &'static str, value: f32, reach: f32) -> Result<(), SdfError> {
+        let b = self.bounds();
+        let extent = b.min.abs().max(b.max.abs()).max_element() + reach;
+        if extent.is_finite() && extent <= MAX_QUERY_COORDINATE {
+            Ok(())
+        } else {
+            Err(SdfError::TooFar {
+                option,
+                value,
+                bound: MAX_QUERY_COORDINATE,
+            })
+        }
     }
 
     fn samples(&self, points: Vec<Vec3>) -> Samples {
