@@ -53,6 +53,13 @@ pub fn read_points(path: &Path) -> Result<Vec<Vec3>> {
     Ok(proxima::io::load_points(path, &load_options()?)?)
 }
 
+/// Reads a rays file (see [`proxima::io::parse_rays`]): one ray per line,
+/// `ox oy oz dx dy dz`, with the limits and the line-numbered errors of
+/// points files.
+pub fn read_rays(path: &Path) -> Result<Vec<(Vec3, Vec3)>> {
+    Ok(proxima::io::load_rays(path, &load_options()?)?)
+}
+
 /// The query points of `--point X,Y,Z` (checked against the trees' range,
 /// see [`check_query_point`]) or `--points FILE` (see [`read_points`]),
 /// whichever was given.

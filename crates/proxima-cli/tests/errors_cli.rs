@@ -951,3 +951,47 @@ fn sdf_near_sigma_too_far() {
     );
     assert!(!out_path.exists(), "nothing written");
 }
+
+/// A rays file: a line that is not six numbers, with its line number.
+#[test]
+fn raycast_rays_file_bad_line() {
+    let mesh = triangle_file("raycast_rays_file_bad_line");
+    let (_dir, rays) = file_with("bad.rays", b"0 0 -1 0 0 1\n# ok\n0 0 0 1 0\n");
+    let out = proxima(&["raycast", &mesh, "--rays", &rays]);
+    assert_one_line_error(
+        &out,
+        1,
+        &["bad.rays:3", "expected six numbers OX,OY,OZ,DX,DY,DZ, got '0 0 0 1 0'"],
+    );
+    let (_dir, rays) = file_with("nan.rays", b"0 0 -1 0 0 1\nnan 0 0 0 0 1\n");
+    let out = proxima(&["raycast", &mesh, "--rays", &rays]);
+    assert_one_line_error(&out, 1, &["nan.rays:2", "'nan' is not a finite number"]);
+}
+
+/// A rays file: a zero (or underflowing, or infinite) direction, with its line number.
+#[test]
+fn raycast_rays_file_zero_direction() {
+    let mesh = triangle_file("raycast_rays_file_zero_direction");
+    for direction in ["0 0 0", "1e-45 0 0", "inf 0 0"] {
+        let text = format!("0 0 -1 0 0 1\n\n0 0 -1 {direction}\n");
+        let (_dir, rays) = file_with("zero.rays", text.as_bytes());
+        let out = proxima(&["raycast", &mesh, "--rays", &rays]);
+        let expected = if direction.starts_with("inf") {
+            "'inf' is not a finite number"
+        } else {
+            "ray direction must be finite and non-zero"
+        };
+        assert_one_line_error(&out, 1, &["zero.rays:3", expected]);
+    }
+}
+
+/// A rays file whose ray starts too far from the mesh for its hits to be
+/// told apart: the ray named by its position, nothing on standard output.
+#[test]
+fn raycast_rays_origin_too_far() {
+    let mesh = triangle_file("raycast_rays_origin_too_far");
+    let (_dir, rays) = file_with("far.rays", b"0 0 -1 0 0 1\n1e15 0 0 -1 0 0\n");
+    let out = proxima(&["raycast", &mesh, "--rays", &rays]);
+    assert_one_line_error(&out, 1, &["far.rays: ray 1 (counting from 0): ray origin lies too far"]);
+    assert!(out.stdout.is_empty(), "no partial output");
+}

@@ -99,3 +99,160 @@ fn raycast_errors() {
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("/nonexistent.obj"));
 }
+
+mod common;
+
+use proxima::prelude::*;
+use proxima::sample::Rng;
+
+/// Rays at the bunny: random ones (many missing), ones from inside, and
+/// ones aimed exactly at vertices and edge midpoints from outside (the
+/// watertight test lets none of them slip through the closed mesh).
+fn batch_rays(mesh: &Mesh) -> Vec<(Vec3, Vec3)> {
+    let mut rng = Rng::new(31);
+    let b = mesh.bounds();
+    let centre = b.center();
+    let mut rays = Vec::new();
+    let random = |rng: &mut Rng| Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
+    for _ in 0..300 {
+        let origin = centre + random(&mut rng) * b.diagonal();
+        rays.push((origin, random(&mut rng)));
+    }
+    for _ in 0..100 {
+        rays.push((centre + random(&mut rng) * 0.5, random(&mut rng)));
+    }
+    // Aimed exactly: rays along ±x, ±y, ±z through a vertex, or through an
+    // edge midpoint whose two other coordinates are exact in f32 (so the
+    // ray meets the edge itself). The watertight test lets none of them
+    // slip through the closed mesh.
+    let positions = mesh.positions();
+    let edges = mesh.edge_indices();
+    let far = b.diagonal() * 2.0;
+    let axis_ray = |p: Vec3, k: usize| {
+        let mut direction = Vec3::ZERO;
+        direction[k % 3] = if k < 3 { 1.0 } else { -1.0 };
+        (p - direction * far, direction)
+    };
+    for n in 0..200 {
+        rays.push(axis_ray(positions[rng.below(positions.len())], n % 6));
+        let [a, c] = edges[rng.below(edges.len())];
+        let (a, c) = (positions[a as usize], positions[c as usize]);
+        let midpoint = (a + c) * 0.5;
+        let exact = (a.as_dvec3() + c.as_dvec3()) * 0.5;
+        let axis = n % 6;
+        let others_exact = (0..3)
+            .filter(|&k| k != axis % 3)
+            .all(|k| midpoint[k] as f64 == exact[k]);
+        rays.push(if others_exact {
+            axis_ray(midpoint, axis)
+        } else {
+            axis_ray(a, axis)
+        });
+    }
+    // Axis-aligned, with zero direction components.
+    rays.push((Vec3::new(0.0, 4.0, -20.0), Vec3::Z));
+    rays.push((Vec3::new(0.5, -5.0, 0.2), Vec3::Y));
+    rays
+}
+
+/// The unit direction the CLI casts: normalized in `f64`, then rounded.
+fn unit(d: Vec3) -> Vec3 {
+    let d64 = d.as_dvec3();
+    (d64 / d64.length()).as_vec3()
+}
+
+fn write_rays(dir: &std::path::Path, rays: &[(Vec3, Vec3)]) -> std::path::PathBuf {
+    let mut text = String::from("# ox oy oz dx dy dz\n");
+    for (o, d) in rays {
+        text += &format!("{} {} {}, {} {} {}\n", o.x, o.y, o.z, d.x, d.y, d.z);
+    }
+    let path = dir.join("batch.rays");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// `--rays`: one row per ray in input order, equal to brute force over all
+/// triangles (the same t and face: `f32` printed in full round-trips); with
+/// `--any`, 1 exactly where brute force hits.
+#[test]
+fn batch_rays_equal_brute_force() {
+    let mesh = proxima::io::load(bunny()).unwrap();
+    let rays = batch_rays(&mesh);
+    let dir = common::temp_dir("batch_rays_equal_brute_force");
+    let file = write_rays(&dir, &rays);
+    let out = proxima(&["raycast", &bunny(), "--rays", file.to_str().unwrap(), "--threads", "2"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = stdout(&out);
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("ray,t,face"));
+    let linear = LinearSearch::new(mesh.triangles());
+    let mut aimed_misses = 0;
+    for (i, line) in lines.enumerate() {
+        let fields: Vec<&str> = line.split(',').collect();
+        assert_eq!(fields[0], i.to_string());
+        let (o, d) = rays[i];
+        let d = unit(d);
+        let expected = linear.first_hit(o, d, 0.0, f32::INFINITY).unwrap();
+        match expected {
+            None => assert_eq!(&fields[1..], ["inf", "-1"], "ray {i}"),
+            Some(hit) => {
+                // The tree's answer is brute force's, field for field (ties
+                // to the lowest index): the same t and face, exactly.
+                let t: f32 = fields[1].parse().unwrap();
+                let face: u32 = fields[2].parse().unwrap();
+                assert_eq!((t, face), (hit.t, hit.source), "ray {i}");
+            }
+        }
+        if (400..800).contains(&i) && expected.is_none() {
+            aimed_misses += 1;
+        }
+    }
+    assert_eq!(aimed_misses, 0, "rays aimed at vertices and edges slipped through");
+    assert_eq!(text.lines().count(), rays.len() + 1);
+
+    let out = proxima(&["raycast", &bunny(), "--rays", file.to_str().unwrap(), "--any"]);
+    assert!(out.status.success());
+    let text = stdout(&out);
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("ray,hit"));
+    for (i, line) in lines.enumerate() {
+        let (o, d) = rays[i];
+        let hit = linear
+            .first_hit(o, d / d.length(), 0.0, f32::INFINITY)
+            .unwrap()
+            .is_some();
+        assert_eq!(line, format!("{i},{}", u8::from(hit)));
+    }
+}
+
+/// `--rays --json`: one object with the counts, the casting time alone and
+/// the build time.
+#[test]
+fn batch_rays_json_summary() {
+    let mesh = proxima::io::load(bunny()).unwrap();
+    let rays = batch_rays(&mesh);
+    let dir = common::temp_dir("batch_rays_json_summary");
+    let file = write_rays(&dir, &rays);
+    let out = proxima(&[
+        "raycast",
+        &bunny(),
+        "--rays",
+        file.to_str().unwrap(),
+        "--json",
+        "--threads",
+        "1",
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let linear = LinearSearch::new(mesh.triangles());
+    let hits = rays
+        .iter()
+        .filter(|(o, d)| linear.first_hit(*o, unit(*d), 0.0, f32::INFINITY).unwrap().is_some())
+        .count();
+    assert_eq!(json["rays"], rays.len());
+    assert_eq!(json["hits"], hits);
+    assert_eq!(json["threads"], 1);
+    for key in ["seconds", "rays_per_second", "build_seconds"] {
+        assert!(json[key].as_f64().unwrap() >= 0.0, "{key}");
+    }
+}

@@ -1043,3 +1043,36 @@ fn sdf_near_sigma_too_far() {
         Err(proxima::SdfError::TooFar { option: "margin", .. })
     ));
 }
+
+#[test]
+fn raycast_rays_file_bad_line() {
+    let e = proxima::io::parse_rays(b"0 0 -1 0 0 1\n# ok\n0 0 0 1 0\n", "bad.rays".as_ref()).unwrap_err();
+    assert_load_error(
+        &e,
+        Path::new("bad.rays"),
+        Some(3),
+        "expected six numbers OX,OY,OZ,DX,DY,DZ, got '0 0 0 1 0'",
+        |k| matches!(k, LoadErrorKind::Syntax(_)),
+    );
+}
+
+#[test]
+fn raycast_rays_file_zero_direction() {
+    for direction in ["0 0 0", "1e-45 0 0"] {
+        let text = format!("0 0 -1 0 0 1\n\n0 0 -1 {direction}\n");
+        let e = proxima::io::parse_rays(text.as_bytes(), "zero.rays".as_ref()).unwrap_err();
+        assert_load_error(
+            &e,
+            Path::new("zero.rays"),
+            Some(3),
+            "ray direction must be finite and non-zero",
+            |k| matches!(k, LoadErrorKind::Syntax(_)),
+        );
+    }
+    // Not unit length is fine: the direction is normalized when cast.
+    let rays = proxima::io::parse_rays(b"0 0 -1 0 0 7\n", "ok.rays".as_ref()).unwrap();
+    assert_eq!(
+        rays,
+        [(proxima::Vec3::new(0.0, 0.0, -1.0), proxima::Vec3::new(0.0, 0.0, 7.0))]
+    );
+}

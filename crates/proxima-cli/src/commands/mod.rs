@@ -9,6 +9,7 @@ pub mod frustum;
 pub mod grid;
 pub mod info;
 pub mod raycast;
+pub mod raycast_batch;
 pub mod sdf;
 pub mod traverse;
 pub mod view;

@@ -1,6 +1,8 @@
 //! `proxima raycast MESH --origin X,Y,Z --dir X,Y,Z [--method tree|grid] [--cell W] [--any]`:
 //! the first face a ray hits, found with the AABB tree (default) or by walking
 //! a hash grid of the faces; with `--any`, only whether it hits one.
+//! `proxima raycast MESH --rays FILE [--threads T] [--any] [--json]`: a file
+//! of rays on all cores (`raycast_batch.rs`).
 
 use super::grid::parse_cell;
 use crate::common::{load_mesh, parse_vec3};
@@ -25,13 +27,24 @@ pub enum RayMethod {
 #[derive(clap::Args)]
 pub struct Args {
     /// Mesh file (.obj, .ply, .stl, .off, optionally .gz).
-    mesh: PathBuf,
+    pub(crate) mesh: PathBuf,
     /// Ray origin.
-    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
-    origin: Vec3,
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true,
+          required_unless_present = "rays", conflicts_with = "rays")]
+    origin: Option<Vec3>,
     /// Ray direction (normalized here, so t is a distance).
-    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
-    dir: Vec3,
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true,
+          required_unless_present = "rays", conflicts_with = "rays")]
+    dir: Option<Vec3>,
+    /// A file of rays, one per line: `ox oy oz dx dy dz` separated by commas
+    /// or white space (`#` comments and blank lines skipped). Prints CSV
+    /// `ray,t,face` in input order (`inf,-1` for a miss; with `--any`,
+    /// `ray,hit` with 1 or 0), cast on all cores with the 4-wide tree.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["method", "cell"])]
+    pub(crate) rays: Option<PathBuf>,
+    /// With --rays: worker threads (default: all cores; at most 4 per core, at least 8).
+    #[arg(long, value_name = "T", requires = "rays")]
+    pub(crate) threads: Option<usize>,
     /// Search structure; default `tree`, or `grid` when `--cell` is given.
     #[arg(long, value_enum)]
     method: Option<RayMethod>,
@@ -43,10 +56,10 @@ pub struct Args {
     /// Only say whether the ray hits a face (occlusion test; stops at the first
     /// hit found).
     #[arg(long)]
-    any: bool,
+    pub(crate) any: bool,
     /// Print one JSON object instead of text.
     #[arg(long)]
-    json: bool,
+    pub(crate) json: bool,
 }
 
 /// What was found, in the terms both methods share.
@@ -58,8 +71,12 @@ struct Found {
     visited: u64,
 }
 
-/// Prints the hit face, t and point, or "no hit".
+/// Prints the hit face, t and point, or "no hit" (or, with `--rays`, a row per ray).
 pub fn run(args: Args) -> Result<()> {
+    let (Some(origin), Some(dir)) = (args.origin, args.dir) else {
+        let rays = args.rays.clone().context("give --origin and --dir, or --rays FILE")?;
+        return super::raycast_batch::run(&args, &rays);
+    };
     let method = match (args.method, args.cell) {
         (Some(RayMethod::Tree), Some(_)) => {
             use clap::CommandFactory;
@@ -74,7 +91,7 @@ pub fn run(args: Args) -> Result<()> {
         (None, Some(_)) => RayMethod::Grid,
         (None, None) => RayMethod::Tree,
     };
-    if !args.dir.is_finite() || args.dir == Vec3::ZERO {
+    if !dir.is_finite() || dir == Vec3::ZERO {
         return Err(RayError::Direction.into());
     }
     let mesh = load_mesh(&args.mesh)?;
@@ -82,7 +99,7 @@ pub fn run(args: Args) -> Result<()> {
         bail!("{}: the mesh has no faces to hit", args.mesh.display());
     }
     let triangles = mesh.triangles();
-    let direction = crate::common::unit_direction(args.dir);
+    let direction = crate::common::unit_direction(dir);
     let (found, any, build, query, structure, label) = match method {
         RayMethod::Tree => {
             let start = Instant::now();
@@ -91,9 +108,9 @@ pub fn run(args: Args) -> Result<()> {
             let build = start.elapsed().as_secs_f64();
             let start = Instant::now();
             let (found, any) = if args.any {
-                (None, tree.any_hit(args.origin, direction, 0.0, f32::INFINITY)?)
+                (None, tree.any_hit(origin, direction, 0.0, f32::INFINITY)?)
             } else {
-                let (hit, stats) = tree.first_hit_with_stats(args.origin, direction, 0.0, f32::INFINITY)?;
+                let (hit, stats) = tree.first_hit_with_stats(origin, direction, 0.0, f32::INFINITY)?;
                 let found = hit.map(|h| Found {
                     face: h.source,
                     t: h.t,
@@ -145,7 +162,7 @@ pub fn run(args: Args) -> Result<()> {
                 .with_context(|| args.mesh.display().to_string())?;
             let build = start.elapsed().as_secs_f64();
             let start = Instant::now();
-            let (hit, stats) = grid.first_hit_with_stats(args.origin, direction, 0.0, f32::INFINITY)?;
+            let (hit, stats) = grid.first_hit_with_stats(origin, direction, 0.0, f32::INFINITY)?;
             let query = start.elapsed().as_secs_f64();
             let found = hit.map(|h| Found {
                 face: h.source,

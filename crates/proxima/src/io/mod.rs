@@ -98,7 +98,7 @@ mod read;
 mod stl;
 mod text;
 
-pub use points::{load_points, parse_points};
+pub use points::{load_points, load_rays, parse_points, parse_rays};
 
 use crate::error::{LoadError, LoadErrorKind};
 use crate::mesh::Mesh;

@@ -1,4 +1,5 @@
-//! Points files: the query points of `proxima closest --points` and `bench --points`.
+//! Points and rays files: the query points of `proxima closest --points`,
+//! `sdf --points` and `bench --points`, the rays of `raycast --rays`.
 
 use super::read::{Limit, TextGuard, read_bounded};
 use super::text::{Lines, show, syntax};
@@ -18,7 +19,37 @@ pub fn load_points(path: impl AsRef<Path>, options: &LoadOptions) -> Result<Vec<
     let size = metadata.is_file().then_some(metadata.len());
     let mut guard = TextGuard::text(options.max_line_bytes);
     let bytes = read_bounded(file, Limit::Input(options.max_input_bytes), size, &mut guard, path)?;
-    parse_lines(&bytes, path)
+    parse_lines(&bytes, path, parse_point)
+}
+
+/// Reads a rays file within the limits of `options`, then [`parse_rays`] it.
+pub fn load_rays(path: impl AsRef<Path>, options: &LoadOptions) -> Result<Vec<(Vec3, Vec3)>, LoadError> {
+    let path = path.as_ref();
+    let file = std::fs::File::open(path).map_err(|e| LoadError::new(path, None, e))?;
+    let metadata = file.metadata().map_err(|e| LoadError::new(path, None, e))?;
+    let size = metadata.is_file().then_some(metadata.len());
+    let mut guard = TextGuard::text(options.max_line_bytes);
+    let bytes = read_bounded(file, Limit::Input(options.max_input_bytes), size, &mut guard, path)?;
+    parse_lines(&bytes, path, parse_ray)
+}
+
+/// Parses a rays file: one ray per line, `ox oy oz dx dy dz` separated by
+/// commas and/or white space, with the rules of [`parse_points`] (comments,
+/// blank lines, the origin's range, errors with their line). The direction
+/// must be finite and not zero, nor so small that its reciprocal overflows
+/// (as [`Ray::new`](crate::Ray::new) requires); it need not be unit length.
+///
+/// ```
+/// use proxima::Vec3;
+/// let rays = proxima::io::parse_rays(b"# origin, direction\n0 0 -1 0 0 1\n1,2,3,1,0,0\n", "r.rays".as_ref())?;
+/// assert_eq!(rays[1], (Vec3::new(1.0, 2.0, 3.0), Vec3::X));
+/// let e = proxima::io::parse_rays(b"0 0 0 1 0 0\n0 0 0 0 0 0\n", "r.rays".as_ref()).unwrap_err();
+/// assert_eq!(e.line, Some(2));
+/// # Ok::<(), proxima::LoadError>(())
+/// ```
+pub fn parse_rays(bytes: &[u8], path_for_errors: &Path) -> Result<Vec<(Vec3, Vec3)>, LoadError> {
+    TextGuard::text(DEFAULT_MAX_LINE_BYTES).feed(bytes, path_for_errors)?;
+    parse_lines(bytes, path_for_errors, parse_ray)
 }
 
 /// Parses a points file: one point per line, three numbers separated by commas
@@ -39,13 +70,14 @@ pub fn load_points(path: impl AsRef<Path>, options: &LoadOptions) -> Result<Vec<
 /// ```
 pub fn parse_points(bytes: &[u8], path_for_errors: &Path) -> Result<Vec<Vec3>, LoadError> {
     TextGuard::text(DEFAULT_MAX_LINE_BYTES).feed(bytes, path_for_errors)?;
-    parse_lines(bytes, path_for_errors)
+    parse_lines(bytes, path_for_errors, parse_point)
 }
 
-fn parse_lines(bytes: &[u8], path: &Path) -> Result<Vec<Vec3>, LoadError> {
+/// Every line that is not blank or a comment, parsed by `parse`.
+fn parse_lines<R>(bytes: &[u8], path: &Path, parse: fn(&str) -> Result<R, String>) -> Result<Vec<R>, LoadError> {
     let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
-    // A point takes at least six bytes ("1 2 3\n").
-    let mut points = Vec::with_capacity(bytes.len() / 6);
+    // A line takes at least six bytes ("1 2 3\n").
+    let mut out = Vec::with_capacity(bytes.len() / 6);
     for (number, line) in Lines::new(bytes, 1) {
         let Ok(line) = std::str::from_utf8(line) else {
             return Err(LoadError::new(path, Some(number), LoadErrorKind::InvalidUtf8));
@@ -54,35 +86,68 @@ fn parse_lines(bytes: &[u8], path: &Path) -> Result<Vec<Vec3>, LoadError> {
         if content.is_empty() {
             continue;
         }
-        points.push(parse_point(content).map_err(|message| syntax(path, Some(number), message))?);
+        out.push(parse(content).map_err(|message| syntax(path, Some(number), message))?);
     }
-    Ok(points)
+    Ok(out)
+}
+
+/// `ox oy oz dx dy dz` as a ray: the origin within the query bound, the
+/// direction usable by [`Ray::new`](crate::Ray::new).
+fn parse_ray(text: &str) -> Result<(Vec3, Vec3), String> {
+    let expected = || {
+        format!(
+            "expected six numbers OX,OY,OZ,DX,DY,DZ, got '{}'",
+            show(text.as_bytes())
+        )
+    };
+    let mut numbers = text.split([',', ' ', '\t']).filter(|s| !s.is_empty());
+    let mut values = [0f32; 6];
+    for (k, slot) in values.iter_mut().enumerate() {
+        let number = numbers.next().ok_or_else(expected)?;
+        *slot = if k < 3 { coordinate(number)? } else { finite(number)? };
+    }
+    if numbers.next().is_some() {
+        return Err(expected());
+    }
+    let origin = Vec3::new(values[0], values[1], values[2]);
+    let direction = Vec3::new(values[3], values[4], values[5]);
+    crate::Ray::new(origin, direction).map_err(|e| e.to_string())?;
+    Ok((origin, direction))
+}
+
+/// A finite number.
+fn finite(number: &str) -> Result<f32, String> {
+    let value: f32 = number
+        .parse()
+        .map_err(|_| format!("'{}' is not a number", show(number.as_bytes())))?;
+    if !value.is_finite() {
+        return Err(format!("'{}' is not a finite number", show(number.as_bytes())));
+    }
+    Ok(value)
+}
+
+/// A finite number within the query bound.
+fn coordinate(number: &str) -> Result<f32, String> {
+    let value = finite(number)?;
+    if value.abs() > MAX_QUERY_COORDINATE {
+        return Err(format!(
+            "'{}' is beyond ±{MAX_QUERY_COORDINATE:e}, where squared distances overflow f32",
+            show(number.as_bytes())
+        ));
+    }
+    Ok(value)
 }
 
 /// `X,Y,Z` (commas and/or white space) as a point within the query bound.
 fn parse_point(text: &str) -> Result<Vec3, String> {
+    let expected = || format!("expected three numbers X,Y,Z, got '{}'", show(text.as_bytes()));
     let mut numbers = text.split([',', ' ', '\t']).filter(|s| !s.is_empty());
     let mut xyz = [0f32; 3];
     for slot in &mut xyz {
-        let Some(number) = numbers.next() else {
-            return Err(format!("expected three numbers X,Y,Z, got '{}'", show(text.as_bytes())));
-        };
-        let value: f32 = number
-            .parse()
-            .map_err(|_| format!("'{}' is not a number", show(number.as_bytes())))?;
-        if !value.is_finite() {
-            return Err(format!("'{}' is not a finite number", show(number.as_bytes())));
-        }
-        if value.abs() > MAX_QUERY_COORDINATE {
-            return Err(format!(
-                "'{}' is beyond ±{MAX_QUERY_COORDINATE:e}, where squared distances overflow f32",
-                show(number.as_bytes())
-            ));
-        }
-        *slot = value;
+        *slot = coordinate(numbers.next().ok_or_else(expected)?)?;
     }
     if numbers.next().is_some() {
-        return Err(format!("expected three numbers X,Y,Z, got '{}'", show(text.as_bytes())));
+        return Err(expected());
     }
     Ok(Vec3::from_array(xyz))
 }
