@@ -578,6 +578,14 @@ fn threads_beyond_the_limit() {
 }
 
 /// A fresh self-cleaning directory holding `name` with `bytes`.
+/// A path named `file` in a fresh temporary directory, for an output that
+/// must not be written.
+fn output_path(name: &str, file: &str) -> (TempDir, std::path::PathBuf) {
+    let dir = temp_dir(name);
+    let path = dir.join(file);
+    (dir, path)
+}
+
 fn file_with(name: &str, bytes: &[u8]) -> (tempfile::TempDir, String) {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join(name);
@@ -828,8 +836,7 @@ fn sdf_non_finite_query_point() {
 #[test]
 fn sdf_grid_resolution_zero() {
     let mesh = triangle_file("sdf_grid_resolution_zero");
-    let dir = temp_dir("sdf_grid_resolution_zero_out");
-    let out_path = dir.join("g.npy");
+    let (_dir, out_path) = output_path("sdf_grid_resolution_zero_out", "g.npy");
     let out = proxima(&["sdf", &mesh, "--grid", "0", "--out", out_path.to_str().unwrap()]);
     assert_one_line_error(&out, 1, &["--grid must be at least 1"]);
     assert!(!out_path.exists(), "nothing written");
@@ -838,8 +845,7 @@ fn sdf_grid_resolution_zero() {
 #[test]
 fn sdf_grid_beyond_the_memory_budget() {
     let mesh = triangle_file("sdf_grid_beyond_the_memory_budget");
-    let dir = temp_dir("sdf_grid_beyond_the_memory_budget_out");
-    let out_path = dir.join("g.npy");
+    let (_dir, out_path) = output_path("sdf_grid_beyond_the_memory_budget_out", "g.npy");
     let start = std::time::Instant::now();
     let out = proxima(&["sdf", &mesh, "--grid", "100000", "--out", out_path.to_str().unwrap()]);
     assert_one_line_error(
@@ -863,8 +869,7 @@ fn sdf_grid_beyond_the_memory_budget() {
 #[test]
 fn sdf_sample_count_zero() {
     let mesh = triangle_file("sdf_sample_count_zero");
-    let dir = temp_dir("sdf_sample_count_zero_out");
-    let out_path = dir.join("s.npz");
+    let (_dir, out_path) = output_path("sdf_sample_count_zero_out", "s.npz");
     let out = proxima(&["sdf", &mesh, "--sample", "0", "--out", out_path.to_str().unwrap()]);
     assert_one_line_error(&out, 1, &["--sample must be at least 1"]);
     assert!(!out_path.exists(), "nothing written");
@@ -905,8 +910,7 @@ fn sdf_points_file_bad_line() {
 #[test]
 fn sdf_near_sigma_negative() {
     let mesh = triangle_file("sdf_near_sigma_negative");
-    let dir = temp_dir("sdf_near_sigma_negative_out");
-    let out_path = dir.join("s.npz");
+    let (_dir, out_path) = output_path("sdf_near_sigma_negative_out", "s.npz");
     for (sigma, shown) in [("-1", "-1"), ("nan", "NaN"), ("inf", "inf")] {
         let args = [
             "sdf",
@@ -932,8 +936,7 @@ fn sdf_near_sigma_negative() {
 #[test]
 fn sdf_near_sigma_too_far() {
     let mesh = triangle_file("sdf_near_sigma_too_far");
-    let dir = temp_dir("sdf_near_sigma_too_far_out");
-    let out_path = dir.join("s.npz");
+    let (_dir, out_path) = output_path("sdf_near_sigma_too_far_out", "s.npz");
     let args = [
         "sdf",
         &mesh,

@@ -14,23 +14,23 @@ use std::path::Path;
 /// and line length), then [`parse_points`] it.
 pub fn load_points(path: impl AsRef<Path>, options: &LoadOptions) -> Result<Vec<Vec3>, LoadError> {
     let path = path.as_ref();
-    let file = std::fs::File::open(path).map_err(|e| LoadError::new(path, None, e))?;
-    let metadata = file.metadata().map_err(|e| LoadError::new(path, None, e))?;
-    let size = metadata.is_file().then_some(metadata.len());
-    let mut guard = TextGuard::text(options.max_line_bytes);
-    let bytes = read_bounded(file, Limit::Input(options.max_input_bytes), size, &mut guard, path)?;
-    parse_lines(&bytes, path, parse_point)
+    parse_lines(&read_text(path, options)?, path, parse_point)
 }
 
 /// Reads a rays file within the limits of `options`, then [`parse_rays`] it.
 pub fn load_rays(path: impl AsRef<Path>, options: &LoadOptions) -> Result<Vec<(Vec3, Vec3)>, LoadError> {
     let path = path.as_ref();
+    parse_lines(&read_text(path, options)?, path, parse_ray)
+}
+
+/// The bytes of a text file, streamed and bounded in size and line length
+/// by `options`.
+fn read_text(path: &Path, options: &LoadOptions) -> Result<Vec<u8>, LoadError> {
     let file = std::fs::File::open(path).map_err(|e| LoadError::new(path, None, e))?;
     let metadata = file.metadata().map_err(|e| LoadError::new(path, None, e))?;
     let size = metadata.is_file().then_some(metadata.len());
     let mut guard = TextGuard::text(options.max_line_bytes);
-    let bytes = read_bounded(file, Limit::Input(options.max_input_bytes), size, &mut guard, path)?;
-    parse_lines(&bytes, path, parse_ray)
+    read_bounded(file, Limit::Input(options.max_input_bytes), size, &mut guard, path)
 }
 
 /// Parses a rays file: one ray per line, `ox oy oz dx dy dz` separated by

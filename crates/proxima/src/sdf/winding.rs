@@ -245,7 +245,8 @@ pub struct WindingStats {
 /// let winding = WindingNumbers::new(&tree, 2.0);
 /// assert!(winding.winding_number(Vec3::ZERO) > 0.5); // inside
 /// assert!(winding.winding_number(Vec3::splat(3.0)) < 0.5); // outside
-/// assert!((winding.winding_number_exact(&tree, Vec3::ZERO) - 1.0).abs() < 1e-9);
+/// let exact = proxima::sdf::winding_number_exact(tree.leaves().primitives(), Vec3::ZERO);
+/// assert!((exact - 1.0).abs() < 1e-9);
 /// ```
 #[derive(Clone, Debug)]
 pub struct WindingNumbers {
@@ -410,13 +411,6 @@ impl WindingNumbers {
             }
         }
         (far_sum + near_sum).reduce_add() * (1.0 / (4.0 * std::f32::consts::PI))
-    }
-
-    /// The winding number at `p` summed over every triangle of `tree` (the
-    /// tree this was built from) in `f64`: the oracle, and the exact mode.
-    /// Linear in the number of triangles. 0 for a `p` that is not finite.
-    pub fn winding_number_exact(&self, tree: &WideTree<Triangle>, p: Vec3) -> f64 {
-        winding_number_exact(tree.leaves().primitives(), p)
     }
 }
 
