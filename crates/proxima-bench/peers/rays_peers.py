@@ -1,4 +1,4 @@
-"""First-hit rays: proxima against Embree (embreex) and Open3D, one core, one run.
+"""First-hit rays: proxima against Embree (embreex), Open3D, parry3d and obvhs, one core, one run.
 
     rays_peers.py PROXIMA_BINARY MESH.ply [MESH.ply ...] [--rays N] [--rounds R]
 
@@ -8,7 +8,11 @@ uniform points of the box; seeded), directions normalized. proxima casts them
 with `proxima raycast MESH --rays FILE --json --threads 1` (its `seconds`
 time the casting alone, after its build); Embree through embreex
 (`EmbreeScene.run`, which uses the threads it is given: run this script
-pinned to one core); Open3D with `RaycastingScene.cast_rays(nthreads=1)`.
+pinned to one core); Open3D with `RaycastingScene.cast_rays(nthreads=1)`; parry3d and obvhs
+(its CWBVH, medium_build preset) through the `rays_peers` binary beside
+PROXIMA_BINARY (target/release/rays_peers, from crates/proxima-bench), which
+reads the same mesh and rays file and prints one JSON line per peer with its
+build and cast times and its t per ray (null for a miss).
 Best of R rounds each. Then the answers are compared: hit or miss, and t
 within 1e-4 relative where both hit.
 """
@@ -57,6 +61,9 @@ def main():
                 ours.append(json.loads(out.stdout))
             proxima_rate = max(r["rays_per_second"] for r in ours)
             csv = subprocess.run([binary, "raycast", path, "--rays", rays_file, "--threads", "1"], check=True, capture_output=True, text=True).stdout
+            rust_peers_binary = os.path.join(os.path.dirname(binary), "rays_peers")
+            out = subprocess.run([rust_peers_binary, path, rays_file, "--rounds", str(rounds)], check=True, capture_output=True, text=True).stdout
+            rust_peers = {p["peer"]: p for p in map(json.loads, out.splitlines())}
         rows_csv = np.array([line.split(",") for line in csv.splitlines()[1:]])
         t_ours = rows_csv[:, 1].astype(np.float64)
 
@@ -71,17 +78,30 @@ def main():
         o3d_time, ans = best(rounds, lambda: o3d_scene.cast_rays(rays_tensor, nthreads=1))
         t_o3d = ans["t_hit"].numpy().astype(np.float64)
 
+        def t_of(peer):
+            return np.array([np.inf if t is None else t for t in rust_peers[peer]["t"]], dtype=np.float64)
+        t_parry, t_obvhs = t_of("parry3d"), t_of("obvhs")
+        parry_rate, obvhs_rate = rust_peers["parry3d"]["rays_per_second"], rust_peers["obvhs"]["rays_per_second"]
+
         def agree(t_peer):
             hit_ours, hit_peer = np.isfinite(t_ours), np.isfinite(t_peer)
             both = hit_ours & hit_peer
             close = np.abs(t_ours[both] - t_peer[both]) <= 1e-4 * np.maximum(t_peer[both], 1e-6)
             return int(np.sum(hit_ours != hit_peer)), int(np.sum(~close))
-        rows.append((os.path.basename(path), len(F), n, proxima_rate, n / embree_time, n / o3d_time,
-                     int(np.isfinite(t_ours).sum()), agree(t_embree), agree(t_o3d), ours[0]["build_seconds"]))
-    print("| mesh | triangles | rays | proxima rays/s | Embree (embreex) | Open3D | proxima/Embree | proxima/Open3D | hits | hit/miss differ: Embree, Open3D | t differs > 1e-4: Embree, Open3D | proxima build s |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
-    for (name, tris, n, p, e, o3, hits, ae, ao, build) in rows:
-        print(f"| {name} | {tris} | {n} | {p:,.0f} | {e:,.0f} | {o3:,.0f} | {p/e:.2f}x | {p/o3:.2f}x | {hits} | {ae[0]}, {ao[0]} | {ae[1]}, {ao[1]} | {build:.2f} |")
+        peers = [agree(t) for t in (t_embree, t_o3d, t_parry, t_obvhs)]
+        builds = (min(r["build_seconds"] for r in ours), rust_peers["parry3d"]["build_seconds"], rust_peers["obvhs"]["build_seconds"])
+        rows.append((os.path.basename(path), len(F), n, proxima_rate, (n / embree_time, n / o3d_time, parry_rate, obvhs_rate),
+                     int(np.isfinite(t_ours).sum()), peers, builds))
+    names = ("Embree", "Open3D", "parry3d", "obvhs")
+    print("| mesh | triangles | rays | proxima rays/s | Embree (embreex) | Open3D | parry3d | obvhs | "
+          + " | ".join(f"proxima/{p}" for p in names)
+          + f" | hits | hit/miss differ: {', '.join(names)} | t differs > 1e-4: {', '.join(names)} | build s: proxima, parry3d, obvhs |")
+    print("|---" * 16 + "|")
+    for (name, tris, n, p, rates, hits, peers, builds) in rows:
+        print(f"| {name} | {tris} | {n} | {p:,.0f} | " + " | ".join(f"{r:,.0f}" for r in rates)
+              + " | " + " | ".join(f"{p / r:.2f}x" for r in rates)
+              + f" | {hits} | {', '.join(str(a[0]) for a in peers)} | {', '.join(str(a[1]) for a in peers)} | "
+              + ", ".join(f"{b:.2f}" for b in builds) + " |")
 
 if __name__ == "__main__":
     main()

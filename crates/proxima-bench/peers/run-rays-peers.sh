@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
-# First-hit rays: proxima against Embree (embreex) and Open3D, one core, one run.
+# First-hit rays: proxima against Embree (embreex), Open3D, parry3d and obvhs,
+# one core, one run.
 #
 #   crates/proxima-bench/peers/run-rays-peers.sh [MESH.ply ...]
 #
 # Default meshes: dragon_vrip.ply.gz (decompressed to a temporary PLY, found
 # through PROXIMA_DATA_DIR, else ../shared/data) and ico1m (exported by
 # sdf_compare). Environment: RAYS (200000) rays per mesh, PEERS_VENV (the
-# virtual environment, target/peers-venv). Builds `proxima` in release, then
+# virtual environment, target/peers-venv). Builds `proxima` and the
+# proxima-bench binaries (`rays_peers`: parry3d and obvhs) in release, then
 # runs rays_peers.py pinned to core 0; prints one table.
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
