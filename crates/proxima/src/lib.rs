@@ -48,6 +48,7 @@ pub mod prelude;
 pub mod primitive;
 pub mod query;
 pub mod ray;
+pub mod ray_tree;
 pub mod sample;
 pub mod sdf;
 pub mod sphere;
@@ -76,6 +77,7 @@ pub use query::{
     SpatialIndex,
 };
 pub use ray::Ray;
+pub use ray_tree::RayTree;
 pub use sdf::{SdfConfig, Sign, SignedDistance, SignedDistanceField};
 pub use sphere::Sphere;
 pub use sphere_tree::SphereTree;

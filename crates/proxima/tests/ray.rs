@@ -1,6 +1,6 @@
-//! Ray queries of the AABB tree against brute force (the same watertight test
-//! on every triangle, smallest t, ties to the lowest index) and against the
-//! hash grid: random and degenerate soups (proptest), rays with zero direction
+//! Ray queries of the AABB tree, the wide tree and the ray tree (with and
+//! without AVX2) against brute force (the same watertight test on every
+//! triangle, smallest t, ties to the lowest index) and against the hash grid: random and degenerate soups (proptest), rays with zero direction
 //! components and origins on box faces, t ranges, and every shared mesh with
 //! random rays and rays aimed exactly at vertices and edge midpoints (which
 //! must never slip through).
@@ -13,7 +13,7 @@ use proxima::grid::{FastHash, GridConfig, HashGrid};
 use proxima::prelude::*;
 use proxima::primitive::{RayIntersect, WatertightRay};
 use proxima::sample::Rng;
-use proxima::{AabbTree, BuildConfig, Mesh, PrimitiveSet, RayError, Triangle, Vec3};
+use proxima::{AabbTree, BuildConfig, Mesh, PrimitiveSet, RayError, RayTree, Triangle, Vec3};
 use rayon::prelude::*;
 use std::collections::HashMap;
 
@@ -57,14 +57,66 @@ fn configs() -> [BuildConfig; 3] {
     ]
 }
 
+/// The structures made from one binary tree: the wide tree (holding the
+/// binary one) and the ray tree, on AVX2 lanes where the CPU has them and
+/// without. [`first_hit`](Self::first_hit) and [`any_hit`](Self::any_hit)
+/// give the wide tree's answer once the ray tree's, both ways, are found equal.
+struct Trees {
+    wide: WideTree<Triangle>,
+    ray: RayTree,
+    portable: RayTree,
+}
+
+impl Trees {
+    fn new(tree: AabbTree<Triangle>) -> Self {
+        let ray = RayTree::from_tree(tree.clone());
+        let mut portable = ray.clone();
+        portable.set_avx2(false);
+        Self {
+            wide: WideTree::from_tree(tree),
+            ray,
+            portable,
+        }
+    }
+
+    fn tree(&self) -> &AabbTree<Triangle> {
+        self.wide.tree()
+    }
+
+    fn first_hit(&self, o: Vec3, d: Vec3, t_min: f32, t_max: f32) -> Result<Option<RayHit>, RayError> {
+        let want = self.wide.first_hit(o, d, t_min, t_max);
+        assert_eq!(
+            self.ray.first_hit(o, d, t_min, t_max),
+            want,
+            "ray tree, ray ({o}, {d}, [{t_min}, {t_max}])"
+        );
+        assert_eq!(
+            self.portable.first_hit(o, d, t_min, t_max),
+            want,
+            "ray tree without AVX2, ray ({o}, {d})"
+        );
+        want
+    }
+
+    fn any_hit(&self, o: Vec3, d: Vec3, t_min: f32, t_max: f32) -> Result<bool, RayError> {
+        let want = self.wide.any_hit(o, d, t_min, t_max);
+        assert_eq!(
+            self.ray.any_hit(o, d, t_min, t_max),
+            want,
+            "ray tree, any hit ({o}, {d})"
+        );
+        assert_eq!(
+            self.portable.any_hit(o, d, t_min, t_max),
+            want,
+            "ray tree without AVX2, any hit ({o}, {d})"
+        );
+        want
+    }
+}
+
 /// Checks first hit and any hit of every tree against brute force; returns
 /// the number of rays that hit.
-fn check_rays(
-    name: &str,
-    set: &PrimitiveSet<Triangle>,
-    trees: &[WideTree<Triangle>],
-    rays: &[(Vec3, Vec3, f32, f32)],
-) -> usize {
+fn check_rays(name: &str, set: &PrimitiveSet<Triangle>, trees: &[Trees], rays: &[(Vec3, Vec3, f32, f32)]) -> usize {
     rays.par_iter()
         .enumerate()
         .map(|(k, &(o, d, t_min, t_max))| {
@@ -96,11 +148,13 @@ fn check_rays(
         .sum()
 }
 
-/// A wide tree (holding its binary tree) per build configuration.
-fn trees(set: &PrimitiveSet<Triangle>) -> Vec<WideTree<Triangle>> {
+/// The structures of each build configuration, and the ray tree's own
+/// (binned SAH, leaves of four).
+fn trees(set: &PrimitiveSet<Triangle>) -> Vec<Trees> {
     configs()
         .iter()
-        .map(|c| WideTree::from_tree(AabbTree::build_set(set.clone(), c).unwrap()))
+        .chain([RayTree::config()].iter())
+        .map(|c| Trees::new(AabbTree::build_set(set.clone(), c).unwrap()))
         .collect()
 }
 
@@ -358,9 +412,12 @@ fn empty_tree_and_errors() {
             },
         ),
     ];
-    let wide = WideTree::from_tree(tree.clone());
+    let wide = Trees::new(tree.clone());
     #[cfg(target_arch = "x86_64")]
-    assert!(wide.has_triangle_packets(), "the wide tests must cover the packet path");
+    assert!(
+        wide.wide.has_triangle_packets(),
+        "the wide tests must cover the packet path"
+    );
     for (o, d, t_min, t_max, want) in cases {
         assert_eq!(wide.first_hit(o, d, t_min, t_max).unwrap_err(), want);
         assert_eq!(wide.any_hit(o, d, t_min, t_max).unwrap_err(), want);
@@ -553,7 +610,7 @@ fn far_origins_hit_the_near_face() {
     let mesh = common::bumpy_sphere(4, 11);
     let set = mesh.triangles();
     let tree = AabbTree::build_set(set.clone(), &BuildConfig::default()).unwrap();
-    let wide = WideTree::from_tree(tree.clone());
+    let wide = Trees::new(tree.clone());
     let grid: HashGrid<Triangle, FastHash> = HashGrid::build(set, &GridConfig::cubic(0.2)).unwrap();
     let far = (1u32 << 27) as f32;
     let mut rng = Rng::new(3);
@@ -620,7 +677,7 @@ fn huge_coordinates_keep_their_hits() {
     .unwrap();
     let small_tree = AabbTree::build_set(mesh.triangles(), &BuildConfig::default()).unwrap();
     let tree = AabbTree::build_set(huge.triangles(), &BuildConfig::default()).unwrap();
-    let wide = WideTree::from_tree(tree.clone());
+    let wide = Trees::new(tree.clone());
     let grid: HashGrid<Triangle, FastHash> =
         HashGrid::build(huge.triangles(), &GridConfig::cubic(0.3 * scale)).unwrap();
     let mut rng = Rng::new(9);
@@ -655,4 +712,47 @@ fn huge_coordinates_keep_their_hits() {
         }
     }
     assert!(hits > 100, "{hits} rays hit");
+}
+
+/// The ray tree's batch (walks interleaved, rays in Morton order) gives
+/// each ray the answer `first_hit` gives it alone, errors included, in
+/// input order, with and without AVX2 (deep trees, which take their rays one
+/// at a time, are tested in the crate: `ray_tree`'s unit tests).
+#[test]
+fn ray_tree_batches_equal_single_rays() {
+    let cases = [
+        ("sphere", common::bumpy_sphere(40, 3).triangles()),
+        ("soup", common::random_soup(3000, 4).triangles()),
+    ];
+    for (name, set) in cases {
+        for config in configs().iter().chain([RayTree::config()].iter()) {
+            let tree = RayTree::build_set(set.clone(), config).unwrap();
+            let bounds = tree.bounds();
+            let mut rays: Vec<(Vec3, Vec3)> = random_rays(&bounds, 3000, 21).iter().map(|r| (r.0, r.1)).collect();
+            // Errors in place: zero and non-finite directions, an origin too far.
+            rays.insert(7, (Vec3::ZERO, Vec3::ZERO));
+            rays.insert(1500, (Vec3::ZERO, Vec3::new(f32::NAN, 0.0, 1.0)));
+            rays.insert(2000, (Vec3::splat(1e37), -Vec3::ONE));
+            let mut portable = tree.clone();
+            portable.set_avx2(false);
+            for t_range in [(0.0, f32::INFINITY), (-1.0, 2.5)] {
+                let batch = tree.first_hit_batch(&rays, t_range.0, t_range.1);
+                assert_eq!(batch, portable.first_hit_batch(&rays, t_range.0, t_range.1), "{name}");
+                let any = tree.any_hit_batch(&rays, t_range.0, t_range.1);
+                let mut hits = 0;
+                for (k, &(o, d)) in rays.iter().enumerate() {
+                    let single = tree.first_hit(o, d, t_range.0, t_range.1);
+                    assert_eq!(batch[k], single, "{name}, {config:?}, ray {k} ({o}, {d})");
+                    assert_eq!(
+                        any[k],
+                        tree.any_hit(o, d, t_range.0, t_range.1),
+                        "{name}: any hit, ray {k}"
+                    );
+                    hits += usize::from(matches!(single, Ok(Some(_))));
+                }
+                assert!(batch[7].is_err() && batch[1500].is_err() && batch[2000].is_err());
+                assert!(hits > 300, "{name}: only {hits} hits");
+            }
+        }
+    }
 }

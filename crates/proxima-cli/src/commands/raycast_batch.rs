@@ -1,12 +1,12 @@
 //! `proxima raycast MESH --rays FILE [--threads T] [--any] [--json]`: every
-//! ray of a file cast on all cores with the 4-wide tree, answers in input
+//! ray of a file cast on all cores with the 8-wide ray tree ([`RayTree`]), answers in input
 //! order as CSV `ray,t,face` (`inf,-1` for a miss) or `ray,hit` with `--any`.
 
 use super::raycast::Args;
 use crate::common::{load_mesh, read_rays, thread_count, unit_direction};
 use anyhow::{Context, Result, bail};
+use proxima::RayTree;
 use proxima::prelude::*;
-use proxima::{BuildConfig, WideTree};
 use serde_json::json;
 use std::fmt::Write as _;
 use std::io::{BufWriter, Write};
@@ -34,7 +34,7 @@ pub fn run(args: &Args, file: &Path) -> Result<()> {
         .context("thread pool")?;
     let start = Instant::now();
     let tree = pool
-        .install(|| WideTree::build_set(mesh.triangles(), &BuildConfig::default()))
+        .install(|| RayTree::build(&mesh))
         .with_context(|| args.mesh.display().to_string())?;
     let build_seconds = start.elapsed().as_secs_f64();
     // Unit directions, so that t is a distance; the file's rays were checked

@@ -1,9 +1,12 @@
 //! Ray queries, written once over any structure's ray walk: the first
 //! primitive a ray hits, and whether it hits any.
 
-use super::{Counter, QueryStats, RayVisitor, SpatialIndex};
+use super::batch::answer_batch_indexed;
+use super::{Counter, Leaves, QueryStats, RayVisitor, SpatialIndex};
+use crate::aabb::Aabb;
 use crate::error::RayError;
 use crate::math::Vec3;
+use crate::memory::prefetch;
 use crate::primitive::{RayIntersect, TriangleHit, WatertightRay};
 use crate::ray::Ray;
 use rayon::prelude::*;
@@ -50,7 +53,10 @@ pub(crate) struct FarRay {
 impl FarRay {
     /// The ray `origin + t · direction`, `t ∈ [t_min, t_max]`, cast at the box
     /// `[min, max]`: moved when it starts more than [`FAR_RAY_DIAGONALS`]
-    /// diagonals before entering it, as it is otherwise (and when it misses);
+    /// diagonals before entering it, as it is otherwise (and when it misses,
+    /// or when its origin lies within that many diagonals of the box's
+    /// centre, which every ray of a batch cast at a mesh usually does: then
+    /// no division is made);
     /// `None` when the origin lies more than 2^30 diagonals from the box, where
     /// the `f64` rounding of the move would exceed the box's `f32` resolution.
     pub(crate) fn new(origin: Vec3, direction: Vec3, t_min: f32, t_max: f32, min: Vec3, max: Vec3) -> Option<Self> {
@@ -65,6 +71,14 @@ impl FarRay {
             direction.to_array().map(|x| x as f64),
         );
         let (lo, hi) = (min.to_array().map(|x| x as f64), max.to_array().map(|x| x as f64));
+        // An origin this near the box enters it, if at all, within
+        // `FAR_RAY_DIAGONALS · back` (its entry point lies on the box): not
+        // moved, and no division needed to know it.
+        let diagonal2: f64 = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum();
+        let from_centre2: f64 = (0..3).map(|k| (o[k] - 0.5 * (lo[k] + hi[k])).powi(2)).sum();
+        if from_centre2 <= diagonal2 * (FAR_RAY_DIAGONALS / 2.0).powi(2) {
+            return Some(unmoved);
+        }
         let mut enter = f64::NEG_INFINITY;
         for k in 0..3 {
             if d[k] != 0.0 {
@@ -116,28 +130,50 @@ pub(crate) fn prepare_structure_ray(
     t_max: f32,
     bounds: Option<crate::aabb::Aabb>,
 ) -> Result<Option<(WatertightRay, FarRay)>, RayError> {
-    prepare_ray(origin, direction, t_min, t_max)?;
+    Ray::with_range(origin, direction, t_min, t_max)?;
     let Some(bounds) = bounds else { return Ok(None) };
     let far = FarRay::new(origin, direction, t_min, t_max, bounds.min, bounds.max).ok_or(RayError::OriginTooFar)?;
-    let ray = prepare_ray(far.origin, direction, far.t_min, far.t_max)?;
+    if far.shift != 0.0 {
+        // The moved ray's range may have become invalid (the move rounds).
+        Ray::with_range(far.origin, direction, far.t_min, far.t_max)?;
+    }
+    let ray = WatertightRay::new(far.origin, direction).ok_or(RayError::Direction)?;
     Ok(Some((ray, far)))
 }
 
-/// Checks a ray's input ([`Ray::with_range`]) and prepares it for the
-/// watertight test.
-fn prepare_ray(origin: Vec3, direction: Vec3, t_min: f32, t_max: f32) -> Result<WatertightRay, RayError> {
-    Ray::with_range(origin, direction, t_min, t_max)?;
-    WatertightRay::new(origin, direction).ok_or(RayError::Direction)
-}
-
 /// Keeps the hit of smallest `t`, ties to the lowest input index.
-pub(crate) struct FirstHit<'a> {
-    pub(crate) indices: &'a [u32],
+pub(crate) struct FirstHit<'a, T> {
+    pub(crate) leaves: &'a Leaves<T>,
     pub(crate) t_hi: f32,
     pub(crate) best: Option<(usize, TriangleHit)>,
 }
 
-impl<T: RayIntersect> RayVisitor<T> for FirstHit<'_> {
+impl<'a, T: RayIntersect> FirstHit<'a, T> {
+    /// A search of `ray` (prepared by [`prepare_structure_ray`]) in the
+    /// structure whose leaves are `leaves`.
+    pub(crate) fn new(leaves: &'a Leaves<T>, far: &FarRay) -> Self {
+        Self {
+            leaves,
+            t_hi: far.t_max,
+            best: None,
+        }
+    }
+
+    /// The answer once the walk has ended, in the parameters of the ray as given.
+    pub(crate) fn answer(&self, far: &FarRay) -> Option<RayHit> {
+        let leaves = self.leaves;
+        self.best.map(|(slot, hit)| RayHit {
+            primitive: leaves.indices()[slot],
+            source: leaves.sources()[slot],
+            t: far.original_t(hit.t),
+            point: leaves.primitives()[slot].hit_point(&hit),
+            u: hit.u,
+            v: hit.v,
+        })
+    }
+}
+
+impl<T: RayIntersect> RayVisitor<T> for FirstHit<'_, T> {
     #[inline(always)]
     fn t_hi(&self) -> f32 {
         self.t_hi
@@ -156,10 +192,16 @@ impl<T: RayIntersect> RayVisitor<T> for FirstHit<'_> {
         let better = match self.best {
             None => true,
             Some((best_slot, best)) => {
-                hit.t < best.t || (hit.t == best.t && self.indices[slot] < self.indices[best_slot])
+                hit.t < best.t || (hit.t == best.t && self.leaves.indices()[slot] < self.leaves.indices()[best_slot])
             }
         };
         if better {
+            // The answer is made from these once the walk ends: asked for
+            // now, their cache misses overlap with the rest of the walk
+            // instead of following it.
+            prefetch(&self.leaves.indices()[slot]);
+            prefetch(&self.leaves.sources()[slot]);
+            prefetch(&self.leaves.primitives()[slot]);
             self.best = Some((slot, hit));
             self.t_hi = hit.t;
         }
@@ -269,28 +311,64 @@ pub trait RayQuery<T: RayIntersect>: SpatialIndex<T> {
     }
 
     /// [`first_hit`](Self::first_hit) for many rays `(origin, direction)`
-    /// on all cores, answers in input order.
+    /// on all cores, answers in input order. The rays are cast in Morton
+    /// order of their point nearest the centre of the structure's bounds
+    /// ([`sort_points`]), so that consecutive rays cross mostly the same
+    /// nodes while they are in cache; each answer is the one
+    /// [`first_hit`](Self::first_hit) gives.
     fn first_hit_batch(&self, rays: &[(Vec3, Vec3)], t_min: f32, t_max: f32) -> Vec<Result<Option<RayHit>, RayError>>
     where
         Self: Sync,
     {
-        rays.par_iter()
-            .with_min_len(64)
-            .map(|&(o, d)| self.first_hit(o, d, t_min, t_max))
-            .collect()
+        first_hit_each(self, rays, t_min, t_max)
     }
 
     /// [`any_hit`](Self::any_hit) for many rays `(origin, direction)` on all
-    /// cores, answers in input order.
+    /// cores, answers in input order, cast in the order of
+    /// [`first_hit_batch`](Self::first_hit_batch).
     fn any_hit_batch(&self, rays: &[(Vec3, Vec3)], t_min: f32, t_max: f32) -> Vec<Result<bool, RayError>>
     where
         Self: Sync,
     {
-        rays.par_iter()
-            .with_min_len(64)
-            .map(|&(o, d)| self.any_hit(o, d, t_min, t_max))
-            .collect()
+        let bounds = self.bounds();
+        answer_batch_indexed(
+            &sort_points(rays, &bounds),
+            &bounds,
+            true,
+            || (),
+            |_, i| self.any_hit(rays[i].0, rays[i].1, t_min, t_max),
+        )
     }
+}
+
+/// [`RayQuery::first_hit_batch`] ray by ray, in Morton order: the default,
+/// and what structures with their own batch fall back on.
+pub(crate) fn first_hit_each<T: RayIntersect, S: RayQuery<T> + Sync + ?Sized>(
+    structure: &S,
+    rays: &[(Vec3, Vec3)],
+    t_min: f32,
+    t_max: f32,
+) -> Vec<Result<Option<RayHit>, RayError>> {
+    let bounds = structure.bounds();
+    answer_batch_indexed(
+        &sort_points(rays, &bounds),
+        &bounds,
+        true,
+        || (),
+        |_, i| structure.first_hit(rays[i].0, rays[i].1, t_min, t_max),
+    )
+}
+
+/// The point of each ray's line nearest the centre of `bounds`: rays whose
+/// points are near one another cross the same part of a structure, so
+/// Morton order of these points makes a batch coherent. A zero or
+/// non-finite direction gives NaN, which sorts first (its ray fails anyway).
+pub(crate) fn sort_points(rays: &[(Vec3, Vec3)], bounds: &Aabb) -> Vec<Vec3> {
+    let centre = bounds.center();
+    rays.par_iter()
+        .with_min_len(4096)
+        .map(|&(o, d)| o + d * ((centre - o).dot(d) / d.length_squared()))
+        .collect()
 }
 
 #[inline]
@@ -307,18 +385,7 @@ fn first_hit_counted<T: RayIntersect, S: RayQuery<T> + ?Sized, C: Counter>(
     let Some((ray, far)) = prepare_structure_ray(origin, direction, t_min, t_max, bounds)? else {
         return Ok(None);
     };
-    let mut first = FirstHit {
-        indices: leaves.indices(),
-        t_hi: far.t_max,
-        best: None,
-    };
+    let mut first = FirstHit::new(leaves, &far);
     structure.ray_walk(&ray, direction, far.t_min, &mut first, counter);
-    Ok(first.best.map(|(slot, hit)| RayHit {
-        primitive: leaves.indices()[slot],
-        source: leaves.sources()[slot],
-        t: far.original_t(hit.t),
-        point: leaves.primitives()[slot].hit_point(&hit),
-        u: hit.u,
-        v: hit.v,
-    }))
+    Ok(first.answer(&far))
 }

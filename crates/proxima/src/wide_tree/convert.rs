@@ -17,7 +17,7 @@ use std::ops::Range;
 /// end), by node index, in one backward pass: children follow their parent
 /// in the node array: cheaper than walking down a subtree's two edges each
 /// time a node is considered (docs/perf-log.md).
-fn subtree_ranges<T>(tree: &AabbTree<T>) -> Vec<Range<u32>> {
+pub(crate) fn subtree_ranges<T>(tree: &AabbTree<T>) -> Vec<Range<u32>> {
     // Index 1 is unused (the root has no sibling), so indices reach `node_count`.
     let mut ranges = vec![0..0; tree.node_count() + 1];
     for index in (0..ranges.len()).rev() {

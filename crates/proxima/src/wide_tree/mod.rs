@@ -33,13 +33,17 @@
 mod avx2;
 #[cfg(target_arch = "x86_64")]
 pub(crate) use avx2::{Avx2, Avx2Task};
+pub(crate) use convert::subtree_ranges;
+#[cfg(not(target_arch = "x86_64"))]
+pub(crate) use walk::Avx2;
+pub(crate) use walk::detect_avx2;
 #[cfg(feature = "experimental")]
 mod batch;
 mod convert;
 mod nearest;
-mod packet;
-mod ray;
-mod walk;
+pub(crate) mod packet;
+pub(crate) mod ray;
+pub(crate) mod walk;
 
 pub use packet::WidePrimitive;
 

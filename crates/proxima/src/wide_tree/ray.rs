@@ -15,7 +15,7 @@ use super::walk::{Pending, Slices, WideQuery};
 use super::{WideNode, WidePrimitive, WideTree};
 use crate::bvh::RaySlabs;
 use crate::math::Vec3;
-use crate::primitive::{RayIntersect, TriangleHit, WatertightRay};
+use crate::primitive::{RayIntersect, WatertightRay};
 use crate::query::{Counter, RayQuery, RayVisitor};
 use std::ops::ControlFlow;
 use wide::f32x4;
@@ -71,58 +71,6 @@ impl WideSlabs {
     }
 }
 
-/// Which lanes of a packet a ray hits within `[t_min, t_max]`, with their hit,
-/// and which lanes need the scalar test (an edge function exactly zero, or a
-/// `t` beyond `f32`).
-#[inline(always)]
-fn packet_hits(packet: &TrianglePacket, ray: &WatertightRay, t_min: f32, t_max: f32) -> (u32, [TriangleHit; 4], u32) {
-    let ([kx, ky, kz], [sx, sy, sz]) = ray.shear();
-    let origin = ray.origin().to_array();
-    let o = [
-        f32x4::splat(origin[0]),
-        f32x4::splat(origin[1]),
-        f32x4::splat(origin[2]),
-    ];
-    let (sx, sy, sz) = (f32x4::splat(sx), f32x4::splat(sy), f32x4::splat(sz));
-    // (x, y, z) of one vertex in the ray's sheared frame, before z is scaled.
-    let sheared = |v: &[[f32; 4]; 3]| {
-        let px = f32x4::new(v[kx]) - o[kx];
-        let py = f32x4::new(v[ky]) - o[ky];
-        let pz = f32x4::new(v[kz]) - o[kz];
-        (px - sx * pz, py - sy * pz, pz)
-    };
-    let (ax, ay, a_z) = sheared(&packet.a);
-    let (bx, by, b_z) = sheared(&packet.b);
-    let (cx, cy, c_z) = sheared(&packet.c);
-    let u = cx * by - cy * bx;
-    let v = ax * cy - ay * cx;
-    let w = bx * ay - by * ax;
-    let zero = f32x4::ZERO;
-    let lanes = packet.fast | packet.slow;
-    let exact_zero = (u.simd_eq(zero) | v.simd_eq(zero) | w.simd_eq(zero)).to_bitmask() & lanes;
-    let negative = u.simd_lt(zero) | v.simd_lt(zero) | w.simd_lt(zero);
-    let positive = u.simd_gt(zero) | v.simd_gt(zero) | w.simd_gt(zero);
-    let det = u + v + w;
-    let t = (u * (sz * a_z) + v * (sz * b_z) + w * (sz * c_z)) / det;
-    let inside =
-        !(negative & positive) & det.simd_ne(zero) & t.simd_ge(f32x4::splat(t_min)) & t.simd_le(f32x4::splat(t_max));
-    // Lanes whose t overflowed f32 (coordinates near 1e17) go to the scalar
-    // test too, which computes t again in f64.
-    let overflow = (t.simd_ne(t) | t.abs().simd_eq(f32x4::splat(f32::INFINITY))).to_bitmask()
-        & lanes
-        & det.simd_ne(zero).to_bitmask();
-    let exact_zero = exact_zero | overflow;
-    let hit_lanes = inside.to_bitmask() & lanes & !exact_zero;
-    let (t, bu, bv) = (t.to_array(), (v / det).to_array(), (w / det).to_array());
-    let hits = std::array::from_fn(|lane| TriangleHit {
-        t: t[lane],
-        u: bu[lane],
-        v: bv[lane],
-        piece: 0,
-    });
-    (hit_lanes, hits, exact_zero)
-}
-
 /// A ray query on the wide tree: keys are the ray's entry parameters into
 /// the four (per-ray widened) child boxes; leaves are tested four triangles
 /// at a time where the tree has packets.
@@ -167,24 +115,39 @@ impl<T: RayIntersect, V: RayVisitor<T>> WideQuery<T> for Rays<'_, V> {
             return ControlFlow::Continue(());
         }
         for packet in &packets[child..child + n.div_ceil(4)] {
-            let (mut bits, hits, mut scalar) = packet_hits(packet, self.ray, self.t_min, self.visitor.t_hi());
-            while bits != 0 {
-                let lane = bits.trailing_zeros() as usize;
-                bits &= bits - 1;
-                if self.visitor.offer(packet.first as usize + lane, hits[lane]) {
-                    return ControlFlow::Break(());
-                }
-            }
-            while scalar != 0 {
-                let slot = packet.first as usize + scalar.trailing_zeros() as usize;
-                scalar &= scalar - 1;
-                if self.visitor.visit(slot, &primitives[slot], self.ray, self.t_min) {
-                    return ControlFlow::Break(());
-                }
-            }
+            offer_packet(packet, primitives, self.ray, self.t_min, self.visitor)?;
         }
         ControlFlow::Continue(())
     }
+}
+
+/// Offers `visitor` the hits of `ray` on the triangles of `packet` (in
+/// `primitives`, the leaf-order array), lanes the packet test cannot decide
+/// going to the scalar test; `Break` when the visitor ends the query.
+#[inline(always)]
+pub(crate) fn offer_packet<T: RayIntersect, V: RayVisitor<T>>(
+    packet: &TrianglePacket,
+    primitives: &[T],
+    ray: &WatertightRay,
+    t_min: f32,
+    visitor: &mut V,
+) -> ControlFlow<()> {
+    let (mut bits, hits, mut scalar) = packet.ray_hits(ray, t_min, visitor.t_hi());
+    while bits != 0 {
+        let lane = bits.trailing_zeros() as usize;
+        bits &= bits - 1;
+        if visitor.offer(packet.first as usize + lane, hits[lane]) {
+            return ControlFlow::Break(());
+        }
+    }
+    while scalar != 0 {
+        let slot = packet.first as usize + scalar.trailing_zeros() as usize;
+        scalar &= scalar - 1;
+        if visitor.visit(slot, &primitives[slot], ray, t_min) {
+            return ControlFlow::Break(());
+        }
+    }
+    ControlFlow::Continue(())
 }
 
 /// The same answers as the binary tree's, field for field.

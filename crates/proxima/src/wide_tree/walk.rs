@@ -99,7 +99,7 @@ pub(crate) const PREFETCHED_PACKETS: usize = 4;
 /// Asks for every cache line of a triangle packet (176 bytes at a 16-byte
 /// boundary: three or four lines).
 #[inline(always)]
-fn prefetch_packet(packet: &TrianglePacket) {
+pub(crate) fn prefetch_packet(packet: &TrianglePacket) {
     prefetch(packet);
     prefetch(&packet.a[2]);
     prefetch(&packet.b[2]);
