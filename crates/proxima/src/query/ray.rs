@@ -6,7 +6,6 @@ use super::{Counter, Leaves, QueryStats, RayVisitor, SpatialIndex};
 use crate::aabb::Aabb;
 use crate::error::RayError;
 use crate::math::Vec3;
-use crate::memory::prefetch;
 use crate::primitive::{RayIntersect, TriangleHit, WatertightRay};
 use crate::ray::Ray;
 use rayon::prelude::*;
@@ -161,15 +160,21 @@ impl<'a, T: RayIntersect> FirstHit<'a, T> {
 
     /// The answer once the walk has ended, in the parameters of the ray as given.
     pub(crate) fn answer(&self, far: &FarRay) -> Option<RayHit> {
-        let leaves = self.leaves;
-        self.best.map(|(slot, hit)| RayHit {
-            primitive: leaves.indices()[slot],
-            source: leaves.sources()[slot],
-            t: far.original_t(hit.t),
-            point: leaves.primitives()[slot].hit_point(&hit),
-            u: hit.u,
-            v: hit.v,
-        })
+        self.best.map(|(slot, hit)| hit_answer(self.leaves, far, slot, &hit))
+    }
+}
+
+/// The answer for `hit` on the primitive at `slot` of `leaves`, in the
+/// parameters of the ray as given (before [`FarRay`] moved it).
+#[inline]
+pub(crate) fn hit_answer<T: RayIntersect>(leaves: &Leaves<T>, far: &FarRay, slot: usize, hit: &TriangleHit) -> RayHit {
+    RayHit {
+        primitive: leaves.indices()[slot],
+        source: leaves.sources()[slot],
+        t: far.original_t(hit.t),
+        point: leaves.primitives()[slot].hit_point(hit),
+        u: hit.u,
+        v: hit.v,
     }
 }
 
@@ -196,12 +201,6 @@ impl<T: RayIntersect> RayVisitor<T> for FirstHit<'_, T> {
             }
         };
         if better {
-            // The answer is made from these once the walk ends: asked for
-            // now, their cache misses overlap with the rest of the walk
-            // instead of following it.
-            prefetch(&self.leaves.indices()[slot]);
-            prefetch(&self.leaves.sources()[slot]);
-            prefetch(&self.leaves.primitives()[slot]);
             self.best = Some((slot, hit));
             self.t_hi = hit.t;
         }

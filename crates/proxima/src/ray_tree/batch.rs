@@ -20,9 +20,10 @@ use super::walk::{Arrays, Lanes, Portable, RayWalk, SHALLOW, SMALL_STACK, WalkSt
 use crate::bvh::RaySlabs;
 use crate::error::RayError;
 use crate::math::Vec3;
-use crate::primitive::{Triangle, WatertightRay};
+use crate::memory::prefetch;
+use crate::primitive::{Triangle, TriangleHit, WatertightRay};
 use crate::query::{
-    FarRay, FirstHit, RayHit, first_hit_each, morton_order, prepare_structure_ray, sort_points, unpermute,
+    FarRay, FirstHit, RayHit, first_hit_each, hit_answer, morton_order, prepare_structure_ray, sort_points, unpermute,
 };
 use crate::wide_tree::Avx2;
 use rayon::prelude::*;
@@ -45,6 +46,13 @@ struct Slot<'a> {
 
 /// The answers, in chunk order, for the rays `order` picks from `rays`.
 type Answers = Vec<Result<Option<RayHit>, RayError>>;
+
+/// A walk's result before its answer is made: the slot hit, the hit, and
+/// how its ray was moved.
+type Found = Result<Option<(usize, TriangleHit, FarRay)>, RayError>;
+
+/// Answers made this many ahead of the one being made are prefetched.
+const RESOLVE_AHEAD: usize = 8;
 
 impl RayTree {
     /// [`first_hit_batch`](crate::query::RayQuery::first_hit_batch) with
@@ -111,13 +119,13 @@ impl RayTree {
         // the input, and a loop of independent loads overlaps the misses
         // that the walks would otherwise wait on one by one.
         let rays: Vec<(Vec3, Vec3)> = chunk.iter().map(|&i| rays[i as usize]).collect();
-        let mut answers: Answers = vec![Ok(None); chunk.len()];
+        let mut answers: Vec<Found> = vec![Ok(None); chunk.len()];
         let mut slots: [Option<Slot<'t>>; INTERLEAVED] = Default::default();
         let mut states = [WalkState::<SMALL_STACK>::START; INTERLEAVED];
         let mut next = 0;
         // Gives `slot` the next ray that can be cast (errors are answered at
         // once), or leaves it empty when the chunk is done.
-        let mut refill = |slot: &mut Option<Slot<'t>>, state: &mut WalkState<SMALL_STACK>, answers: &mut Answers| {
+        let mut refill = |slot: &mut Option<Slot<'t>>, state: &mut WalkState<SMALL_STACK>, answers: &mut Vec<Found>| {
             *slot = None;
             while next < chunk.len() {
                 let k = next;
@@ -153,14 +161,37 @@ impl RayTree {
                     visitor: &mut s.search,
                 };
                 if !arrays.step(lanes, &mut walk, state, &mut ()) {
-                    answers[s.answer] = Ok(s.search.answer(&s.far));
+                    answers[s.answer] = Ok(s.search.best.map(|(slot, hit)| (slot, hit, s.far)));
                     refill(slot, state, &mut answers);
                 }
             }
             if !running {
-                return answers;
+                return self.resolve(&answers);
             }
         }
+    }
+}
+
+impl RayTree {
+    /// The answers of the walks' results. Each reads the hit slot's input
+    /// index, source and triangle: three cache misses, which the walk would
+    /// wait on at its end; here they are asked for [`RESOLVE_AHEAD`]
+    /// answers ahead, so that they overlap.
+    fn resolve(&self, found: &[Found]) -> Answers {
+        let leaves = &self.leaves;
+        (0..found.len())
+            .map(|k| {
+                if let Some(Ok(Some((slot, ..)))) = found.get(k + RESOLVE_AHEAD) {
+                    prefetch(&leaves.indices()[*slot]);
+                    prefetch(&leaves.sources()[*slot]);
+                    prefetch(&leaves.primitives()[*slot]);
+                }
+                match &found[k] {
+                    Ok(hit) => Ok(hit.map(|(slot, hit, far)| hit_answer(leaves, &far, slot, &hit))),
+                    Err(error) => Err(error.clone()),
+                }
+            })
+            .collect()
     }
 }
 
