@@ -22,12 +22,13 @@
 //! | Input | [`io`] (OBJ, PLY, STL, OFF, gzip; limits), [`mesh`] ([`Mesh`]), [`kind`] ([`PrimitiveKind`]: vertices, edges, faces, polygons) |
 //! | Primitives | [`primitive`] ([`Point`], [`LineSegment`], [`Triangle`], [`ConvexPolygon`]; traits [`Bounded`], [`ClosestPoint`], [`BoxOverlap`], [`RayIntersect`]), [`frustum`] ([`Frustum`], [`FrustumOverlap`]), [`ray`] ([`Ray`]) |
 //! | Queries | [`sdf`] ([`SignedDistanceField`]: signed distance, winding numbers, inside tests, grids, samples), [`query`]: [`NearestQuery`], [`RayQuery`], [`FrustumQuery`], each written once over a structure's walk; answers [`ClosestHit`], [`RayHit`] |
-//! | Structures | [`bvh`] ([`AabbTree`]), [`wide_tree`] ([`WideTree`], 4-wide, SIMD leaves), [`sphere_tree`] ([`SphereTree`]), [`linear`] ([`LinearSearch`], brute force), [`grid`] ([`HashGrid`]), [`traversal`] ([`GridTraversal`]) |
+//! | Structures | [`bvh`] ([`AabbTree`]), [`wide_tree`] ([`WideTree`], 4-wide, SIMD leaves), [`ray_tree`] ([`RayTree`], 8-wide, for rays), [`sphere_tree`] ([`SphereTree`]), [`linear`] ([`LinearSearch`], brute force), [`grid`] ([`HashGrid`]), [`traversal`] ([`GridTraversal`]) |
 //! | Support | [`aabb`], [`sphere`], [`math`], [`memory`], [`budget`] (memory and work limits), [`error`] (typed errors), [`sample`] (seeded test and benchmark inputs) |
 //!
 //! `use proxima::prelude::*;` brings the structures, primitives and query traits.
-// No unsafe code, except in one module (wide_tree/avx2.rs) that calls AVX2
-// functions once the CPU has been seen to have AVX2; it allows it for itself.
+// No unsafe code, except in two modules (wide_tree/avx2.rs, ray_tree/avx2.rs)
+// that call AVX2 functions once the CPU has been seen to have AVX2; each
+// allows it for itself.
 #![deny(unsafe_code)]
 #![deny(missing_docs)]
 

@@ -7,6 +7,6 @@ pub use crate::query::{FrustumQuery, NearestQuery, RayQuery, SpatialIndex};
 pub use crate::{
     Aabb, AabbTree, BatchOptions, Bounded, BoundingPoints, BoxOverlap, BuildConfig, ClosestHit, ClosestPoint,
     ConvexPolygon, Frustum, FrustumOverlap, GridConfig, HashGrid, KnnScratch, LineSegment, LinearSearch, Mat4, Mesh,
-    Point, PrimitiveSet, QueryStats, RayHit, RayIntersect, SdfConfig, Sign, SignedDistance, SignedDistanceField,
-    SphereTree, Triangle, Vec3, Vec3A, WideTree,
+    Point, PrimitiveSet, QueryStats, RayHit, RayIntersect, RayTree, SdfConfig, Sign, SignedDistance,
+    SignedDistanceField, SphereTree, Triangle, Vec3, Vec3A, WideTree,
 };

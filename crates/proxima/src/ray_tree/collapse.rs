@@ -8,7 +8,7 @@ use crate::primitive::{Bounded, Triangle};
 use crate::query::SpatialIndex;
 use crate::wide_tree::Avx2;
 use crate::wide_tree::packet::TrianglePacket;
-use crate::wide_tree::subtree_ranges;
+use crate::wide_tree::{open_largest, subtree_ranges};
 use std::ops::Range;
 
 /// Triangles in one packet.
@@ -31,27 +31,11 @@ fn leaf_slots(tree: &AabbTree<Triangle>, ranges: &[Range<u32>], index: usize) ->
 /// the inner candidate of largest surface area (the one a ray most likely
 /// enters) is replaced by its two children.
 fn open(tree: &AabbTree<Triangle>, ranges: &[Range<u32>], index: usize) -> ([usize; WIDTH], usize) {
-    let mut lanes = [0usize; WIDTH];
-    let [a, b] = tree.node(index).children();
-    (lanes[0], lanes[1]) = (a as usize, b as usize);
-    let mut n = 2;
-    while n < WIDTH {
-        let largest = lanes[..n]
-            .iter()
-            .enumerate()
-            .filter(|&(_, &c)| leaf_slots(tree, ranges, c).is_none())
-            .map(|(lane, &c)| (lane, tree.node(c).bounds().surface_area()))
-            .fold(None, |best: Option<(usize, f32)>, (lane, area)| match best {
-                Some((_, a)) if a >= area => best,
-                _ => Some((lane, area)),
-            });
-        let Some((lane, _)) = largest else { break };
-        let [left, right] = tree.node(lanes[lane]).children();
-        lanes[lane] = left as usize;
-        lanes[n] = right as usize;
-        n += 1;
-    }
-    (lanes, n)
+    open_largest(tree, index, |c| {
+        leaf_slots(tree, ranges, c)
+            .is_none()
+            .then(|| tree.node(c).bounds().surface_area())
+    })
 }
 
 /// Widens a box by a few ulps of its largest coordinate, as the binary

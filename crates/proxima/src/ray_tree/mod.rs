@@ -26,7 +26,6 @@
 //!
 //! ```
 //! use proxima::prelude::*;
-//! use proxima::RayTree;
 //! let mesh = Mesh::from_triangles(
 //!     vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::new(0.0, 0.0, 3.0), Vec3::new(1.0, 0.0, 3.0), Vec3::new(0.0, 1.0, 3.0)],
 //!     &[[3, 4, 5], [0, 1, 2]],

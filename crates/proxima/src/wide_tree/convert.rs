@@ -73,20 +73,36 @@ fn collapse<T>(
     max_leaf: usize,
     grow: f32,
 ) -> ([usize; 4], usize) {
-    let mut lanes = [0usize; 4];
+    open_largest(tree, index, |c| {
+        wide_leaf(tree, ranges, c, max_leaf)
+            .is_none()
+            .then(|| reach_volume(&tree.node(c).bounds(), grow))
+    })
+}
+
+/// Up to `W` binary nodes that become the children of one node of a wide
+/// tree: the two children of binary node `index`, then, while there are
+/// fewer than `W`, the candidate of largest `measure` is replaced by its two
+/// children (`measure` is `None` for a node not to be opened: one that
+/// becomes a leaf). Ties go to the first lane.
+pub(crate) fn open_largest<T, const W: usize>(
+    tree: &AabbTree<T>,
+    index: usize,
+    measure: impl Fn(usize) -> Option<f32>,
+) -> ([usize; W], usize) {
+    let mut lanes = [0usize; W];
     let [a, b] = tree.node(index).children();
     lanes[0] = a as usize;
     lanes[1] = b as usize;
     let mut n = 2;
-    while n < 4 {
+    while n < W {
         let largest = lanes[..n]
             .iter()
             .enumerate()
-            .filter(|&(_, &c)| wide_leaf(tree, ranges, c, max_leaf).is_none())
-            .map(|(lane, &c)| (lane, reach_volume(&tree.node(c).bounds(), grow)))
-            .fold(None, |best: Option<(usize, f32)>, (lane, volume)| match best {
-                Some((_, v)) if v >= volume => best,
-                _ => Some((lane, volume)),
+            .filter_map(|(lane, &c)| measure(c).map(|m| (lane, m)))
+            .fold(None, |best: Option<(usize, f32)>, (lane, m)| match best {
+                Some((_, v)) if v >= m => best,
+                _ => Some((lane, m)),
             });
         let Some((lane, _)) = largest else { break };
         let [left, right] = tree.node(lanes[lane]).children();

@@ -33,7 +33,7 @@
 mod avx2;
 #[cfg(target_arch = "x86_64")]
 pub(crate) use avx2::{Avx2, Avx2Task};
-pub(crate) use convert::subtree_ranges;
+pub(crate) use convert::{open_largest, subtree_ranges};
 #[cfg(not(target_arch = "x86_64"))]
 pub(crate) use walk::Avx2;
 pub(crate) use walk::detect_avx2;
