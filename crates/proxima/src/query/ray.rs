@@ -312,7 +312,7 @@ pub trait RayQuery<T: RayIntersect>: SpatialIndex<T> {
     /// [`first_hit`](Self::first_hit) for many rays `(origin, direction)`
     /// on all cores, answers in input order. The rays are cast in Morton
     /// order of their point nearest the centre of the structure's bounds
-    /// ([`sort_points`]), so that consecutive rays cross mostly the same
+    /// (a ray-space Morton key), so that consecutive rays cross mostly the same
     /// nodes while they are in cache; each answer is the one
     /// [`first_hit`](Self::first_hit) gives.
     fn first_hit_batch(&self, rays: &[(Vec3, Vec3)], t_min: f32, t_max: f32) -> Vec<Result<Option<RayHit>, RayError>>

@@ -105,8 +105,11 @@ pub(super) fn collapse(tree: AabbTree<Triangle>, avx2: Option<Avx2>) -> RayTree 
     let mut builder = Builder {
         triangles: tree.primitives(),
         indices: tree.leaves().indices(),
-        // At most one node per inner binary node, and one packet per binary
-        // leaf for leaves of up to four (more are rare: max_depth leaves).
+        // At most one node per inner binary node (leaves of more than eight
+        // triangles, made only at the depth limit, add a few: past the
+        // capacity a `HugePageVec` moves to the heap). A leaf of `k`
+        // triangles takes `ceil(k / 4) <= 1 + k / 4` packets, and there are
+        // no more leaves than binary leaves.
         nodes: HugePageVec::with_capacity(tree.node_count().div_ceil(2).max(1)),
         packets: HugePageVec::with_capacity(tree.node_count().div_ceil(2).max(1) + tree.len() / PACKET),
         depth: 0,

@@ -1,7 +1,7 @@
 //! An 8-wide bounding volume hierarchy of triangles, laid out for rays.
 //!
 //! [`RayTree`] answers the same ray queries as the other trees
-//! ([`RayQuery`]: first hit, any hit, batches), with the same answers, but is
+//! ([`RayQuery`](crate::query::RayQuery): first hit, any hit, batches), with the same answers, but is
 //! built and laid out for rays alone:
 //!
 //! - the binary tree under it is split by the surface area heuristic (rays
