@@ -58,6 +58,20 @@ pub struct TriangleHit {
     pub piece: u32,
 }
 
+impl TriangleHit {
+    /// The hits of a packet test's lanes (`t`, `u`, `v` lane by lane), on
+    /// triangles (`piece` 0).
+    #[inline(always)]
+    pub(crate) fn lanes<const N: usize>(t: [f32; N], u: [f32; N], v: [f32; N]) -> [Self; N] {
+        std::array::from_fn(|lane| Self {
+            t: t[lane],
+            u: u[lane],
+            v: v[lane],
+            piece: 0,
+        })
+    }
+}
+
 impl WatertightRay {
     /// Prepares the ray `origin + t · direction`; `None` when the direction is
     /// zero or either vector is not finite.

@@ -329,14 +329,7 @@ pub trait RayQuery<T: RayIntersect>: SpatialIndex<T> {
     where
         Self: Sync,
     {
-        let bounds = self.bounds();
-        answer_batch_indexed(
-            &sort_points(rays, &bounds),
-            &bounds,
-            true,
-            || (),
-            |_, i| self.any_hit(rays[i].0, rays[i].1, t_min, t_max),
-        )
+        in_ray_order(self, rays, |o, d| self.any_hit(o, d, t_min, t_max))
     }
 }
 
@@ -348,13 +341,23 @@ pub(crate) fn first_hit_each<T: RayIntersect, S: RayQuery<T> + Sync + ?Sized>(
     t_min: f32,
     t_max: f32,
 ) -> Vec<Result<Option<RayHit>, RayError>> {
+    in_ray_order(structure, rays, |o, d| structure.first_hit(o, d, t_min, t_max))
+}
+
+/// `cast` of every ray on rayon's pool, in the Morton order of
+/// [`sort_points`] within the structure's bounds; answers in input order.
+fn in_ray_order<T: RayIntersect, S: RayQuery<T> + ?Sized, R: Send>(
+    structure: &S,
+    rays: &[(Vec3, Vec3)],
+    cast: impl Fn(Vec3, Vec3) -> R + Sync + Send,
+) -> Vec<R> {
     let bounds = structure.bounds();
     answer_batch_indexed(
         &sort_points(rays, &bounds),
         &bounds,
         true,
         || (),
-        |_, i| structure.first_hit(rays[i].0, rays[i].1, t_min, t_max),
+        |_, i| cast(rays[i].0, rays[i].1),
     )
 }
 

@@ -139,13 +139,7 @@ fn ray_hits_pair(
         bytemuck::cast(_mm256_div_ps(v, det)),
         bytemuck::cast(_mm256_div_ps(w, det)),
     );
-    let hits = std::array::from_fn(|lane| TriangleHit {
-        t: t[lane],
-        u: bu[lane],
-        v: bv[lane],
-        piece: 0,
-    });
-    (hit_lanes, hits, exact_zero)
+    (hit_lanes, TriangleHit::lanes(t, bu, bv), exact_zero)
 }
 
 impl Avx2 {

@@ -22,7 +22,7 @@ use crate::primitive::{Triangle, TriangleHit, WatertightRay};
 use crate::query::{Counter, RayQuery, RayVisitor};
 use crate::wide_tree::Avx2;
 use crate::wide_tree::packet::TrianglePacket;
-use crate::wide_tree::ray::offer_packet;
+use crate::wide_tree::ray::{offer_lanes, offer_packet};
 use crate::wide_tree::walk::prefetch_packet;
 use std::ops::ControlFlow;
 
@@ -212,7 +212,7 @@ impl Arrays<'_> {
         }
         let (lo, hi) = (&self.packets[first], &self.packets[first + 1]);
         counter.primitives(u64::from((lo.fast | lo.slow | (hi.fast | hi.slow) << 4).count_ones()));
-        let (mut bits, hits, mut scalar) = lanes.pair_hits(lo, hi, walk.ray, walk.t_min, walk.visitor.t_hi());
+        let (bits, hits, scalar) = lanes.pair_hits(lo, hi, walk.ray, walk.t_min, walk.visitor.t_hi());
         let slot = |lane: usize| {
             if lane < 4 {
                 lo.first as usize + lane
@@ -220,21 +220,14 @@ impl Arrays<'_> {
                 hi.first as usize + lane - 4
             }
         };
-        while bits != 0 {
-            let lane = bits.trailing_zeros() as usize;
-            bits &= bits - 1;
-            if walk.visitor.offer(slot(lane), hits[lane]) {
-                return ControlFlow::Break(());
-            }
-        }
-        while scalar != 0 {
-            let s = slot(scalar.trailing_zeros() as usize);
-            scalar &= scalar - 1;
-            if walk.visitor.visit(s, &self.triangles[s], walk.ray, walk.t_min) {
-                return ControlFlow::Break(());
-            }
-        }
-        ControlFlow::Continue(())
+        offer_lanes(
+            (bits, &hits, scalar),
+            slot,
+            self.triangles,
+            walk.ray,
+            walk.t_min,
+            walk.visitor,
+        )
     }
 
     /// Visits the node or leaf the walk stands at and moves it to the next;

@@ -263,13 +263,7 @@ impl TrianglePacket {
         let exact_zero = exact_zero | overflow;
         let hit_lanes = inside.to_bitmask() & lanes & !exact_zero;
         let (t, bu, bv) = (t.to_array(), (v / det).to_array(), (w / det).to_array());
-        let hits = std::array::from_fn(|lane| TriangleHit {
-            t: t[lane],
-            u: bu[lane],
-            v: bv[lane],
-            piece: 0,
-        });
-        (hit_lanes, hits, exact_zero)
+        (hit_lanes, TriangleHit::lanes(t, bu, bv), exact_zero)
     }
 
     /// The closest point of each lane's triangle to `p`, its squared

@@ -15,7 +15,7 @@ use super::walk::{Pending, Slices, WideQuery};
 use super::{WideNode, WidePrimitive, WideTree};
 use crate::bvh::RaySlabs;
 use crate::math::Vec3;
-use crate::primitive::{RayIntersect, WatertightRay};
+use crate::primitive::{RayIntersect, TriangleHit, WatertightRay};
 use crate::query::{Counter, RayQuery, RayVisitor};
 use std::ops::ControlFlow;
 use wide::f32x4;
@@ -132,18 +132,41 @@ pub(crate) fn offer_packet<T: RayIntersect, V: RayVisitor<T>>(
     t_min: f32,
     visitor: &mut V,
 ) -> ControlFlow<()> {
-    let (mut bits, hits, mut scalar) = packet.ray_hits(ray, t_min, visitor.t_hi());
+    let (bits, hits, scalar) = packet.ray_hits(ray, t_min, visitor.t_hi());
+    let first = packet.first as usize;
+    offer_lanes(
+        (bits, &hits, scalar),
+        |lane| first + lane,
+        primitives,
+        ray,
+        t_min,
+        visitor,
+    )
+}
+
+/// Offers `visitor` the hits of a packet test (`bits`: lanes hit, with
+/// their hits; `scalar`: lanes left to the scalar test), lane `k` standing
+/// for the primitive at slot `slot(k)`; `Break` when the visitor ends the query.
+#[inline(always)]
+pub(crate) fn offer_lanes<T: RayIntersect, V: RayVisitor<T>>(
+    (mut bits, hits, mut scalar): (u32, &[TriangleHit], u32),
+    slot: impl Fn(usize) -> usize,
+    primitives: &[T],
+    ray: &WatertightRay,
+    t_min: f32,
+    visitor: &mut V,
+) -> ControlFlow<()> {
     while bits != 0 {
         let lane = bits.trailing_zeros() as usize;
         bits &= bits - 1;
-        if visitor.offer(packet.first as usize + lane, hits[lane]) {
+        if visitor.offer(slot(lane), hits[lane]) {
             return ControlFlow::Break(());
         }
     }
     while scalar != 0 {
-        let slot = packet.first as usize + scalar.trailing_zeros() as usize;
+        let s = slot(scalar.trailing_zeros() as usize);
         scalar &= scalar - 1;
-        if visitor.visit(slot, &primitives[slot], ray, t_min) {
+        if visitor.visit(s, &primitives[s], ray, t_min) {
             return ControlFlow::Break(());
         }
     }
