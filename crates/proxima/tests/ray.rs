@@ -714,8 +714,8 @@ fn huge_coordinates_keep_their_hits() {
     assert!(hits > 100, "{hits} rays hit");
 }
 
-/// The ray tree's batch (walks interleaved, rays in Morton order) gives
-/// each ray the answer `first_hit` gives it alone, errors included, in
+/// The ray tree's batches (walks interleaved, rays in Morton order) give
+/// each ray the answer `first_hit` (`any_hit`) gives it alone, errors included, in
 /// input order, with and without AVX2 (deep trees, which take their rays one
 /// at a time, are tested in the crate: `ray_tree`'s unit tests).
 #[test]
@@ -739,6 +739,7 @@ fn ray_tree_batches_equal_single_rays() {
                 let batch = tree.first_hit_batch(&rays, t_range.0, t_range.1);
                 assert_eq!(batch, portable.first_hit_batch(&rays, t_range.0, t_range.1), "{name}");
                 let any = tree.any_hit_batch(&rays, t_range.0, t_range.1);
+                assert_eq!(any, portable.any_hit_batch(&rays, t_range.0, t_range.1), "{name}");
                 let mut hits = 0;
                 for (k, &(o, d)) in rays.iter().enumerate() {
                     let single = tree.first_hit(o, d, t_range.0, t_range.1);

@@ -319,7 +319,7 @@ pub trait RayQuery<T: RayIntersect>: SpatialIndex<T> {
     where
         Self: Sync,
     {
-        first_hit_each(self, rays, t_min, t_max)
+        in_ray_order(self, rays, |o, d| self.first_hit(o, d, t_min, t_max))
     }
 
     /// [`any_hit`](Self::any_hit) for many rays `(origin, direction)` on all
@@ -331,17 +331,6 @@ pub trait RayQuery<T: RayIntersect>: SpatialIndex<T> {
     {
         in_ray_order(self, rays, |o, d| self.any_hit(o, d, t_min, t_max))
     }
-}
-
-/// [`RayQuery::first_hit_batch`] ray by ray, in Morton order: the default,
-/// and what structures with their own batch fall back on.
-pub(crate) fn first_hit_each<T: RayIntersect, S: RayQuery<T> + Sync + ?Sized>(
-    structure: &S,
-    rays: &[(Vec3, Vec3)],
-    t_min: f32,
-    t_max: f32,
-) -> Vec<Result<Option<RayHit>, RayError>> {
-    in_ray_order(structure, rays, |o, d| structure.first_hit(o, d, t_min, t_max))
 }
 
 /// `cast` of every ray on rayon's pool, in the Morton order of

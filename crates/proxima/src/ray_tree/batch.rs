@@ -1,4 +1,4 @@
-//! First hits of many rays at once, their walks interleaved.
+//! Many rays at once, their walks interleaved: first hits and any hits.
 //!
 //! A ray's walk through a large tree waits on memory at nearly every step:
 //! the next node is rarely in cache. A thread here keeps [`INTERLEAVED`]
@@ -7,7 +7,8 @@
 //! walk's turn comes again its next node has usually arrived, and the
 //! misses of all the walks overlap. Each walk makes exactly the visits of
 //! the single ray's walk, in the same order, so each answer is
-//! [`first_hit`](crate::query::RayQuery::first_hit)'s.
+//! [`first_hit`](crate::query::RayQuery::first_hit)'s (or
+//! [`any_hit`](crate::query::RayQuery::any_hit)'s).
 //!
 //! The rays are taken in Morton order of their point nearest the centre of
 //! the tree's bounds, so that neighbouring walks share the upper nodes, in
@@ -23,67 +24,174 @@ use crate::math::Vec3;
 use crate::memory::prefetch;
 use crate::primitive::{Triangle, TriangleHit, WatertightRay};
 use crate::query::{
-    FarRay, FirstHit, RayHit, first_hit_each, hit_answer, morton_order, prepare_structure_ray, sort_points, unpermute,
+    AnyHit, FarRay, FirstHit, Leaves, RayHit, RayQuery, RayVisitor, hit_answer, morton_order, prepare_structure_ray,
+    sort_points, unpermute,
 };
 use crate::wide_tree::Avx2;
 use rayon::prelude::*;
 
-/// Walks a thread keeps going at once.
+/// Walks a thread keeps going at once (4 and 16 were slower: docs/rays.md).
 const INTERLEAVED: usize = 8;
 
 /// Rays per parallel task.
 const CHUNK: usize = 1024;
 
+/// Answers made this many ahead of the one being made are prefetched.
+const RESOLVE_AHEAD: usize = 8;
+
+/// What the walks of a batch look for.
+trait Search<'a>: RayVisitor<Triangle> + Sized {
+    /// What a finished walk leaves before its answer is made.
+    type Found: Clone;
+    /// The answer for one ray.
+    type Answer: Send;
+    /// A search along a ray prepared by `prepare_structure_ray`.
+    fn new(leaves: &'a Leaves<Triangle>, far: &FarRay) -> Self;
+    /// What the search found, once its walk has ended.
+    fn found(&self, far: &FarRay) -> Self::Found;
+    /// The answers of a chunk's walks, in the same order.
+    fn resolve(
+        leaves: &'a Leaves<Triangle>,
+        found: &[Result<Self::Found, RayError>],
+    ) -> Vec<Result<Self::Answer, RayError>>;
+}
+
+impl<'a> Search<'a> for FirstHit<'a, Triangle> {
+    /// The slot hit, the hit, and how the ray was moved.
+    type Found = Option<(usize, TriangleHit, FarRay)>;
+    type Answer = Option<RayHit>;
+
+    fn new(leaves: &'a Leaves<Triangle>, far: &FarRay) -> Self {
+        FirstHit::new(leaves, far)
+    }
+
+    fn found(&self, far: &FarRay) -> Self::Found {
+        self.best.map(|(slot, hit)| (slot, hit, *far))
+    }
+
+    /// Each answer reads the hit slot's input index, source and triangle:
+    /// three cache misses, which the walk would wait on at its end; here
+    /// they are asked for [`RESOLVE_AHEAD`] answers ahead, so that they overlap.
+    fn resolve(
+        leaves: &'a Leaves<Triangle>,
+        found: &[Result<Self::Found, RayError>],
+    ) -> Vec<Result<Self::Answer, RayError>> {
+        (0..found.len())
+            .map(|k| {
+                if let Some(Ok(Some((slot, ..)))) = found.get(k + RESOLVE_AHEAD) {
+                    prefetch(&leaves.indices()[*slot]);
+                    prefetch(&leaves.sources()[*slot]);
+                    prefetch(&leaves.primitives()[*slot]);
+                }
+                found[k]
+                    .clone()
+                    .map(|hit| hit.map(|(slot, hit, far)| hit_answer(leaves, &far, slot, &hit)))
+            })
+            .collect()
+    }
+}
+
+impl<'a> Search<'a> for AnyHit {
+    type Found = bool;
+    type Answer = bool;
+
+    fn new(_: &'a Leaves<Triangle>, far: &FarRay) -> Self {
+        AnyHit {
+            t_max: far.t_max,
+            found: false,
+        }
+    }
+
+    fn found(&self, _: &FarRay) -> bool {
+        self.found
+    }
+
+    fn resolve(_: &'a Leaves<Triangle>, found: &[Result<bool, RayError>]) -> Vec<Result<bool, RayError>> {
+        found.to_vec()
+    }
+}
+
 /// One walk in progress: the ray, its search, and which answer it fills
 /// (where it stands is kept apart, in a [`WalkState`] that never moves).
-struct Slot<'a> {
+struct Slot<S> {
     answer: usize,
     ray: WatertightRay,
     far: FarRay,
     slabs: NodeSlabs,
-    search: FirstHit<'a, Triangle>,
+    search: S,
 }
-
-/// The answers, in chunk order, for the rays `order` picks from `rays`.
-type Answers = Vec<Result<Option<RayHit>, RayError>>;
-
-/// A walk's result before its answer is made: the slot hit, the hit, and
-/// how its ray was moved.
-type Found = Result<Option<(usize, TriangleHit, FarRay)>, RayError>;
-
-/// Answers made this many ahead of the one being made are prefetched.
-const RESOLVE_AHEAD: usize = 8;
 
 impl RayTree {
     /// [`first_hit_batch`](crate::query::RayQuery::first_hit_batch) with
-    /// interleaved walks (module notes); trees too deep for the small stack
-    /// take their rays one at a time.
-    pub(super) fn first_hit_batch_interleaved(&self, rays: &[(Vec3, Vec3)], t_min: f32, t_max: f32) -> Answers {
-        if self.nodes.is_empty() || self.depth >= SHALLOW {
-            return first_hit_each(self, rays, t_min, t_max);
-        }
+    /// interleaved walks (module notes).
+    pub(super) fn first_hit_batch_interleaved(
+        &self,
+        rays: &[(Vec3, Vec3)],
+        t_min: f32,
+        t_max: f32,
+    ) -> Vec<Result<Option<RayHit>, RayError>> {
+        self.batch::<FirstHit<'_, Triangle>>(rays, t_min, t_max, |o, d| self.first_hit(o, d, t_min, t_max))
+    }
+
+    /// [`any_hit_batch`](crate::query::RayQuery::any_hit_batch) with
+    /// interleaved walks (module notes).
+    pub(super) fn any_hit_batch_interleaved(
+        &self,
+        rays: &[(Vec3, Vec3)],
+        t_min: f32,
+        t_max: f32,
+    ) -> Vec<Result<bool, RayError>> {
+        self.batch::<AnyHit>(rays, t_min, t_max, |o, d| self.any_hit(o, d, t_min, t_max))
+    }
+
+    /// The batch of searches `S`; trees too deep for the small stack (no
+    /// real mesh makes one) take their rays one at a time with `single`.
+    fn batch<'t, S: Search<'t>>(
+        &'t self,
+        rays: &[(Vec3, Vec3)],
+        t_min: f32,
+        t_max: f32,
+        single: impl Fn(Vec3, Vec3) -> Result<S::Answer, RayError> + Sync,
+    ) -> Vec<Result<S::Answer, RayError>>
+    where
+        S::Answer: Send,
+    {
         let order = morton_order(&sort_points(rays, &self.bounds), &self.bounds);
-        let answers: Answers = order
-            .par_chunks(CHUNK)
-            .flat_map_iter(|chunk| self.chunk_answers(rays, chunk, t_min, t_max))
-            .collect();
+        let answers: Vec<Result<S::Answer, RayError>> = if self.nodes.is_empty() || self.depth >= SHALLOW {
+            order
+                .par_iter()
+                .map(|&i| single(rays[i as usize].0, rays[i as usize].1))
+                .collect()
+        } else {
+            order
+                .par_chunks(CHUNK)
+                .flat_map_iter(|chunk| S::resolve(&self.leaves, &self.chunk_found::<S>(rays, chunk, t_min, t_max)))
+                .collect()
+        };
         unpermute(&order, answers)
     }
 
-    /// The answers for the rays `chunk` picks, in its order, on AVX2 lanes
-    /// where the tree uses them.
-    fn chunk_answers(&self, rays: &[(Vec3, Vec3)], chunk: &[u32], t_min: f32, t_max: f32) -> Answers {
+    /// What the walks of the rays `chunk` picks found, in its order, on
+    /// AVX2 lanes where the tree uses them.
+    fn chunk_found<'t, S: Search<'t>>(
+        &'t self,
+        rays: &[(Vec3, Vec3)],
+        chunk: &[u32],
+        t_min: f32,
+        t_max: f32,
+    ) -> Vec<Result<S::Found, RayError>> {
         #[cfg(target_arch = "x86_64")]
         if let Some(avx2) = self.avx2 {
-            return avx2.run(ChunkTask {
+            return avx2.run(ChunkTask::<S> {
                 tree: self,
                 rays,
                 chunk,
                 t_min,
                 t_max,
+                search: std::marker::PhantomData,
             });
         }
-        self.interleave(Portable, rays, chunk, t_min, t_max)
+        self.interleave::<Portable, S>(Portable, rays, chunk, t_min, t_max)
     }
 
     /// Prepares a ray for a walk, or gives its error.
@@ -106,26 +214,28 @@ impl RayTree {
     }
 
     #[inline(always)]
-    fn interleave<'t, L: Lanes>(
+    fn interleave<'t, L: Lanes, S: Search<'t>>(
         &'t self,
         lanes: L,
         rays: &[(Vec3, Vec3)],
         chunk: &[u32],
         t_min: f32,
         t_max: f32,
-    ) -> Answers {
+    ) -> Vec<Result<S::Found, RayError>> {
         let arrays: Arrays<'_> = self.arrays();
         // The chunk's rays gathered first: in Morton order they lie all over
         // the input, and a loop of independent loads overlaps the misses
         // that the walks would otherwise wait on one by one.
         let rays: Vec<(Vec3, Vec3)> = chunk.iter().map(|&i| rays[i as usize]).collect();
-        let mut answers: Vec<Found> = vec![Ok(None); chunk.len()];
-        let mut slots: [Option<Slot<'t>>; INTERLEAVED] = Default::default();
+        let mut found: Vec<Option<Result<S::Found, RayError>>> = vec![None; chunk.len()];
+        let mut slots: [Option<Slot<S>>; INTERLEAVED] = std::array::from_fn(|_| None);
         let mut states = [WalkState::<SMALL_STACK>::START; INTERLEAVED];
         let mut next = 0;
         // Gives `slot` the next ray that can be cast (errors are answered at
         // once), or leaves it empty when the chunk is done.
-        let mut refill = |slot: &mut Option<Slot<'t>>, state: &mut WalkState<SMALL_STACK>, answers: &mut Vec<Found>| {
+        let mut refill = |slot: &mut Option<Slot<S>>,
+                          state: &mut WalkState<SMALL_STACK>,
+                          found: &mut Vec<Option<Result<S::Found, RayError>>>| {
             *slot = None;
             while next < chunk.len() {
                 let k = next;
@@ -138,16 +248,16 @@ impl RayTree {
                             ray,
                             far,
                             slabs,
-                            search: FirstHit::new(&self.leaves, &far),
+                            search: S::new(&self.leaves, &far),
                         });
                         return;
                     }
-                    Err(error) => answers[k] = Err(error),
+                    Err(error) => found[k] = Some(Err(error)),
                 }
             }
         };
         for (slot, state) in slots.iter_mut().zip(&mut states) {
-            refill(slot, state, &mut answers);
+            refill(slot, state, &mut found);
         }
         loop {
             let mut running = false;
@@ -161,56 +271,35 @@ impl RayTree {
                     visitor: &mut s.search,
                 };
                 if !arrays.step(lanes, &mut walk, state, &mut ()) {
-                    answers[s.answer] = Ok(s.search.best.map(|(slot, hit)| (slot, hit, s.far)));
-                    refill(slot, state, &mut answers);
+                    found[s.answer] = Some(Ok(s.search.found(&s.far)));
+                    refill(slot, state, &mut found);
                 }
             }
             if !running {
-                return self.resolve(&answers);
+                // Every ray was either cast or refused.
+                return found.into_iter().flatten().collect();
             }
         }
     }
 }
 
-impl RayTree {
-    /// The answers of the walks' results. Each reads the hit slot's input
-    /// index, source and triangle: three cache misses, which the walk would
-    /// wait on at its end; here they are asked for [`RESOLVE_AHEAD`]
-    /// answers ahead, so that they overlap.
-    fn resolve(&self, found: &[Found]) -> Answers {
-        let leaves = &self.leaves;
-        (0..found.len())
-            .map(|k| {
-                if let Some(Ok(Some((slot, ..)))) = found.get(k + RESOLVE_AHEAD) {
-                    prefetch(&leaves.indices()[*slot]);
-                    prefetch(&leaves.sources()[*slot]);
-                    prefetch(&leaves.primitives()[*slot]);
-                }
-                match &found[k] {
-                    Ok(hit) => Ok(hit.map(|(slot, hit, far)| hit_answer(leaves, &far, slot, &hit))),
-                    Err(error) => Err(error.clone()),
-                }
-            })
-            .collect()
-    }
-}
-
 /// [`RayTree::interleave`] compiled for AVX2.
 #[cfg(target_arch = "x86_64")]
-struct ChunkTask<'a> {
+struct ChunkTask<'a, 'r, S> {
     tree: &'a RayTree,
-    rays: &'a [(Vec3, Vec3)],
-    chunk: &'a [u32],
+    rays: &'r [(Vec3, Vec3)],
+    chunk: &'r [u32],
     t_min: f32,
     t_max: f32,
+    search: std::marker::PhantomData<S>,
 }
 
 #[cfg(target_arch = "x86_64")]
-impl crate::wide_tree::Avx2Task for ChunkTask<'_> {
-    type Output = Answers;
+impl<'a, S: Search<'a>> crate::wide_tree::Avx2Task for ChunkTask<'a, '_, S> {
+    type Output = Vec<Result<S::Found, RayError>>;
     #[inline(always)]
-    fn call(self, avx2: Avx2) -> Answers {
+    fn call(self, avx2: Avx2) -> Self::Output {
         self.tree
-            .interleave(avx2, self.rays, self.chunk, self.t_min, self.t_max)
+            .interleave::<Avx2, S>(avx2, self.rays, self.chunk, self.t_min, self.t_max)
     }
 }

@@ -370,11 +370,14 @@ mod tests {
         let rays: Vec<(Vec3, Vec3)> = (0..2000).map(|_| (vec(&mut rng, 2.0), vec(&mut rng, 1.0))).collect();
         let batch = tree.first_hit_batch(&rays, 0.0, f32::INFINITY);
         assert_eq!(batch, deep.first_hit_batch(&rays, 0.0, f32::INFINITY));
+        let any = tree.any_hit_batch(&rays, 0.0, f32::INFINITY);
+        assert_eq!(any, deep.any_hit_batch(&rays, 0.0, f32::INFINITY));
         let mut hits = 0;
         for (k, &(o, d)) in rays.iter().enumerate() {
             let single = tree.first_hit(o, d, 0.0, f32::INFINITY);
             assert_eq!(single, deep.first_hit(o, d, 0.0, f32::INFINITY));
             assert_eq!(batch[k], single);
+            assert_eq!(any[k], tree.any_hit(o, d, 0.0, f32::INFINITY));
             hits += usize::from(matches!(single, Ok(Some(_))));
         }
         assert!(hits > 200, "{hits}");

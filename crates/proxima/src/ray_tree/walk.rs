@@ -323,8 +323,7 @@ impl<V: RayVisitor<Triangle>, C: Counter> crate::wide_tree::Avx2Task for Avx2Wal
 }
 
 /// The same answers as brute force's, field for field (module notes of
-/// [`ray_tree`](super)). Batches of first hits interleave their rays
-/// (`batch.rs`).
+/// [`ray_tree`](super)). Batches interleave their rays (`batch.rs`).
 impl RayQuery<Triangle> for RayTree {
     #[inline(always)]
     fn ray_walk<V: RayVisitor<Triangle>, C: Counter>(
@@ -369,5 +368,9 @@ impl RayQuery<Triangle> for RayTree {
         t_max: f32,
     ) -> Vec<Result<Option<crate::query::RayHit>, crate::RayError>> {
         self.first_hit_batch_interleaved(rays, t_min, t_max)
+    }
+
+    fn any_hit_batch(&self, rays: &[(Vec3, Vec3)], t_min: f32, t_max: f32) -> Vec<Result<bool, crate::RayError>> {
+        self.any_hit_batch_interleaved(rays, t_min, t_max)
     }
 }
