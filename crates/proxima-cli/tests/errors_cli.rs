@@ -887,6 +887,38 @@ fn sdf_sample_count_zero() {
     assert_one_line_error(&proxima(&["sdf", &mesh, "--sample", "10"]), 2, &["--out"]);
 }
 
+/// `bench --query rays` casts the BENCHMARKS rays at the faces: query
+/// points, another primitive type, or a mesh without faces are refused.
+#[test]
+fn bench_rays_options() {
+    let mesh = triangle_file("bench_rays_options");
+    let (_dir, points) = file_with("some.pts", b"0 0 0\n");
+    let bench = ["bench", &*mesh, "--query", "rays"];
+    let with = |extra: &[&str]| proxima(&[&bench[..], extra].concat());
+    assert_one_line_error(
+        &with(&["--primitives", "edges"]),
+        1,
+        &["--query rays casts rays at the faces"],
+    );
+    assert_one_line_error(
+        &with(&["--points", &points]),
+        1,
+        &["--points and --set choose query points"],
+    );
+    assert_one_line_error(
+        &with(&["--set", "uniform"]),
+        1,
+        &["--points and --set choose query points"],
+    );
+    let (_dir, vertices) = file_with("verts.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\n");
+    assert_one_line_error(
+        &proxima(&["bench", &vertices, "--query", "rays"]),
+        1,
+        &["verts.obj: the mesh has no faces to hit"],
+    );
+    assert!(with(&["--queries", "50"]).status.success());
+}
+
 #[test]
 fn sdf_mesh_without_faces() {
     let (_dir, vertices) = file_with("verts.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\n");

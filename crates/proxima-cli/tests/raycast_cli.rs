@@ -256,3 +256,29 @@ fn batch_rays_json_summary() {
         assert!(json[key].as_f64().unwrap() >= 0.0, "{key}");
     }
 }
+
+/// `bench --query rays`: every method casts the same rays, proxima's agree
+/// with linear search (on the first rays) and with each other, and the
+/// rates are positive.
+#[test]
+fn bench_measures_rays() {
+    let out = proxima(&["bench", &bunny(), "--query", "rays", "--queries", "3000", "--json"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["query"], "rays");
+    let results = json["results"].as_array().unwrap();
+    for method in ["linear", "tree-wide", "ray-tree", "ray-tree-batch"] {
+        let r = results
+            .iter()
+            .find(|r| r["method"] == method)
+            .unwrap_or_else(|| panic!("{method} missing: {json}"));
+        assert_eq!(r["agree"], true, "{r}");
+        assert!(r["rays_per_second"].as_f64().unwrap() > 0.0, "{r}");
+        assert!(r["rays"].as_u64().unwrap() > 0, "{r}");
+    }
+    let text = stdout(&proxima(&["bench", &bunny(), "--query", "rays", "--queries", "500"]));
+    assert!(
+        text.contains("500 rays of the BENCHMARKS rays set") && text.contains("ray-tree-batch"),
+        "{text}"
+    );
+}

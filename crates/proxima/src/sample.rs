@@ -82,6 +82,47 @@ pub fn uniform_in_box(mesh: &Mesh, n: usize, seed: u64) -> Vec<Vec3> {
     uniform_in(&Aabb::new(b.min - b.size() * 0.1, b.max + b.size() * 0.1), n, seed)
 }
 
+/// The `rays` set of BENCHMARKS.md: `n` rays from origins uniform on the
+/// sphere of radius 0.75 × the bounding-box diagonal around the box's
+/// centre, aimed at points uniform in the box, directions of unit length
+/// (none when the box is empty or flat to a point); the same seed gives the
+/// same rays on every machine.
+///
+/// ```
+/// use proxima::mesh::generate::noisy_icosphere;
+/// use proxima::sample::rays_at_box;
+/// let mesh = noisy_icosphere(4, 1);
+/// let b = mesh.bounds();
+/// let rays = rays_at_box(&b, 100, 7);
+/// assert_eq!(rays.len(), 100);
+/// for (o, d) in rays {
+///     assert!(((o - b.center()).length() / (0.75 * b.diagonal()) - 1.0).abs() < 1e-5);
+///     assert!((d.length() - 1.0).abs() < 1e-5);
+/// }
+/// ```
+pub fn rays_at_box(bounds: &Aabb, n: usize, seed: u64) -> Vec<(Vec3, Vec3)> {
+    if bounds.is_empty() || bounds.diagonal() == 0.0 {
+        return Vec::new();
+    }
+    let mut rng = Rng::new(seed);
+    let radius = 0.75 * bounds.diagonal();
+    (0..n)
+        .map(|_| {
+            // A direction uniform on the sphere: a point uniform in the ball, scaled out.
+            let unit = loop {
+                let d = Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
+                let length = d.length();
+                if length > 1e-3 && length <= 1.0 {
+                    break d / length;
+                }
+            };
+            let origin = bounds.center() + unit * radius;
+            (origin, (rng.in_box(bounds) - origin).normalize())
+        })
+        .filter(|(_, d)| d.is_finite())
+        .collect()
+}
+
 /// `n` points uniform in `bounds` (none when it is empty); the same seed
 /// gives the same points on every machine.
 pub fn uniform_in(bounds: &Aabb, n: usize, seed: u64) -> Vec<Vec3> {

@@ -52,24 +52,6 @@ fn stats<T: RayIntersect, S: RayQuery<T>>(tree: &S, rays: &[(Vec3, Vec3)]) -> (f
     (nodes as f64 / n, primitives as f64 / n)
 }
 
-fn rays_set(mesh: &Mesh, n: usize, seed: u64) -> Vec<(Vec3, Vec3)> {
-    let b = mesh.bounds();
-    let mut rng = proxima::sample::Rng::new(seed);
-    (0..n)
-        .map(|_| {
-            let u = loop {
-                let d = Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
-                let len = d.length();
-                if len > 1e-3 && len <= 1.0 {
-                    break d / len;
-                }
-            };
-            let o = b.center() + u * 0.75 * b.diagonal();
-            (o, (rng.in_box(&b) - o).normalize())
-        })
-        .collect()
-}
-
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let value = |flag: &str| {
@@ -88,7 +70,7 @@ fn main() {
         Some(path) => {
             proxima::io::load_rays(std::path::Path::new(path.as_str()), &Default::default()).expect("rays file")
         }
-        None => rays_set(&mesh, value("--rays").unwrap_or(200_000), 1),
+        None => proxima::sample::rays_at_box(&mesh.bounds(), value("--rays").unwrap_or(200_000), 1),
     };
     let rays: Vec<(Vec3, Vec3)> = rays.into_iter().map(|(o, d)| (o, d.normalize())).collect();
     let rounds = value("--rounds").unwrap_or(5);

@@ -1,7 +1,7 @@
-//! `proxima bench MESH [--query closest|sdf] [--primitives P] [--queries N | --points FILE] [--threads T] [--json]`:
+//! `proxima bench MESH [--query closest|sdf|rays] [--primitives P] [--queries N | --points FILE] [--threads T] [--json]`:
 //! linear search against the AABB tree (binary, 4-wide, batch) and the
 //! sphere tree on the same queries; with `--query sdf`, signed distances
-//! (`bench_sdf.rs`).
+//! (`bench_sdf.rs`); with `--query rays`, first-hit rays (`bench_rays.rs`).
 
 use crate::common::{DEFAULT_KINDS, Split, kind_parser, load_mesh, parse_planarity, read_points};
 use anyhow::Context;
@@ -31,6 +31,10 @@ pub enum QueryKind {
     /// search (the exact winding number); the near and uniform sets unless
     /// --set or --points chooses one.
     Sdf,
+    /// First-hit rays on the faces (--queries rays of the BENCHMARKS rays
+    /// set): linear search, the 4-wide tree, the ray tree one ray at a time
+    /// and in batches, and parry3d.
+    Rays,
 }
 
 /// Arguments of `proxima bench`.
@@ -41,7 +45,7 @@ pub struct Args {
     /// Benchmark only this primitive type (default: vertices, edges and faces).
     #[arg(long, value_parser = kind_parser())]
     primitives: Option<PrimitiveKind>,
-    /// Number of generated query points.
+    /// Number of generated query points (rays with --query rays).
     #[arg(long, default_value_t = 10_000, conflicts_with = "points")]
     queries: usize,
     /// Query points from a file instead of generated ones.
@@ -288,7 +292,7 @@ pub fn measure(
 /// Prints the records as a table.
 pub fn print_table(records: &[Record]) -> std::io::Result<()> {
     crate::outln!(
-        "{:<10} {:<11} {:>10} {:>8} {:>10} {:>12} {:>10} {:>9}",
+        "{:<10} {:<14} {:>10} {:>8} {:>10} {:>12} {:>10} {:>9}",
         "primitives",
         "method",
         "build ms",
@@ -304,7 +308,7 @@ pub fn print_table(records: &[Record]) -> std::io::Result<()> {
             .find(|l| l.primitives == r.primitives && l.method == "linear");
         let speedup = linear.map_or(1.0, |l| r.queries_per_second() / l.queries_per_second());
         crate::outln!(
-            "{:<10} {:<11} {:>10.3} {:>8} {:>10.4} {:>12.0} {:>9.1}x {:>9}",
+            "{:<10} {:<14} {:>10.3} {:>8} {:>10.4} {:>12.0} {:>9.1}x {:>9}",
             r.primitives,
             r.method,
             r.build_seconds * 1e3,
@@ -339,6 +343,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             json: args.json,
         });
     }
+    if args.query == QueryKind::Rays {
+        if args.primitives.is_some_and(|kind| kind != PrimitiveKind::Faces) {
+            anyhow::bail!("--query rays casts rays at the faces; --primitives cannot change that");
+        }
+        if args.points.is_some() || args.set.is_some() {
+            anyhow::bail!("--query rays casts the BENCHMARKS rays set; --points and --set choose query points");
+        }
+    }
     let budget = crate::common::memory_budget()?;
     if args.points.is_none() && args.queries as u128 * BYTES_PER_QUERY as u128 > budget as u128 {
         anyhow::bail!(
@@ -347,6 +359,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             proxima::budget::human_bytes(args.queries as u128 * BYTES_PER_QUERY as u128),
             proxima::budget::human_bytes(budget.into())
         );
+    }
+    if args.query == QueryKind::Rays {
+        return super::bench_rays::run(&super::bench_rays::Options {
+            mesh: &args.mesh,
+            rays: args.queries,
+            seed: args.seed,
+            threads: args.threads,
+            json: args.json,
+        });
     }
     let mesh = load_mesh(&args.mesh)?;
     let (points, set_name) = match &args.points {

@@ -1,5 +1,5 @@
-//! The peer row of `proxima bench`: parry3d's closest point on the same
-//! triangles and queries, so that every run states its own ratio to the
+//! The peer rows of `proxima bench`: parry3d's closest point (or first
+//! ray hit) on the same triangles and queries, so that every run states its own ratio to the
 //! library most Rust users would otherwise reach for.
 
 use super::bench::Record;
@@ -16,17 +16,7 @@ pub fn parry3d_faces(mesh: &Mesh, points: &[Vec3], expected: &[Option<f32>]) -> 
     use parry3d::query::PointQuery;
     use rayon::prelude::*;
     use std::time::Instant;
-    let vertices: Vec<Vector> = mesh
-        .positions()
-        .iter()
-        .map(|p| Vector::from_array(p.to_array()))
-        .collect();
-    let mut indices = Vec::with_capacity(mesh.triangle_count());
-    for face in mesh.faces() {
-        for pair in face[1..].windows(2) {
-            indices.push([face[0], pair[0], pair[1]]);
-        }
-    }
+    let (vertices, indices) = parry3d_input(mesh);
     // The build alone is timed, not the making of its input (nor ours).
     let start = Instant::now();
     let trimesh = parry3d::shape::TriMesh::new(vertices, indices).ok()?;
@@ -55,8 +45,74 @@ pub fn parry3d_faces(mesh: &Mesh, points: &[Vec3], expected: &[Option<f32>]) -> 
     })
 }
 
+/// parry3d's build and per-ray first-hit time (`cast_local_ray`, hollow
+/// triangles) on the mesh's triangles, in input order on the current pool.
+/// `agree` when every ray hits or misses as in `expected` (`t`, input
+/// index), at a `t` within 1e-5 of the bounding box diagonal. `None` when
+/// parry3d refuses the mesh.
+#[cfg(feature = "parry3d")]
+pub fn parry3d_rays(mesh: &Mesh, rays: &[(Vec3, Vec3)], expected: &[Option<(f32, u32)>]) -> Option<Record> {
+    use parry3d::query::{Ray, RayCast};
+    use rayon::prelude::*;
+    use std::time::Instant;
+    let (vertices, indices) = parry3d_input(mesh);
+    let start = Instant::now();
+    let trimesh = parry3d::shape::TriMesh::new(vertices, indices).ok()?;
+    let build_seconds = start.elapsed().as_secs_f64();
+    let start = Instant::now();
+    let hits: Vec<Option<f32>> = rays
+        .par_iter()
+        .map(|(o, d)| {
+            let ray = Ray::new(
+                parry3d::math::Vector::from_array(o.to_array()),
+                parry3d::math::Vector::from_array(d.to_array()),
+            );
+            trimesh.cast_local_ray(&ray, f32::MAX, false)
+        })
+        .collect();
+    let seconds = start.elapsed().as_secs_f64();
+    let tolerance = 1e-5 * mesh.bounds().diagonal();
+    let agree = hits.iter().zip(expected).all(|(h, e)| match (h, e) {
+        (None, None) => true,
+        (Some(t), Some((expected_t, _))) => (t - expected_t).abs() <= tolerance,
+        _ => false,
+    });
+    Some(Record {
+        primitives: "faces",
+        method: "parry3d",
+        build_seconds,
+        queries: rays.len(),
+        seconds,
+        agree,
+    })
+}
+
+/// parry3d's vertex and index arrays for the mesh's faces, fanned as
+/// proxima fans them.
+#[cfg(feature = "parry3d")]
+fn parry3d_input(mesh: &Mesh) -> (Vec<parry3d::math::Vector>, Vec<[u32; 3]>) {
+    let vertices = mesh
+        .positions()
+        .iter()
+        .map(|p| parry3d::math::Vector::from_array(p.to_array()))
+        .collect();
+    let mut indices = Vec::with_capacity(mesh.triangle_count());
+    for face in mesh.faces() {
+        for pair in face[1..].windows(2) {
+            indices.push([face[0], pair[0], pair[1]]);
+        }
+    }
+    (vertices, indices)
+}
+
 /// Without the `parry3d` feature there is no peer row.
 #[cfg(not(feature = "parry3d"))]
 pub fn parry3d_faces(_: &Mesh, _: &[Vec3], _: &[Option<f32>]) -> Option<Record> {
+    None
+}
+
+/// Without the `parry3d` feature there is no peer row.
+#[cfg(not(feature = "parry3d"))]
+pub fn parry3d_rays(_: &Mesh, _: &[(Vec3, Vec3)], _: &[Option<(f32, u32)>]) -> Option<Record> {
     None
 }

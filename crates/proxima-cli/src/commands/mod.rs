@@ -2,6 +2,7 @@
 
 pub mod bench;
 pub mod bench_peer;
+pub mod bench_rays;
 pub mod bench_sdf;
 pub mod closest;
 pub mod demo;

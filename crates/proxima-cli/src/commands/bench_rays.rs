@@ -1,0 +1,158 @@
+//! `proxima bench MESH --query rays [--queries N] [--seed S] [--threads T] [--json]`:
+//! first-hit rays of the BENCHMARKS.md `rays` set, cast by linear search,
+//! the 4-wide tree, the ray tree one ray at a time and in batches, and
+//! parry3d, on the same rays; every proxima answer must be linear search's.
+
+use super::bench::{Record, bar, print_table, timed};
+use anyhow::{Context, bail};
+use proxima::prelude::*;
+use rayon::prelude::*;
+use serde_json::json;
+use std::path::Path;
+
+/// Triangle tests the linear scan may spend, so big meshes still finish quickly.
+const LINEAR_BUDGET: usize = 100_000_000;
+
+/// What `bench --query rays` is given.
+pub struct Options<'a> {
+    pub mesh: &'a Path,
+    pub rays: usize,
+    pub seed: u64,
+    pub threads: usize,
+    pub json: bool,
+}
+
+/// A ray's answer as compared: `t` and input index of the triangle hit.
+type Answer = Option<(f32, u32)>;
+
+fn answer(hit: Result<Option<RayHit>, proxima::RayError>) -> anyhow::Result<Answer> {
+    Ok(hit?.map(|h| (h.t, h.primitive)))
+}
+
+/// Runs `proxima bench --query rays`.
+pub fn run(options: &Options<'_>) -> anyhow::Result<()> {
+    let mesh = crate::common::load_mesh(options.mesh)?;
+    if mesh.face_count() == 0 {
+        bail!("{}: the mesh has no faces to hit", options.mesh.display());
+    }
+    let rays = proxima::sample::rays_at_box(&mesh.bounds(), options.rays, options.seed);
+    if rays.is_empty() {
+        bail!(
+            "{}: no rays (the mesh's bounding box is a point)",
+            options.mesh.display()
+        );
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(options.threads)
+        .build()
+        .context("thread pool")?;
+    let records = pool
+        .install(|| measure(&mesh, &rays, !options.json))
+        .with_context(|| options.mesh.display().to_string())?;
+    if options.json {
+        let results: Vec<_> = records
+            .iter()
+            .map(|r| {
+                json!({
+                    "method": r.method, "build_seconds": r.build_seconds, "rays": r.queries,
+                    "seconds": r.seconds, "rays_per_second": r.queries_per_second(), "agree": r.agree,
+                })
+            })
+            .collect();
+        let out = json!({
+            "mesh": options.mesh.display().to_string(), "triangles": mesh.triangle_count(), "query": "rays",
+            "threads": options.threads, "results": results,
+        });
+        crate::outln!("{out:#}");
+    } else {
+        crate::outln!(
+            "{}: {} triangles; {} rays of the BENCHMARKS rays set; {} thread(s)",
+            options.mesh.display(),
+            mesh.triangle_count(),
+            rays.len(),
+            options.threads
+        );
+        print_table(&records)?;
+        if let Some(peer) = records.iter().find(|r| r.method == "parry3d") {
+            for r in records.iter().filter(|r| r.method.starts_with("ray-tree")) {
+                crate::outln!(
+                    "{} casts {:.2}x as many rays per second as parry3d",
+                    r.method,
+                    r.queries_per_second() / peer.queries_per_second()
+                );
+            }
+        }
+    }
+    if let Some(r) = records.iter().find(|r| !r.agree && r.method != "parry3d") {
+        bail!(
+            "{}: {} disagrees with linear search: this is a bug, please report it",
+            options.mesh.display(),
+            r.method
+        );
+    }
+    if records.iter().any(|r| !r.agree && r.method == "parry3d") {
+        eprintln!(
+            "proxima: note: {}: parry3d's hits differ from proxima's on some rays (proxima's structures and linear \
+             search agree); parry3d's ray/triangle test is not watertight, and rays through shared edges can pass \
+             through it",
+            options.mesh.display()
+        );
+    }
+    Ok(())
+}
+
+/// Every method's row, on the current pool.
+fn measure(mesh: &Mesh, rays: &[(Vec3, Vec3)], progress: bool) -> anyhow::Result<Vec<Record>> {
+    let row = |method, build_seconds, queries, seconds, agree| Record {
+        primitives: "faces",
+        method,
+        build_seconds,
+        queries,
+        seconds,
+        agree,
+    };
+    let n_linear = (LINEAR_BUDGET / mesh.triangle_count().max(1)).max(20).min(rays.len());
+    let linear = LinearSearch::new(mesh.triangles());
+    let progress_bar = bar(progress, n_linear, "faces linear");
+    let (expected, linear_seconds) = timed(|| {
+        rays[..n_linear]
+            .par_iter()
+            .map(|&(o, d)| {
+                progress_bar.inc(1);
+                answer(linear.first_hit(o, d, 0.0, f32::INFINITY))
+            })
+            .collect::<anyhow::Result<Vec<Answer>>>()
+    });
+    progress_bar.finish_and_clear();
+    let expected = expected?;
+    drop(linear);
+
+    let (wide, wide_build) = timed(|| WideTree::build_set(mesh.triangles(), &BuildConfig::default()));
+    let wide = wide?;
+    let (wide_answers, wide_seconds) = timed(|| per_ray(&wide, rays));
+    drop(wide);
+    let (tree, tree_build) = timed(|| RayTree::build(mesh));
+    let tree = tree?;
+    let (single, single_seconds) = timed(|| per_ray(&tree, rays));
+    let (batch, batch_seconds) = timed(|| tree.first_hit_batch(rays, 0.0, f32::INFINITY));
+    let batch: Vec<Answer> = batch.into_iter().map(answer).collect::<anyhow::Result<_>>()?;
+    let (wide_answers, single) = (wide_answers?, single?);
+    // The ray tree against linear search, the others against the ray tree.
+    let single_agrees = single[..n_linear] == expected[..];
+    let n = rays.len();
+    let mut records = vec![
+        row("linear", 0.0, n_linear, linear_seconds, single_agrees),
+        row("tree-wide", wide_build, n, wide_seconds, wide_answers == single),
+        row("ray-tree", tree_build, n, single_seconds, single_agrees),
+        row("ray-tree-batch", tree_build, n, batch_seconds, batch == single),
+    ];
+    records.extend(super::bench_peer::parry3d_rays(mesh, rays, &single));
+    Ok(records)
+}
+
+/// `first_hit` of every ray, one at a time, on the current pool.
+fn per_ray<S: RayQuery<Triangle> + Sync>(structure: &S, rays: &[(Vec3, Vec3)]) -> anyhow::Result<Vec<Answer>> {
+    rays.par_iter()
+        .map(|&(o, d)| answer(structure.first_hit(o, d, 0.0, f32::INFINITY)))
+        .collect()
+}
