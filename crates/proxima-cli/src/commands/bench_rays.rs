@@ -15,10 +15,15 @@ const LINEAR_BUDGET: usize = 100_000_000;
 
 /// What `bench --query rays` is given.
 pub struct Options<'a> {
+    /// The mesh file.
     pub mesh: &'a Path,
+    /// Rays of the generated set.
     pub rays: usize,
+    /// Their seed.
     pub seed: u64,
+    /// Worker threads of the casting loops.
     pub threads: usize,
+    /// One JSON object instead of a table.
     pub json: bool,
 }
 
