@@ -74,35 +74,9 @@ pub fn query_points(point: Option<Vec3>, points: Option<&Path>) -> Result<Vec<Ve
     }
 }
 
-/// The environment variable that lowers (or raises) the decompression cap of
-/// `.gz` meshes, in bytes (default [`proxima::io::default_max_input_bytes`]).
-pub const MAX_DECOMPRESSED_ENV: &str = "PROXIMA_MAX_DECOMPRESSED_BYTES";
-
-/// The environment variable that lowers (or raises) the size cap of
-/// uncompressed meshes and points files, in bytes (default
-/// [`proxima::io::default_max_input_bytes`]).
-pub const MAX_INPUT_ENV: &str = "PROXIMA_MAX_INPUT_BYTES";
-
 /// The loading limits, with the environment's overrides.
 fn load_options() -> Result<proxima::io::LoadOptions> {
-    let mut options = proxima::io::LoadOptions::default();
-    let bytes = |name: &str| -> Result<Option<u64>> {
-        match std::env::var(name) {
-            Ok(text) => text
-                .trim()
-                .parse()
-                .map(Some)
-                .map_err(|_| anyhow::anyhow!("{name}: '{text}' is not a number of bytes")),
-            Err(_) => Ok(None),
-        }
-    };
-    if let Some(limit) = bytes(MAX_DECOMPRESSED_ENV)? {
-        options.max_decompressed_bytes = limit;
-    }
-    if let Some(limit) = bytes(MAX_INPUT_ENV)? {
-        options.max_input_bytes = limit;
-    }
-    Ok(options)
+    proxima::io::LoadOptions::from_env().map_err(|e| anyhow!(e))
 }
 
 /// Loads a mesh; the error names the file (and line).
@@ -268,45 +242,14 @@ pub fn note(line: &str) {
     let _ = writeln!(std::io::stderr().lock(), "proxima: {line}");
 }
 
-/// The environment variable that sets the memory budget of grids,
-/// voxelizations and query sets, in bytes (a `K`, `M` or `G` suffix
-/// multiplies by 2^10, 2^20, 2^30); default [`proxima::budget::default_memory_budget`].
-pub const MEMORY_BUDGET_ENV: &str = "PROXIMA_MEMORY_BUDGET";
-
-/// The environment variable that sets the limit on cells tested by grid
-/// builds and voxelizations; default [`proxima::budget::DEFAULT_MAX_CELL_TESTS`].
-pub const MAX_CELL_TESTS_ENV: &str = "PROXIMA_MAX_CELL_TESTS";
-
-/// Parses `123`, `64K`, `512M`, `2G` (binary multiples) into a count.
-fn parse_size(text: &str) -> Option<u64> {
-    let text = text.trim();
-    let (digits, shift) = match text.as_bytes().last()?.to_ascii_uppercase() {
-        b'K' => (&text[..text.len() - 1], 10),
-        b'M' => (&text[..text.len() - 1], 20),
-        b'G' => (&text[..text.len() - 1], 30),
-        _ => (text, 0),
-    };
-    digits.trim().parse::<u64>().ok()?.checked_mul(1 << shift)
-}
-
-/// The value of the environment variable `name` as a size, or `default`.
-fn env_size(name: &str, default: u64) -> Result<u64> {
-    match std::env::var(name) {
-        Ok(text) => {
-            parse_size(&text).ok_or_else(|| anyhow!("{name}: '{text}' is not a number (a K, M or G suffix is allowed)"))
-        }
-        Err(_) => Ok(default),
-    }
-}
-
 /// The memory budget: [`MEMORY_BUDGET_ENV`] or the library's default.
 pub fn memory_budget() -> Result<u64> {
-    env_size(MEMORY_BUDGET_ENV, proxima::budget::default_memory_budget())
+    proxima::budget::memory_budget_from_env().map_err(|e| anyhow!(e))
 }
 
 /// The cell-test limit: [`MAX_CELL_TESTS_ENV`] or the library's default.
 pub fn max_cell_tests() -> Result<u64> {
-    env_size(MAX_CELL_TESTS_ENV, proxima::budget::DEFAULT_MAX_CELL_TESTS)
+    proxima::budget::max_cell_tests_from_env().map_err(|e| anyhow!(e))
 }
 
 /// The largest `--threads` a command accepts: 4 per core (at least 8). More
@@ -342,22 +285,5 @@ pub fn cell_option(cell: Vec3) -> String {
         format!("--cell {}", cell.x)
     } else {
         format!("--cell {},{},{}", cell.x, cell.y, cell.z)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn sizes_parse_with_binary_suffixes() {
-        assert_eq!(parse_size("123"), Some(123));
-        assert_eq!(parse_size(" 64k "), Some(64 << 10));
-        assert_eq!(parse_size("512M"), Some(512 << 20));
-        assert_eq!(parse_size("2G"), Some(2 << 30));
-        assert_eq!(parse_size("G"), None);
-        assert_eq!(parse_size(""), None);
-        assert_eq!(parse_size("-1"), None);
-        assert_eq!(parse_size("18446744073709551615G"), None);
     }
 }

@@ -94,9 +94,69 @@ pub fn human_bytes(bytes: u128) -> String {
     }
 }
 
+/// The environment variable that sets the memory budget of grids,
+/// voxelizations and query sets, in bytes (a `K`, `M` or `G` suffix
+/// multiplies by 2^10, 2^20, 2^30); default [`default_memory_budget`].
+pub const MEMORY_BUDGET_ENV: &str = "PROXIMA_MEMORY_BUDGET";
+
+/// The environment variable that sets the limit on cells tested by grid
+/// builds and voxelizations; default [`DEFAULT_MAX_CELL_TESTS`].
+pub const MAX_CELL_TESTS_ENV: &str = "PROXIMA_MAX_CELL_TESTS";
+
+/// Parses `123`, `64K`, `512M`, `2G` (binary multiples) into a count.
+///
+/// ```
+/// assert_eq!(proxima::budget::parse_size("512M"), Some(512 << 20));
+/// assert_eq!(proxima::budget::parse_size("-1"), None);
+/// ```
+pub fn parse_size(text: &str) -> Option<u64> {
+    let text = text.trim();
+    let (digits, shift) = match text.as_bytes().last()?.to_ascii_uppercase() {
+        b'K' => (&text[..text.len() - 1], 10),
+        b'M' => (&text[..text.len() - 1], 20),
+        b'G' => (&text[..text.len() - 1], 30),
+        _ => (text, 0),
+    };
+    digits.trim().parse::<u64>().ok()?.checked_mul(1 << shift)
+}
+
+/// The value of the environment variable `name` as a size
+/// ([`parse_size`]), or `default` when it is not set; a one-line message
+/// naming the variable when it is not a size.
+pub fn env_size(name: &str, default: u64) -> Result<u64, String> {
+    match std::env::var(name) {
+        Ok(text) => {
+            parse_size(&text).ok_or_else(|| format!("{name}: '{text}' is not a number (a K, M or G suffix is allowed)"))
+        }
+        Err(_) => Ok(default),
+    }
+}
+
+/// The memory budget: [`MEMORY_BUDGET_ENV`] or [`default_memory_budget`].
+pub fn memory_budget_from_env() -> Result<u64, String> {
+    env_size(MEMORY_BUDGET_ENV, default_memory_budget())
+}
+
+/// The cell-test limit: [`MAX_CELL_TESTS_ENV`] or [`DEFAULT_MAX_CELL_TESTS`].
+pub fn max_cell_tests_from_env() -> Result<u64, String> {
+    env_size(MAX_CELL_TESTS_ENV, DEFAULT_MAX_CELL_TESTS)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn sizes_parse_with_binary_suffixes() {
+        assert_eq!(parse_size("123"), Some(123));
+        assert_eq!(parse_size(" 64k "), Some(64 << 10));
+        assert_eq!(parse_size("512M"), Some(512 << 20));
+        assert_eq!(parse_size("2G"), Some(2 << 30));
+        assert_eq!(parse_size("G"), None);
+        assert_eq!(parse_size(""), None);
+        assert_eq!(parse_size("-1"), None);
+        assert_eq!(parse_size("18446744073709551615G"), None);
+    }
 
     #[test]
     fn human_sizes() {

@@ -5,6 +5,7 @@ use crate::common::{
 };
 use anyhow::Context;
 use proxima::prelude::*;
+use proxima::query::distinct_sources;
 use rayon::prelude::*;
 use std::io::{BufWriter, StdoutLock, Write};
 use std::path::PathBuf;
@@ -192,39 +193,4 @@ const CHUNK_HITS: usize = 1 << 20;
 /// neighbour's answer, nearer in a bigger batch).
 fn chunk_len(k: usize, primitives: usize) -> usize {
     (CHUNK_HITS / k.min(primitives).max(1)).max(1)
-}
-
-/// The `k` nearest primitives as the user counts them: a face split into
-/// several triangles (a fan) or polygons is one face, listed once, at its
-/// nearest part's distance.
-///
-/// `answers` holds the `k` nearest parts per query, nearest first (ties by
-/// part index, and the parts of a face are consecutive, so ties go to the
-/// lower face). The first occurrence of each source in that order is the
-/// source at its own distance, so keeping first occurrences gives the nearest
-/// sources in order; when that leaves fewer than `k`, the query is asked
-/// again for twice as many parts, until `k` sources are found or every part
-/// has been seen. The queries are treated in parallel.
-fn distinct_sources(
-    mut answers: Vec<Vec<ClosestHit>>,
-    points: &[Vec3],
-    k: usize,
-    parts: usize,
-    k_nearest: &(dyn Fn(Vec3, usize) -> Vec<ClosestHit> + Sync),
-) -> Vec<Vec<ClosestHit>> {
-    let first_occurrences = |hits: &mut Vec<ClosestHit>| {
-        let mut seen = std::collections::HashSet::with_capacity(hits.len());
-        hits.retain(|h| seen.insert(h.source));
-    };
-    answers.par_iter_mut().zip(points).for_each(|(hits, &p)| {
-        let mut asked = k;
-        first_occurrences(hits);
-        while hits.len() < k && asked < parts {
-            asked = asked.saturating_mul(2).min(parts);
-            *hits = k_nearest(p, asked);
-            first_occurrences(hits);
-        }
-        hits.truncate(k);
-    });
-    answers
 }

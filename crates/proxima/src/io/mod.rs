@@ -203,6 +203,34 @@ pub struct LoadOptions {
     pub max_line_bytes: usize,
 }
 
+/// The environment variable that lowers (or raises) the decompression cap of
+/// `.gz` meshes, in bytes (default [`default_max_input_bytes`]).
+pub const MAX_DECOMPRESSED_ENV: &str = "PROXIMA_MAX_DECOMPRESSED_BYTES";
+
+/// The environment variable that lowers (or raises) the size cap of
+/// uncompressed meshes and points files, in bytes (default
+/// [`default_max_input_bytes`]).
+pub const MAX_INPUT_ENV: &str = "PROXIMA_MAX_INPUT_BYTES";
+
+impl LoadOptions {
+    /// The defaults, with the limits that [`MAX_DECOMPRESSED_ENV`] and
+    /// [`MAX_INPUT_ENV`] set (plain numbers of bytes); a one-line message
+    /// naming the variable when one is not a number.
+    pub fn from_env() -> Result<Self, String> {
+        let mut options = Self::default();
+        let bytes = |name: &str, default: u64| match std::env::var(name) {
+            Ok(text) => text
+                .trim()
+                .parse()
+                .map_err(|_| format!("{name}: '{text}' is not a number of bytes")),
+            Err(_) => Ok(default),
+        };
+        options.max_decompressed_bytes = bytes(MAX_DECOMPRESSED_ENV, options.max_decompressed_bytes)?;
+        options.max_input_bytes = bytes(MAX_INPUT_ENV, options.max_input_bytes)?;
+        Ok(options)
+    }
+}
+
 impl Default for LoadOptions {
     fn default() -> Self {
         let max = default_max_input_bytes();

@@ -1,7 +1,7 @@
 //! The visitor behind k-nearest queries, and its reusable memory.
 
 use super::{ClosestHit, NearestVisitor, PRUNE_SLACK};
-use crate::math::Vec3A;
+use crate::math::{Vec3, Vec3A};
 use crate::primitive::ClosestPoint;
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
@@ -129,4 +129,44 @@ pub(crate) fn drain_sorted(heap: &mut BinaryHeap<Candidate>, out: &mut Vec<Close
     for hit in out.iter_mut() {
         hit.distance = hit.distance.sqrt();
     }
+}
+
+/// The `k` nearest primitives as the user counts them: a face split into
+/// several triangles (a fan) or polygons is one face, listed once, at its
+/// nearest part's distance.
+///
+/// `answers` holds the `k` nearest parts per query, nearest first (ties by
+/// part index, and the parts of a face are consecutive, so ties go to the
+/// lower face). The first occurrence of each source in that order is the
+/// source at its own distance, so keeping first occurrences gives the nearest
+/// sources in order; when that leaves fewer than `k`, the query is asked
+/// again for twice as many parts, until `k` sources are found or every part
+/// has been seen. The queries are treated in parallel.
+///
+/// `answers[i]` are the `k` nearest parts of `points[i]` by `k_nearest`
+/// (the structure's [`NearestQuery::k_nearest`](super::NearestQuery::k_nearest)),
+/// `parts` the number of parts.
+pub fn distinct_sources(
+    mut answers: Vec<Vec<ClosestHit>>,
+    points: &[Vec3],
+    k: usize,
+    parts: usize,
+    k_nearest: &(dyn Fn(Vec3, usize) -> Vec<ClosestHit> + Sync),
+) -> Vec<Vec<ClosestHit>> {
+    let first_occurrences = |hits: &mut Vec<ClosestHit>| {
+        let mut seen = std::collections::HashSet::with_capacity(hits.len());
+        hits.retain(|h| seen.insert(h.source));
+    };
+    use rayon::prelude::*;
+    answers.par_iter_mut().zip(points).for_each(|(hits, &p)| {
+        let mut asked = k;
+        first_occurrences(hits);
+        while hits.len() < k && asked < parts {
+            asked = asked.saturating_mul(2).min(parts);
+            *hits = k_nearest(p, asked);
+            first_occurrences(hits);
+        }
+        hits.truncate(k);
+    });
+    answers
 }
