@@ -45,6 +45,36 @@ fn brute_any(set: &PrimitiveSet<Triangle>, o: Vec3, d: Vec3, t_min: f32, t_max: 
         .any(|t| t.intersect_ray(&ray, t_min, t_max).is_some())
 }
 
+/// Checks that `got`, a structure's [`RayQuery::some_hit`], is a hit when
+/// and only when brute force finds one (`any`), and then a real one: the
+/// hit that brute force finds on that primitive, field for field.
+fn check_some_hit(
+    set: &PrimitiveSet<Triangle>,
+    ray: (Vec3, Vec3, f32, f32),
+    any: bool,
+    got: Option<RayHit>,
+    what: &str,
+) {
+    let (o, d, t_min, t_max) = ray;
+    assert_eq!(got.is_some(), any, "{what}: some hit ({o}, {d}, [{t_min}, {t_max}])");
+    if let Some(got) = got {
+        let i = got.primitive as usize;
+        let tri = &set.primitives[i];
+        let h = tri
+            .intersect_ray(&WatertightRay::new(o, d).unwrap(), t_min, t_max)
+            .unwrap_or_else(|| panic!("{what}: some hit on triangle {i}, which the ray misses ({o}, {d})"));
+        let want = RayHit {
+            primitive: i as u32,
+            source: set.sources[i],
+            t: h.t,
+            point: tri.hit_point(&h),
+            u: h.u,
+            v: h.v,
+        };
+        assert_eq!(got, want, "{what}: some hit ({o}, {d}, [{t_min}, {t_max}])");
+    }
+}
+
 fn configs() -> [BuildConfig; 3] {
     [
         BuildConfig::default(),
@@ -142,6 +172,15 @@ fn check_rays(name: &str, set: &PrimitiveSet<Triangle>, trees: &[Trees], rays: &
                     any,
                     "{name}: any hit, ray {k}, wide {c}"
                 );
+                let ray = (o, d, t_min, t_max);
+                for (what, hit) in [
+                    ("binary tree", tree.some_hit(o, d, t_min, t_max)),
+                    ("wide tree", wide.wide.some_hit(o, d, t_min, t_max)),
+                    ("ray tree", wide.ray.some_hit(o, d, t_min, t_max)),
+                    ("ray tree without AVX2", wide.portable.some_hit(o, d, t_min, t_max)),
+                ] {
+                    check_some_hit(set, ray, any, hit.unwrap(), &format!("{name}: ray {k}, {what} {c}"));
+                }
             }
             usize::from(any)
         })
@@ -436,9 +475,11 @@ fn empty_tree_and_errors() {
     ];
     let batch = tree.first_hit_batch(&rays, 0.0, f32::INFINITY);
     let any = tree.any_hit_batch(&rays, 0.0, f32::INFINITY);
+    let some = tree.some_hit_batch(&rays, 0.0, f32::INFINITY);
     for (k, &(o, d)) in rays.iter().enumerate() {
         assert_eq!(batch[k], tree.first_hit(o, d, 0.0, f32::INFINITY));
         assert_eq!(any[k], tree.any_hit(o, d, 0.0, f32::INFINITY));
+        assert_eq!(some[k], tree.some_hit(o, d, 0.0, f32::INFINITY));
     }
 }
 
@@ -715,7 +756,7 @@ fn huge_coordinates_keep_their_hits() {
 }
 
 /// The ray tree's batches (walks interleaved, rays in Morton order) give
-/// each ray the answer `first_hit` (`any_hit`) gives it alone, errors included, in
+/// each ray the answer `first_hit` (`any_hit`, `some_hit`) gives it alone, errors included, in
 /// input order, with and without AVX2 (deep trees, which take their rays one
 /// at a time, are tested in the crate: `ray_tree`'s unit tests).
 #[test]
@@ -740,6 +781,8 @@ fn ray_tree_batches_equal_single_rays() {
                 assert_eq!(batch, portable.first_hit_batch(&rays, t_range.0, t_range.1), "{name}");
                 let any = tree.any_hit_batch(&rays, t_range.0, t_range.1);
                 assert_eq!(any, portable.any_hit_batch(&rays, t_range.0, t_range.1), "{name}");
+                let some = tree.some_hit_batch(&rays, t_range.0, t_range.1);
+                assert_eq!(some, portable.some_hit_batch(&rays, t_range.0, t_range.1), "{name}");
                 let mut hits = 0;
                 for (k, &(o, d)) in rays.iter().enumerate() {
                     let single = tree.first_hit(o, d, t_range.0, t_range.1);
@@ -748,6 +791,11 @@ fn ray_tree_batches_equal_single_rays() {
                         any[k],
                         tree.any_hit(o, d, t_range.0, t_range.1),
                         "{name}: any hit, ray {k}"
+                    );
+                    assert_eq!(
+                        some[k],
+                        tree.some_hit(o, d, t_range.0, t_range.1),
+                        "{name}: some hit, ray {k}"
                     );
                     hits += usize::from(matches!(single, Ok(Some(_))));
                 }

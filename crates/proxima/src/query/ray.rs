@@ -211,7 +211,8 @@ impl<T: RayIntersect> RayVisitor<T> for FirstHit<'_, T> {
 /// Stops at the first hit in range.
 pub(crate) struct AnyHit {
     pub(crate) t_max: f32,
-    pub(crate) found: bool,
+    /// The slot and hit found, if any.
+    pub(crate) found: Option<(usize, TriangleHit)>,
 }
 
 impl<T: RayIntersect> RayVisitor<T> for AnyHit {
@@ -221,14 +222,14 @@ impl<T: RayIntersect> RayVisitor<T> for AnyHit {
     }
 
     #[inline(always)]
-    fn visit(&mut self, _: usize, primitive: &T, ray: &WatertightRay, t_min: f32) -> bool {
-        self.found = primitive.intersect_ray(ray, t_min, self.t_max).is_some();
-        self.found
+    fn visit(&mut self, slot: usize, primitive: &T, ray: &WatertightRay, t_min: f32) -> bool {
+        self.found = primitive.intersect_ray(ray, t_min, self.t_max).map(|hit| (slot, hit));
+        self.found.is_some()
     }
 
     #[inline(always)]
-    fn offer(&mut self, _: usize, _: TriangleHit) -> bool {
-        self.found = true;
+    fn offer(&mut self, slot: usize, hit: TriangleHit) -> bool {
+        self.found = Some((slot, hit));
         true
     }
 }
@@ -297,16 +298,23 @@ pub trait RayQuery<T: RayIntersect>: SpatialIndex<T> {
     /// Errors as [`first_hit`](Self::first_hit).
     #[inline]
     fn any_hit(&self, origin: Vec3, direction: Vec3, t_min: f32, t_max: f32) -> Result<bool, RayError> {
-        let bounds = (!self.leaves().is_empty()).then(|| self.bounds());
-        let Some((ray, far)) = prepare_structure_ray(origin, direction, t_min, t_max, bounds)? else {
-            return Ok(false);
-        };
-        let mut any = AnyHit {
-            t_max: far.t_max,
-            found: false,
-        };
-        self.ray_walk(&ray, direction, far.t_min, &mut any, &mut ());
-        Ok(any.found)
+        Ok(some_hit_found(self, origin, direction, t_min, t_max)?.is_some())
+    }
+
+    /// The hit that [`any_hit`](Self::any_hit) stops at: some primitive hit
+    /// with `t` in `[t_min, t_max]`, not always the first, or `None`.
+    /// Errors as [`first_hit`](Self::first_hit).
+    ///
+    /// ```
+    /// use proxima::prelude::*;
+    /// let mesh = Mesh::from_triangles(vec![Vec3::ZERO, Vec3::X, Vec3::Y], &[[0, 1, 2]]).unwrap();
+    /// let tree = RayTree::build(&mesh).unwrap();
+    /// let hit = tree.some_hit(Vec3::new(0.2, 0.2, -1.0), Vec3::Z, 0.0, f32::INFINITY).unwrap().unwrap();
+    /// assert_eq!((hit.source, hit.t), (0, 1.0));
+    /// ```
+    fn some_hit(&self, origin: Vec3, direction: Vec3, t_min: f32, t_max: f32) -> Result<Option<RayHit>, RayError> {
+        let hit = some_hit_found(self, origin, direction, t_min, t_max)?;
+        Ok(hit.map(|(slot, hit, far)| hit_answer(self.leaves(), &far, slot, &hit)))
     }
 
     /// [`first_hit`](Self::first_hit) for many rays `(origin, direction)`
@@ -331,6 +339,38 @@ pub trait RayQuery<T: RayIntersect>: SpatialIndex<T> {
     {
         in_ray_order(self, rays, |o, d| self.any_hit(o, d, t_min, t_max))
     }
+
+    /// [`some_hit`](Self::some_hit) for many rays `(origin, direction)` on
+    /// all cores, answers in input order, cast in the order of
+    /// [`first_hit_batch`](Self::first_hit_batch).
+    fn some_hit_batch(&self, rays: &[(Vec3, Vec3)], t_min: f32, t_max: f32) -> Vec<Result<Option<RayHit>, RayError>>
+    where
+        Self: Sync,
+    {
+        in_ray_order(self, rays, |o, d| self.some_hit(o, d, t_min, t_max))
+    }
+}
+
+/// The walk of [`RayQuery::any_hit`]: the slot and hit it stopped at, and
+/// how the ray was moved.
+#[inline]
+fn some_hit_found<T: RayIntersect, S: RayQuery<T> + ?Sized>(
+    structure: &S,
+    origin: Vec3,
+    direction: Vec3,
+    t_min: f32,
+    t_max: f32,
+) -> Result<Option<(usize, TriangleHit, FarRay)>, RayError> {
+    let bounds = (!structure.leaves().is_empty()).then(|| structure.bounds());
+    let Some((ray, far)) = prepare_structure_ray(origin, direction, t_min, t_max, bounds)? else {
+        return Ok(None);
+    };
+    let mut any = AnyHit {
+        t_max: far.t_max,
+        found: None,
+    };
+    structure.ray_walk(&ray, direction, far.t_min, &mut any, &mut ());
+    Ok(any.found.map(|(slot, hit)| (slot, hit, far)))
 }
 
 /// `cast` of every ray on rayon's pool, in the Morton order of

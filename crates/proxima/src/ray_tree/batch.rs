@@ -92,22 +92,26 @@ impl<'a> Search<'a> for FirstHit<'a, Triangle> {
 }
 
 impl<'a> Search<'a> for AnyHit {
-    type Found = bool;
-    type Answer = bool;
+    /// As [`FirstHit`]'s: the slot hit, the hit, and how the ray was moved.
+    type Found = Option<(usize, TriangleHit, FarRay)>;
+    type Answer = Option<RayHit>;
 
     fn new(_: &'a Leaves<Triangle>, far: &FarRay) -> Self {
         AnyHit {
             t_max: far.t_max,
-            found: false,
+            found: None,
         }
     }
 
-    fn found(&self, _: &FarRay) -> bool {
-        self.found
+    fn found(&self, far: &FarRay) -> Self::Found {
+        self.found.map(|(slot, hit)| (slot, hit, *far))
     }
 
-    fn resolve(_: &'a Leaves<Triangle>, found: &[Result<bool, RayError>]) -> Vec<Result<bool, RayError>> {
-        found.to_vec()
+    fn resolve(
+        leaves: &'a Leaves<Triangle>,
+        found: &[Result<Self::Found, RayError>],
+    ) -> Vec<Result<Self::Answer, RayError>> {
+        FirstHit::resolve(leaves, found)
     }
 }
 
@@ -133,15 +137,15 @@ impl RayTree {
         self.batch::<FirstHit<'_, Triangle>>(rays, t_min, t_max, |o, d| self.first_hit(o, d, t_min, t_max))
     }
 
-    /// [`any_hit_batch`](crate::query::RayQuery::any_hit_batch) with
+    /// [`some_hit_batch`](crate::query::RayQuery::some_hit_batch) with
     /// interleaved walks (module notes).
-    pub(super) fn any_hit_batch_interleaved(
+    pub(super) fn some_hit_batch_interleaved(
         &self,
         rays: &[(Vec3, Vec3)],
         t_min: f32,
         t_max: f32,
-    ) -> Vec<Result<bool, RayError>> {
-        self.batch::<AnyHit>(rays, t_min, t_max, |o, d| self.any_hit(o, d, t_min, t_max))
+    ) -> Vec<Result<Option<RayHit>, RayError>> {
+        self.batch::<AnyHit>(rays, t_min, t_max, |o, d| self.some_hit(o, d, t_min, t_max))
     }
 
     /// The batch of searches `S`; trees too deep for the small stack (no

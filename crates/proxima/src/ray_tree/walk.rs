@@ -371,6 +371,16 @@ impl RayQuery<Triangle> for RayTree {
     }
 
     fn any_hit_batch(&self, rays: &[(Vec3, Vec3)], t_min: f32, t_max: f32) -> Vec<Result<bool, crate::RayError>> {
-        self.any_hit_batch_interleaved(rays, t_min, t_max)
+        let hits = self.some_hit_batch_interleaved(rays, t_min, t_max);
+        hits.into_iter().map(|hit| hit.map(|hit| hit.is_some())).collect()
+    }
+
+    fn some_hit_batch(
+        &self,
+        rays: &[(Vec3, Vec3)],
+        t_min: f32,
+        t_max: f32,
+    ) -> Vec<Result<Option<crate::query::RayHit>, crate::RayError>> {
+        self.some_hit_batch_interleaved(rays, t_min, t_max)
     }
 }
