@@ -553,3 +553,32 @@ fn avx2_and_baseline_walks_agree_bit_for_bit() {
     let without: Vec<u32> = probes.iter().map(|&p| winding.winding_number(p).to_bits()).collect();
     assert_eq!(with, without);
 }
+
+/// Fields made on one shared tree ([`SignedDistanceField::with_tree`], as
+/// the Python package keeps them) answer as fields that build their own,
+/// for both signs, bit for bit.
+#[test]
+fn fields_sharing_one_tree_answer_as_their_own() {
+    let mesh = proxima::mesh::generate::noisy_icosphere(12, 3);
+    let tree = std::sync::Arc::new(WideTree::build_set(mesh.triangles(), &BuildConfig::default()).unwrap());
+    let queries = points(&mesh, 2000, 5);
+    for sign in [Sign::WindingNumber, Sign::Pseudonormal] {
+        let config = SdfConfig {
+            sign,
+            ..SdfConfig::default()
+        };
+        let shared = SignedDistanceField::with_tree(tree.clone(), &mesh, &config);
+        let own = SignedDistanceField::new(&mesh, &config).unwrap();
+        assert_eq!(
+            shared.signed_distance_batch(&queries),
+            own.signed_distance_batch(&queries),
+            "{sign:?}"
+        );
+        assert_eq!(
+            shared.winding_number_batch(&queries),
+            own.winding_number_batch(&queries),
+            "{sign:?}"
+        );
+        assert!(std::ptr::eq(shared.tree(), tree.as_ref()));
+    }
+}

@@ -12,6 +12,7 @@ use crate::mesh::Mesh;
 use crate::query::answer_batch_indexed;
 use crate::query::{ClosestHit, NearestQuery, SpatialIndex};
 use crate::wide_tree::WideTree;
+use std::sync::{Arc, OnceLock};
 
 /// How the side of a point (inside or outside) is decided.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -104,8 +105,11 @@ impl SignedDistance {
 /// ```
 #[derive(Clone, Debug)]
 pub struct SignedDistanceField {
-    tree: WideTree<Triangle>,
-    winding: WindingNumbers,
+    tree: Arc<WideTree<Triangle>>,
+    /// Built on first use: a field signed by pseudonormals needs it only
+    /// for [`winding_number`](Self::winding_number).
+    winding: OnceLock<WindingNumbers>,
+    beta: f32,
     pseudonormals: Option<Pseudonormals>,
     sign: Sign,
     exact: bool,
@@ -120,15 +124,40 @@ impl SignedDistanceField {
             return Err(SdfError::NoFaces);
         }
         let tree = WideTree::build_set(mesh.triangles(), &config.build)?;
-        let winding = WindingNumbers::new(&tree, config.beta);
+        Ok(Self::with_tree(Arc::new(tree), mesh, config))
+    }
+
+    /// The field of `mesh` on `tree`, a tree already built over
+    /// `mesh.triangles()` (`config.build` is not used): several fields, or
+    /// a field and closest-point queries, then share one tree.
+    ///
+    /// ```
+    /// use proxima::prelude::*;
+    /// use proxima::sdf::{SdfConfig, Sign, SignedDistanceField};
+    /// use std::sync::Arc;
+    /// let mesh = proxima::mesh::generate::noisy_icosphere(4, 1);
+    /// let tree = Arc::new(WideTree::build_set(mesh.triangles(), &Default::default()).unwrap());
+    /// let config = SdfConfig { sign: Sign::Pseudonormal, ..Default::default() };
+    /// let field = SignedDistanceField::with_tree(tree.clone(), &mesh, &config);
+    /// assert!(field.contains(Vec3::ZERO));
+    /// ```
+    pub fn with_tree(tree: Arc<WideTree<Triangle>>, mesh: &Mesh, config: &SdfConfig) -> Self {
+        debug_assert_eq!(tree.len(), mesh.triangle_count());
         let pseudonormals = (config.sign == Sign::Pseudonormal).then(|| Pseudonormals::new(mesh));
-        Ok(Self {
+        // Built now when every signed distance needs it, so that a field's
+        // build time holds all of its build.
+        let winding = OnceLock::new();
+        if config.sign == Sign::WindingNumber && !config.exact {
+            let _ = winding.set(WindingNumbers::new(&tree, config.beta));
+        }
+        Self {
             tree,
             winding,
+            beta: config.beta,
             pseudonormals,
             sign: config.sign,
             exact: config.exact,
-        })
+        }
     }
 
     /// The tree of the closest queries.
@@ -138,7 +167,7 @@ impl SignedDistanceField {
 
     /// The winding numbers' tree of expansions.
     pub fn winding_numbers(&self) -> &WindingNumbers {
-        &self.winding
+        self.winding.get_or_init(|| WindingNumbers::new(&self.tree, self.beta))
     }
 
     /// How the side is decided.
@@ -163,7 +192,7 @@ impl SignedDistanceField {
         if self.exact {
             winding_number_exact(self.triangles(), p) as f32
         } else {
-            self.winding.winding_number(p)
+            self.winding_numbers().winding_number(p)
         }
     }
 
