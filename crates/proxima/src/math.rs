@@ -5,7 +5,7 @@
 //! (12 bytes, tightly packed); per-query temporaries use [`Vec3A`] (16 bytes,
 //! SIMD-friendly).
 
-pub use glam::{DMat4, DVec4, Mat4, Vec3, Vec3A, Vec4};
+pub use glam::{DMat4, DVec3, DVec4, Mat4, Vec3, Vec3A, Vec4};
 
 /// The scalar type of every coordinate.
 pub type Real = f32;

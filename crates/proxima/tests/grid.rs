@@ -579,6 +579,46 @@ fn voxelize_keeps_the_far_face_closed() {
     assert_eq!(vox.cells(), vec![[0, 0, 0], [0, 0, 1], [1, 0, 1], [0, 1, 1], [1, 1, 1]]);
 }
 
+/// The grid reaches the box's far corner on every axis, computed exactly
+/// (`f64` holds `min + n · cell` of two `f32` without rounding for these
+/// sizes), though the cell size is a rounded `side / n`; and a point-like
+/// triangle at the far corner is in the grid's last cells, not clipped away.
+/// Boxes where the rounding falls short were seen from Python (a box from 0
+/// to 0.9, 3 cells).
+#[test]
+fn voxel_grids_reach_the_far_corner() {
+    let mut rng = Rng::new(11);
+    let mut cases = vec![(Vec3::ZERO, Vec3::new(0.9, 0.0, 0.45), 3)];
+    for _ in 0..2000 {
+        let min = Vec3::new(rng.range(-2.0, 2.0), rng.range(-2.0, 2.0), rng.range(-2.0, 2.0));
+        let size = Vec3::new(rng.range(0.01, 3.0), rng.range(0.01, 3.0), rng.range(0.01, 3.0));
+        cases.push((min, min + size, 1 + rng.below(60) as u32));
+    }
+    let mut short_before = 0;
+    for (min, max, n) in cases {
+        let bounds = Aabb::new(min, max);
+        let corner = Triangle::new(max, max, max);
+        let vox = voxelize(&[corner], &bounds, &VoxelConfig::new(n)).unwrap();
+        let (origin, cell) = (vox.origin().as_dvec3(), vox.cell_size() as f64);
+        let end = origin + glam::DVec3::splat(cell * n as f64);
+        assert!(
+            end.cmpge(max.as_dvec3()).all(),
+            "{min} {max} {n}: the grid ends at {end}"
+        );
+        let naive = (max - min).max_element() / n as f32;
+        short_before += usize::from(
+            (origin + glam::DVec3::splat(naive as f64 * n as f64))
+                .cmplt(max.as_dvec3())
+                .any(),
+        );
+        assert_eq!(vox.occupied(), 1, "{min} {max} {n}");
+        let c = vox.cells()[0];
+        assert!(c.iter().all(|&i| (0..n as i64).contains(&i)), "{c:?}");
+    }
+    // The case the fix is for occurs among the random boxes too.
+    assert!(short_before > 0);
+}
+
 // ------------------------------------------------------------------ rays ---
 
 fn brute_first_hit(tris: &[Triangle], o: Vec3, d: Vec3) -> Option<(u32, f32)> {

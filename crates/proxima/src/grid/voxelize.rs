@@ -26,7 +26,7 @@ use super::{Cell, CellRange, FastHash, GridInsert, GridLayout, InsertMethod, Key
 use crate::aabb::Aabb;
 use crate::budget::VOXEL_BYTES_PER_SPARSE_CELL;
 use crate::error::GridError;
-use crate::math::Vec3;
+use crate::math::{DVec3, Vec3};
 use crate::primitive::{Bounded, Triangle};
 use rayon::prelude::*;
 use std::collections::HashSet;
@@ -119,11 +119,22 @@ pub fn voxelize(triangles: &[Triangle], bounds: &Aabb, config: &VoxelConfig) -> 
         return Err(GridError::Resolution);
     }
     let side = bounds.size().max_element();
-    let cell = side / n as f32;
+    let mut cell = side / n as f32;
     // A point-like (or empty) box has no extent to divide: say so, rather than
     // blaming a cell size the caller never gave.
     if !(cell > 0.0 && cell.is_finite()) {
         return Err(GridError::DegenerateBounds);
+    }
+    // Rounded to f32 (the side, then the quotient), the cell may be a little
+    // short: the grid would end before the box and the cells clipped away
+    // would miss the triangles there. Each step moves the end by about one
+    // ulp of the side, so this takes a step or two.
+    let reaches = |cell: f32| {
+        let end = bounds.min.as_dvec3() + DVec3::splat(cell as f64 * n as f64);
+        end.cmpge(bounds.max.as_dvec3()).all()
+    };
+    while !reaches(cell) && cell.is_finite() {
+        cell = cell.next_up();
     }
     let layout = GridLayout::new(bounds.min, Vec3::splat(cell))?;
     // The budget, before anything is allocated (`N³` overflows `u64` from
