@@ -1,0 +1,16 @@
+"""proxima: exact, fast spatial queries on triangle meshes.
+
+Closest points, k nearest elements, signed distances with winding-number
+signs, ray casts, voxels and frustum culling, on numpy arrays. Every batch
+call releases the GIL and runs on all cores (``threads=1`` for one).
+
+>>> import proxima
+>>> mesh = proxima.noisy_icosphere(8)
+>>> points = mesh.sample_near_surface(1000, seed=1)
+>>> closest, distance, face = mesh.closest_points(points)
+>>> inside = mesh.signed_distance(points) < 0
+"""
+
+from ._proxima import Mesh, VoxelGrid, __version__, load, noisy_icosphere, traverse
+
+__all__ = ["Mesh", "VoxelGrid", "__version__", "load", "noisy_icosphere", "traverse"]

@@ -1,0 +1,215 @@
+"""Type stubs of proxima's native module (the API contract of the package)."""
+
+from os import PathLike
+from typing import Literal, Optional, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+Primitives = Literal["vertices", "edges", "faces", "polygons"]
+FloatArray = npt.NDArray[np.floating]
+Faces = Union[npt.ArrayLike, Sequence[Sequence[int]]]
+
+__version__: str
+
+def load(path: Union[str, PathLike[str]]) -> Mesh:
+    """Reads a mesh file: OBJ, PLY (ASCII or binary), STL (ASCII or binary),
+    OFF, each optionally gzip-compressed (``.gz``), as the command line does.
+
+    Raises ``OSError`` when the file cannot be read and ``ValueError`` when
+    its content is malformed or holds no vertex; the message names the file
+    (and the line where it can), as the command line's.
+
+    >>> mesh = proxima.load("bunny.obj")
+    """
+
+def noisy_icosphere(frequency: int, seed: int = 1) -> Mesh:
+    """A closed sphere of radius about 1 with smooth noise: ``20 * frequency**2``
+    triangles (``noisy_icosphere(224)`` is the benchmarks' 1M-triangle ``ico1m``).
+
+    >>> proxima.noisy_icosphere(4).faces.shape
+    (320, 3)
+    """
+
+def traverse(
+    origin: npt.ArrayLike,
+    direction: npt.ArrayLike,
+    cell_size: Union[float, npt.ArrayLike],
+    steps: int,
+) -> Tuple[npt.NDArray[np.int64], npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """The first ``steps`` cells that the ray ``origin + t * direction``
+    (t >= 0) crosses in a grid of cells of ``cell_size`` (one number, or three)
+    with a corner at the origin (Amanatides & Woo): ``(cells (n, 3) int64,
+    t_enter (n,), t_exit (n,))``, in the ray's parameter (units of
+    ``direction``'s length).
+
+    >>> cells, t0, t1 = proxima.traverse([0.5, 0.5, 0.5], [1, 0, 0], 1.0, 3)
+    >>> cells.tolist()
+    [[0, 0, 0], [1, 0, 0], [2, 0, 0]]
+    """
+
+class VoxelGrid:
+    """The cells of a cubic grid that a mesh's triangles overlap (exact test)."""
+
+    @property
+    def resolution(self) -> int:
+        """Cells per side."""
+    @property
+    def origin(self) -> npt.NDArray[np.float64]:
+        """The corner of cell (0, 0, 0), shape (3,)."""
+    @property
+    def cell_size(self) -> float:
+        """The side of a cell."""
+    @property
+    def cells(self) -> npt.NDArray[np.int64]:
+        """The occupied cells' indices, shape (M, 3), in increasing (i, j, k) order
+        of the grid's storage (x fastest)."""
+    def dense(self) -> npt.NDArray[np.bool_]:
+        """A (N, N, N) bool array, ``dense()[i, j, k]`` true where cell (i, j, k)
+        is occupied."""
+    def __len__(self) -> int:
+        """The number of occupied cells."""
+
+class Mesh:
+    """A polygon mesh and the structures that answer queries on it.
+
+    The structures are built on first use and kept: the first
+    ``closest_points`` on faces builds the faces' tree, later calls (and
+    ``signed_distance``, which uses the same tree) reuse it.
+
+    >>> import numpy as np, proxima
+    >>> mesh = proxima.Mesh(np.eye(3), [[0, 1, 2]])
+    >>> closest, distance, face = mesh.closest_points([[0, 0, 0]])
+    >>> face.tolist()
+    [0]
+    """
+
+    def __init__(self, vertices: npt.ArrayLike, faces: Faces) -> None:
+        """A mesh from ``vertices`` (V, 3) float32 or float64 and ``faces``:
+        an integer (F, 3) array (triangles), an integer (F, k) array, or a
+        list of index sequences of any lengths >= 3 (polygons). Coordinates
+        are stored as float32.
+
+        Raises ``ValueError`` for a wrong shape or dtype, a coordinate that is
+        NaN or infinite, an index out of range or a face of fewer than three
+        vertices.
+        """
+    @staticmethod
+    def from_trimesh(mesh: object) -> Mesh:
+        """The mesh of a ``trimesh.Trimesh`` (its ``vertices`` and ``faces``)."""
+    @property
+    def vertices(self) -> npt.NDArray[np.float32]:
+        """The vertices, (V, 3) float32 (a copy)."""
+    @property
+    def faces(self) -> Union[npt.NDArray[np.int64], list[npt.NDArray[np.int64]]]:
+        """The faces: an (F, k) int64 array when every face has k vertices,
+        otherwise a list of F int64 arrays."""
+    @property
+    def bounds(self) -> npt.NDArray[np.float64]:
+        """The bounding box, [[min x, min y, min z], [max x, max y, max z]]."""
+    def __len__(self) -> int:
+        """The number of faces."""
+    def closest_points(
+        self,
+        points: npt.ArrayLike,
+        primitives: Primitives = "faces",
+        threads: Optional[int] = None,
+    ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.int64]]:
+        """For each of ``points`` (N, 3), the closest point of the mesh's
+        ``primitives``: ``(closest (N, 3) float64, distance (N,) float64,
+        index (N,) int64)``, the order of trimesh's ``closest_point``.
+        ``index`` is the source element: the face (for faces and polygons, a
+        polygon face split in triangles still reports its face), the vertex or
+        the edge (unique undirected edges in order of first appearance, walking
+        each face's edges in order). Computed in float32 on float32 points
+        (float64 input is rounded once): the answer of a brute-force scan in
+        the same arithmetic, ties to the lowest index.
+
+        >>> closest, distance, face = mesh.closest_points(np.zeros((1, 3)))
+        """
+    def k_nearest(
+        self,
+        points: npt.ArrayLike,
+        k: int,
+        primitives: Primitives = "faces",
+        threads: Optional[int] = None,
+    ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]]:
+        """The ``k`` nearest source elements of each point, nearest first:
+        ``(distance (N, k) float64, index (N, k) int64)``. A polygon face
+        counts once. Where the mesh has fewer than ``k`` elements, the rest of
+        the row is ``inf`` and -1."""
+    def signed_distance(
+        self,
+        points: npt.ArrayLike,
+        sign: Literal["winding", "pseudonormal"] = "winding",
+        threads: Optional[int] = None,
+    ) -> npt.NDArray[np.float64]:
+        """The distance to the closest point of the faces, negative inside,
+        shape (N,). ``sign="winding"`` (the default) says inside where the
+        generalized winding number exceeds 1/2, right on open and
+        self-intersecting meshes; ``"pseudonormal"`` uses the closest
+        feature's angle-weighted normal (faster, for closed meshes)."""
+    def winding_number(self, points: npt.ArrayLike, threads: Optional[int] = None) -> npt.NDArray[np.float64]:
+        """The generalized winding number at each point, shape (N,): 1 inside
+        a closed outward-oriented mesh, 0 outside, fractional near holes.
+        Far triangles are summed by a tree of expansions (Barill et al.):
+        within about 0.03 of the exact sum (differences up to 0.017 were seen
+        on real meshes); ``contains`` and the sign of ``signed_distance``
+        compare it with 1/2."""
+    def contains(self, points: npt.ArrayLike, threads: Optional[int] = None) -> npt.NDArray[np.bool_]:
+        """Whether each point is inside (winding number above 1/2), shape (N,)."""
+    def cast_rays(
+        self,
+        origins: npt.ArrayLike,
+        directions: npt.ArrayLike,
+        any_hit: bool = False,
+        threads: Optional[int] = None,
+    ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]]:
+        """The first face each ray ``origin + t * direction / |direction|``
+        (t >= 0) hits: ``(t (N,) float64, index (N,) int64)``, t the distance
+        along the normalized direction, ``inf`` and -1 for a miss. Watertight:
+        a ray through an edge or a vertex shared by faces hits one of them.
+        ``any_hit=True`` returns some hit, not always the first (faster, for
+        visibility)."""
+    def voxelize(self, resolution: int, threads: Optional[int] = None) -> VoxelGrid:
+        """The cells of a ``resolution``-cubed grid around the mesh that its
+        faces overlap (exact triangle/box test). Raises ``ValueError`` when
+        ``resolution`` is 0 or the grid would exceed the memory budget
+        (``PROXIMA_MEMORY_BUDGET``, bytes)."""
+    def frustum(
+        self,
+        view_projection: npt.ArrayLike,
+        primitives: Primitives = "faces",
+    ) -> npt.NDArray[np.int64]:
+        """The source indices (increasing) of the ``primitives`` that share a
+        point with the view frustum of an OpenGL view-projection matrix
+        (4, 4), row-major as numpy writes it (``clip = M @ [x, y, z, 1]``)."""
+    def built_structures(self) -> list[str]:
+        """The names of the structures built so far, in a fixed order:
+        ``"vertices"``, ``"edges"``, ``"faces"``, ``"polygons"`` (trees),
+        ``"winding"``, ``"pseudonormal"`` (signed-distance fields, on the
+        faces' tree), ``"rays"`` (the ray tree). Each is built once, on the
+        first call that needs it."""
+    def _batch_seconds(
+        self,
+        points: npt.ArrayLike,
+        query: Literal["closest_points", "signed_distance", "cast_rays"],
+        directions: Optional[npt.ArrayLike] = None,
+        threads: Optional[int] = None,
+    ) -> float:
+        """For benchmarks: the seconds the Rust batch of ``query`` takes on
+        ``points`` (ray origins with ``directions`` for ``cast_rays``), timed
+        inside the call, structures already built and no array conversion."""
+    def sample_near_surface(self, n: int, sigma: float = 0.01, seed: int = 0) -> npt.NDArray[np.float32]:
+        """``n`` points uniform on the faces (by area) plus a gaussian offset
+        per axis of standard deviation ``sigma`` times the bounding-box
+        diagonal (the benchmarks' ``near`` set), (n, 3) float32, reproducible
+        for a seed."""
+    def sample_rays(self, n: int, seed: int = 0) -> Tuple[npt.NDArray[np.float32], npt.NDArray[np.float32]]:
+        """``n`` rays: origins uniform on the sphere of radius 0.75 times the
+        bounding-box diagonal around its centre, aimed at points uniform in
+        the box, unit directions (the benchmarks' ``rays`` set):
+        ``(origins (n, 3), directions (n, 3))`` float32."""
+    def sample_uniform(self, n: int, seed: int = 0) -> npt.NDArray[np.float32]:
+        """``n`` points uniform in the bounding box enlarged by 10% per side
+        (the benchmarks' ``uniform`` set), (n, 3) float32."""

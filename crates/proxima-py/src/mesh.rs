@@ -1,0 +1,519 @@
+//! The Python `Mesh`: a mesh, the structures built on it, and every query.
+
+use crate::arrays::{self, Check, value_error};
+use crate::closest::{Closest, ClosestAnswers, InFrustum, KNearest};
+use crate::structures::Structures;
+use crate::threads;
+use crate::voxels::VoxelGrid;
+use numpy::{PyArray1, PyArray2};
+use proxima::BuildError;
+use proxima::prelude::*;
+use proxima::sdf::Sign;
+use pyo3::IntoPyObjectExt;
+use pyo3::prelude::*;
+use pyo3::types::PyList;
+
+/// A polygon mesh and the structures that answer queries on it, each built
+/// on first use and kept (see the package's type stubs for the full
+/// contract of each method).
+///
+/// >>> import numpy as np, proxima
+/// >>> mesh = proxima.Mesh(np.eye(3), [[0, 1, 2]])
+/// >>> closest, distance, face = mesh.closest_points([[0, 0, 0]])
+/// >>> face.tolist()
+/// [0]
+#[pyclass(module = "proxima", name = "Mesh", frozen)]
+pub struct PyMesh {
+    pub(crate) mesh: Mesh,
+    pub(crate) structures: Structures,
+}
+
+/// The arrays `closest_points` returns.
+type ClosestArrays<'py> = (
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<i64>>,
+);
+/// Distances and indices, one row per point (`k_nearest`).
+type NearestArrays<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<i64>>);
+/// Ray origins and directions (`sample_rays`).
+type RayArrays32<'py> = (Bound<'py, PyArray2<f32>>, Bound<'py, PyArray2<f32>>);
+/// Distances and indices, one per ray (`cast_rays`).
+type RayArrays<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<i64>>);
+
+impl PyMesh {
+    /// A mesh with nothing built yet.
+    pub fn wrap(mesh: Mesh) -> Self {
+        Self {
+            mesh,
+            structures: Structures::default(),
+        }
+    }
+
+    /// Fails unless the mesh has primitives of `kind`.
+    fn require(&self, kind: PrimitiveKind) -> PyResult<()> {
+        if kind.available(&self.mesh) == 0 {
+            let what = if kind == PrimitiveKind::Vertices {
+                "vertices"
+            } else {
+                "faces"
+            };
+            return Err(value_error(
+                "primitives",
+                format!("the mesh has no {what}, so no {kind}"),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Fails unless the mesh has faces (signed distances, rays).
+    fn require_faces(&self, what: &str) -> PyResult<()> {
+        if self.mesh.triangle_count() == 0 {
+            return Err(value_error(
+                what,
+                "the mesh has no faces, so there is nothing to search",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// `primitives=` as a kind.
+fn kind(primitives: &str) -> PyResult<PrimitiveKind> {
+    primitives.parse().map_err(|e| value_error("primitives", e))
+}
+
+/// `sign=` as a sign method.
+fn sign(text: &str) -> PyResult<Sign> {
+    match text {
+        "winding" => Ok(Sign::WindingNumber),
+        "pseudonormal" => Ok(Sign::Pseudonormal),
+        _ => Err(value_error(
+            "sign",
+            format!("'{text}' is not 'winding' or 'pseudonormal'"),
+        )),
+    }
+}
+
+/// Fails unless `count` values of `bytes_each` bytes fit the memory budget
+/// (`PROXIMA_MEMORY_BUDGET` or the library's default).
+pub fn check_budget(name: &str, value: impl std::fmt::Display, count: u128, bytes_each: u128) -> PyResult<()> {
+    let budget = proxima::budget::memory_budget_from_env().map_err(pyo3::exceptions::PyValueError::new_err)?;
+    let bytes = count.saturating_mul(bytes_each);
+    if bytes > budget as u128 {
+        return Err(value_error(
+            name,
+            format!(
+                "{value} needs {} of memory, more than the budget of {} (set PROXIMA_MEMORY_BUDGET to change it)",
+                proxima::budget::human_bytes(bytes),
+                proxima::budget::human_bytes(budget as u128)
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Face index lists from `faces` (an integer (F, k) array or a list of
+/// index sequences), checked non-negative and 32-bit.
+fn face_lists(faces: &Bound<'_, PyAny>) -> PyResult<(Vec<u32>, Vec<u32>)> {
+    let mut offsets = vec![0u32];
+    let mut indices = Vec::new();
+    let mut push = |face: usize, values: &[i64]| -> PyResult<()> {
+        if values.len() < 3 {
+            return Err(value_error(
+                "faces",
+                format!("face {face} has {} vertices; a face needs at least 3", values.len()),
+            ));
+        }
+        for &v in values {
+            let v = u32::try_from(v)
+                .map_err(|_| value_error("faces", format!("face {face} refers to vertex {v}, not a vertex index")))?;
+            indices.push(v);
+        }
+        let end = u32::try_from(indices.len()).map_err(|_| value_error("faces", "more than 2^32 - 1 indices"))?;
+        offsets.push(end);
+        Ok(())
+    };
+    match arrays::index_rows(faces, "faces")? {
+        Some((values, k)) => {
+            for (face, row) in values.chunks(k.max(1)).enumerate() {
+                push(face, row)?;
+            }
+        }
+        None => {
+            for (face, item) in faces.try_iter().map_err(|e| value_error("faces", e))?.enumerate() {
+                let values = arrays::index_list(&item?, &format!("faces[{face}]"))?;
+                push(face, &values)?;
+            }
+        }
+    }
+    Ok((offsets, indices))
+}
+
+#[pymethods]
+impl PyMesh {
+    #[new]
+    fn new(vertices: &Bound<'_, PyAny>, faces: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let positions = arrays::points(vertices, "vertices", Check::Finite)?.as_slice().to_vec();
+        let (offsets, indices) = face_lists(faces)?;
+        let mesh = Mesh::from_compact(positions, offsets, indices).map_err(|e| value_error("faces", e))?;
+        Ok(Self::wrap(mesh))
+    }
+
+    /// The mesh of a ``trimesh.Trimesh`` (its ``vertices`` and ``faces``).
+    #[staticmethod]
+    fn from_trimesh(mesh: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let vertices = mesh.getattr("vertices").map_err(|e| value_error("mesh", e))?;
+        let faces = mesh.getattr("faces").map_err(|e| value_error("mesh", e))?;
+        Self::new(&vertices, &faces)
+    }
+
+    /// The vertices, (V, 3) float32 (a copy).
+    #[getter]
+    fn vertices<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f32>>> {
+        let flat: Vec<f32> = self.mesh.positions().iter().flat_map(|p| p.to_array()).collect();
+        arrays::matrix(py, flat, 3)
+    }
+
+    /// The faces: an (F, k) int64 array when every face has k vertices,
+    /// otherwise a list of F int64 arrays.
+    #[getter]
+    fn faces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let sizes: Vec<usize> = self.mesh.faces().map(<[u32]>::len).collect();
+        let uniform = sizes.windows(2).all(|w| w[0] == w[1]);
+        if uniform {
+            let k = sizes.first().copied().unwrap_or(3);
+            let flat: Vec<i64> = self.mesh.faces().flatten().map(|&v| v as i64).collect();
+            return arrays::matrix(py, flat, k)?.into_bound_py_any(py);
+        }
+        let faces: Vec<Bound<'py, PyArray1<i64>>> = self
+            .mesh
+            .faces()
+            .map(|f| arrays::vector(py, f.iter().map(|&v| v as i64).collect()))
+            .collect();
+        PyList::new(py, faces)?.into_bound_py_any(py)
+    }
+
+    /// The bounding box, [[min x, min y, min z], [max x, max y, max z]].
+    #[getter]
+    fn bounds<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let b = self.mesh.bounds();
+        let flat = [b.min, b.max]
+            .iter()
+            .flat_map(|v| v.to_array().map(f64::from))
+            .collect();
+        arrays::matrix(py, flat, 3)
+    }
+
+    fn __len__(&self) -> usize {
+        self.mesh.face_count()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Mesh(vertices={}, faces={})",
+            self.mesh.vertex_count(),
+            self.mesh.face_count()
+        )
+    }
+
+    /// The names of the structures built so far, in a fixed order
+    /// (``"vertices"``, ``"edges"``, ``"faces"``, ``"polygons"``,
+    /// ``"winding"``, ``"pseudonormal"``, ``"rays"``).
+    fn built_structures(&self) -> Vec<&'static str> {
+        self.structures.built()
+    }
+
+    /// For each of ``points`` (N, 3), the closest point of the mesh's
+    /// ``primitives``: ``(closest (N, 3) float64, distance (N,) float64,
+    /// index (N,) int64)``.
+    #[pyo3(signature = (points, primitives = "faces", threads = None))]
+    fn closest_points<'py>(
+        &self,
+        py: Python<'py>,
+        points: &Bound<'py, PyAny>,
+        primitives: &str,
+        threads: Option<i64>,
+    ) -> PyResult<ClosestArrays<'py>> {
+        let kind = kind(primitives)?;
+        let points = arrays::points(points, "points", Check::QueryPoint)?;
+        let points = points.as_slice();
+        if !points.is_empty() {
+            self.require(kind)?;
+        }
+        let answers = threads::run(py, threads, || {
+            if points.is_empty() {
+                return Ok(ClosestAnswers::default());
+            }
+            self.structures.on_tree(&self.mesh, kind, Closest { points })
+        })?
+        .map_err(|e| value_error("primitives", e))?;
+        Ok((
+            arrays::matrix(py, answers.closest, 3)?,
+            arrays::vector(py, answers.distance),
+            arrays::vector(py, answers.index),
+        ))
+    }
+
+    /// The ``k`` nearest source elements of each point, nearest first:
+    /// ``(distance (N, k) float64, index (N, k) int64)``.
+    #[pyo3(signature = (points, k, primitives = "faces", threads = None))]
+    fn k_nearest<'py>(
+        &self,
+        py: Python<'py>,
+        points: &Bound<'py, PyAny>,
+        k: i64,
+        primitives: &str,
+        threads: Option<i64>,
+    ) -> PyResult<NearestArrays<'py>> {
+        let kind = kind(primitives)?;
+        if k < 1 {
+            return Err(value_error("k", format!("{k} is less than 1")));
+        }
+        let points = arrays::points(points, "points", Check::QueryPoint)?;
+        let points = points.as_slice();
+        // The answers: 16 bytes per (point, rank), and the hits behind them.
+        check_budget("k", k, points.len() as u128 * k as u128, 48)?;
+        let k = k as usize;
+        if !points.is_empty() {
+            self.require(kind)?;
+        }
+        let (distance, index) = threads::run(py, threads, || {
+            if points.is_empty() {
+                return Ok((Vec::new(), Vec::new()));
+            }
+            self.structures.on_tree(&self.mesh, kind, KNearest { points, k })
+        })?
+        .map_err(|e| value_error("primitives", e))?;
+        Ok((arrays::matrix(py, distance, k)?, arrays::matrix(py, index, k)?))
+    }
+
+    /// The signed distance of each point to the faces, negative inside.
+    #[pyo3(signature = (points, sign = "winding", threads = None))]
+    fn signed_distance<'py>(
+        &self,
+        py: Python<'py>,
+        points: &Bound<'py, PyAny>,
+        sign: &str,
+        threads: Option<i64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let sign = self::sign(sign)?;
+        let points = arrays::points(points, "points", Check::QueryPoint)?;
+        let points = points.as_slice();
+        self.require_faces("signed_distance")?;
+        let values = threads::run(py, threads, || {
+            let field = self.structures.field(&self.mesh, sign)?;
+            Ok::<_, BuildError>(
+                field
+                    .signed_distance_batch(points)
+                    .iter()
+                    .map(|d| d.map_or(f64::NAN, |d| d.distance as f64))
+                    .collect(),
+            )
+        })?
+        .map_err(|e| value_error("signed_distance", e))?;
+        Ok(arrays::vector(py, values))
+    }
+
+    /// The generalized winding number at each point, shape (N,).
+    #[pyo3(signature = (points, threads = None))]
+    fn winding_number<'py>(
+        &self,
+        py: Python<'py>,
+        points: &Bound<'py, PyAny>,
+        threads: Option<i64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let points = arrays::points(points, "points", Check::Finite)?;
+        let points = points.as_slice();
+        self.require_faces("winding_number")?;
+        let values = threads::run(py, threads, || {
+            let field = self.structures.field(&self.mesh, Sign::WindingNumber)?;
+            Ok::<_, BuildError>(field.winding_number_batch(points).into_iter().map(f64::from).collect())
+        })?
+        .map_err(|e| value_error("winding_number", e))?;
+        Ok(arrays::vector(py, values))
+    }
+
+    /// Whether each point is inside (winding number above 1/2), shape (N,).
+    #[pyo3(signature = (points, threads = None))]
+    fn contains<'py>(
+        &self,
+        py: Python<'py>,
+        points: &Bound<'py, PyAny>,
+        threads: Option<i64>,
+    ) -> PyResult<Bound<'py, PyArray1<bool>>> {
+        let points = arrays::points(points, "points", Check::Finite)?;
+        let points = points.as_slice();
+        self.require_faces("contains")?;
+        let values = threads::run(py, threads, || {
+            let field = self.structures.field(&self.mesh, Sign::WindingNumber)?;
+            Ok::<_, BuildError>(field.contains_batch(points))
+        })?
+        .map_err(|e| value_error("contains", e))?;
+        Ok(arrays::vector(py, values))
+    }
+
+    /// The first face each ray hits: ``(t (N,) float64, index (N,) int64)``,
+    /// t along the normalized direction, ``inf`` and -1 for a miss.
+    #[pyo3(signature = (origins, directions, any_hit = false, threads = None))]
+    fn cast_rays<'py>(
+        &self,
+        py: Python<'py>,
+        origins: &Bound<'py, PyAny>,
+        directions: &Bound<'py, PyAny>,
+        any_hit: bool,
+        threads: Option<i64>,
+    ) -> PyResult<RayArrays<'py>> {
+        let (origins, directions) = crate::rays::arrays(origins, directions)?;
+        let (origins, directions) = (origins.as_slice(), directions.as_slice());
+        self.require_faces("cast_rays")?;
+        let (t, index) = threads::run(py, threads, || {
+            let tree = self
+                .structures
+                .rays(&self.mesh)
+                .map_err(|e| value_error("cast_rays", e))?;
+            crate::rays::cast(tree, &crate::rays::rays(origins, directions), any_hit)
+        })??;
+        Ok((arrays::vector(py, t), arrays::vector(py, index)))
+    }
+
+    /// The cells of a ``resolution``-cubed grid around the mesh that its
+    /// faces overlap.
+    #[pyo3(signature = (resolution, threads = None))]
+    fn voxelize(&self, py: Python<'_>, resolution: i64, threads: Option<i64>) -> PyResult<VoxelGrid> {
+        VoxelGrid::of_mesh(py, &self.mesh, resolution, threads)
+    }
+
+    /// The source indices (increasing) of the ``primitives`` that share a
+    /// point with the frustum of an OpenGL view-projection matrix (4, 4).
+    #[pyo3(signature = (view_projection, primitives = "faces"))]
+    fn frustum<'py>(
+        &self,
+        py: Python<'py>,
+        view_projection: &Bound<'py, PyAny>,
+        primitives: &str,
+    ) -> PyResult<Bound<'py, PyArray1<i64>>> {
+        let kind = kind(primitives)?;
+        let m = arrays::floats(view_projection, "view_projection", &[4, 4])?;
+        // numpy's rows; glam takes columns.
+        let m: Vec<f32> = m.iter().map(|&x| x as f32).collect();
+        let matrix = Mat4::from_cols_slice(&m).transpose();
+        let frustum = Frustum::from_view_projection(matrix).map_err(|e| value_error("view_projection", e))?;
+        if kind.available(&self.mesh) == 0 {
+            return Ok(arrays::vector(py, Vec::new()));
+        }
+        let found = threads::run(py, None, || {
+            self.structures
+                .on_tree(&self.mesh, kind, InFrustum { frustum: &frustum })
+        })?
+        .map_err(|e| value_error("primitives", e))?;
+        Ok(arrays::vector(py, found))
+    }
+
+    /// For benchmarks: the seconds that the library's batch of ``query``
+    /// (``"closest_points"``, ``"signed_distance"`` or ``"cast_rays"``, on
+    /// faces, default options) takes on ``points`` (for rays: the origins,
+    /// with ``directions``), timed inside the call: structures built first,
+    /// no array conversion. The Python call's overhead is its own time over
+    /// this one, measured in one process.
+    #[pyo3(signature = (points, query, directions = None, threads = None))]
+    fn _batch_seconds(
+        &self,
+        py: Python<'_>,
+        points: &Bound<'_, PyAny>,
+        query: &str,
+        directions: Option<&Bound<'_, PyAny>>,
+        threads: Option<i64>,
+    ) -> PyResult<f64> {
+        let rays = match directions {
+            Some(directions) => {
+                let (origins, directions) = crate::rays::arrays(points, directions)?;
+                crate::rays::rays(origins.as_slice(), directions.as_slice())
+            }
+            None => Vec::new(),
+        };
+        let points = arrays::points(points, "points", Check::QueryPoint)?;
+        let points = points.as_slice();
+        self.require_faces(query)?;
+        let timed = |work: &dyn Fn()| {
+            let start = std::time::Instant::now();
+            work();
+            start.elapsed().as_secs_f64()
+        };
+        threads::run(py, threads, || -> PyResult<f64> {
+            let built = |e: BuildError| value_error(query, e);
+            match query {
+                "closest_points" => {
+                    let tree = self.structures.faces(&self.mesh).map_err(built)?;
+                    Ok(timed(&|| drop(tree.closest_batch(points))))
+                }
+                "signed_distance" => {
+                    let field = self.structures.field(&self.mesh, Sign::WindingNumber).map_err(built)?;
+                    Ok(timed(&|| drop(field.signed_distance_batch(points))))
+                }
+                "cast_rays" => {
+                    let tree = self.structures.rays(&self.mesh).map_err(built)?;
+                    Ok(timed(&|| drop(tree.first_hit_batch(&rays, 0.0, f32::INFINITY))))
+                }
+                _ => Err(value_error(
+                    "query",
+                    format!("'{query}' is not closest_points, signed_distance or cast_rays"),
+                )),
+            }
+        })?
+    }
+
+    /// ``n`` points uniform on the faces plus a gaussian offset per axis of
+    /// ``sigma`` times the bounding-box diagonal, (n, 3) float32.
+    #[pyo3(signature = (n, sigma = 0.01, seed = 0))]
+    fn sample_near_surface<'py>(
+        &self,
+        py: Python<'py>,
+        n: usize,
+        sigma: f64,
+        seed: u64,
+    ) -> PyResult<Bound<'py, PyArray2<f32>>> {
+        if !(0.0..=1e6).contains(&sigma) {
+            return Err(value_error(
+                "sigma",
+                format!("{sigma} is not a finite number in [0, 1e6]"),
+            ));
+        }
+        check_budget("n", n, n as u128, 12)?;
+        self.require_faces("sample_near_surface")?;
+        let points = py.detach(|| proxima::sample::near_surface(&self.mesh, n, sigma as f32, seed));
+        if points.len() != n {
+            return Err(value_error("sample_near_surface", "the faces have no area"));
+        }
+        arrays::matrix(py, points.iter().flat_map(|p| p.to_array()).collect(), 3)
+    }
+
+    /// ``n`` rays: origins uniform on the sphere of radius 0.75 times the
+    /// bounding-box diagonal around its centre, aimed at points uniform in
+    /// the box, unit directions (the benchmarks' ``rays`` set):
+    /// ``(origins (n, 3), directions (n, 3))`` float32.
+    #[pyo3(signature = (n, seed = 0))]
+    fn sample_rays<'py>(&self, py: Python<'py>, n: usize, seed: u64) -> PyResult<RayArrays32<'py>> {
+        check_budget("n", n, n as u128, 24)?;
+        let bounds = self.mesh.bounds();
+        let rays = py.detach(|| proxima::sample::rays_at_box(&bounds, n, seed));
+        if rays.len() != n {
+            return Err(value_error("sample_rays", "the bounding box is empty or a point"));
+        }
+        let origins = rays.iter().flat_map(|r| r.0.to_array()).collect();
+        let directions = rays.iter().flat_map(|r| r.1.to_array()).collect();
+        Ok((arrays::matrix(py, origins, 3)?, arrays::matrix(py, directions, 3)?))
+    }
+
+    /// ``n`` points uniform in the bounding box enlarged by 10% per side,
+    /// (n, 3) float32.
+    #[pyo3(signature = (n, seed = 0))]
+    fn sample_uniform<'py>(&self, py: Python<'py>, n: usize, seed: u64) -> PyResult<Bound<'py, PyArray2<f32>>> {
+        check_budget("n", n, n as u128, 12)?;
+        if self.mesh.vertex_count() == 0 {
+            return Err(value_error("sample_uniform", "the mesh has no vertices"));
+        }
+        let points = py.detach(|| proxima::sample::uniform_in_box(&self.mesh, n, seed));
+        arrays::matrix(py, points.iter().flat_map(|p| p.to_array()).collect(), 3)
+    }
+}

@@ -1,0 +1,56 @@
+//! The `threads=` argument of batch calls: rayon pools of a given size,
+//! made once per size and kept.
+
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use rayon::ThreadPool;
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex, OnceLock, PoisonError};
+
+/// The largest `threads` accepted: 4 per core, at least 8 (as the command
+/// line's `--threads`); more would only cost memory and scheduling.
+fn max_threads() -> usize {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    (4 * cores).max(8)
+}
+
+/// The pool of `threads` workers, or `None` for rayon's global pool (all
+/// cores) when `threads` is `None`. Fails with a `ValueError` for 0 or more
+/// than [`max_threads`].
+pub fn pool(threads: Option<i64>) -> PyResult<Option<Arc<ThreadPool>>> {
+    let Some(threads) = threads else {
+        return Ok(None);
+    };
+    let cap = max_threads();
+    let Some(threads) = usize::try_from(threads).ok().filter(|&t| (1..=cap).contains(&t)) else {
+        return Err(PyValueError::new_err(format!(
+            "threads: {threads} is not between 1 and {cap} (4 per core on this machine, at least 8), or None for all cores"
+        )));
+    };
+    static POOLS: OnceLock<Mutex<HashMap<usize, Arc<ThreadPool>>>> = OnceLock::new();
+    let mut pools = POOLS
+        .get_or_init(Default::default)
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner);
+    if let Some(pool) = pools.get(&threads) {
+        return Ok(Some(pool.clone()));
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .thread_name(|i| format!("proxima-{i}"))
+        .build()
+        .map_err(|e| PyValueError::new_err(format!("threads: {threads}: {e}")))?;
+    let pool = Arc::new(pool);
+    pools.insert(threads, pool.clone());
+    Ok(Some(pool))
+}
+
+/// Runs `work` without the GIL (other Python threads go on meanwhile) on
+/// the pool that `threads` names.
+pub fn run<T: Send>(py: Python<'_>, threads: Option<i64>, work: impl FnOnce() -> T + Send) -> PyResult<T> {
+    let pool = pool(threads)?;
+    Ok(py.detach(|| match pool {
+        Some(pool) => pool.install(work),
+        None => work(),
+    }))
+}
