@@ -44,6 +44,17 @@ fn contiguous<'py>(array: &Bound<'py, PyUntypedArray>, dtype: &str) -> PyResult<
     numpy.call_method1("ascontiguousarray", (array, dtype))
 }
 
+/// The values of `array` converted to `dtype` (a numpy name matching `T`),
+/// in C order.
+fn values<T: numpy::Element + Copy>(array: &Bound<'_, PyUntypedArray>, dtype: &str, name: &str) -> PyResult<Vec<T>> {
+    let array = contiguous(array, dtype)?;
+    let array = array
+        .cast_into::<numpy::PyArrayDyn<T>>()
+        .map_err(|_| value_error(name, format!("not a {dtype} array")))?;
+    let readonly = array.try_readonly().map_err(|e| value_error(name, e))?;
+    Ok(readonly.as_slice().map_err(|e| value_error(name, e))?.to_vec())
+}
+
 /// Points of shape (N, 3): borrowed from a C-contiguous float32 array, or
 /// converted once (float64 and integers, other layouts) to float32.
 pub enum Points<'py> {
@@ -139,16 +150,7 @@ pub fn vec3(object: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec3> {
             format!("expected 3 numbers, got shape {:?}", array.shape()),
         ));
     }
-    let array = contiguous(&array, "float64")?;
-    let array = array
-        .cast_into::<PyArray1<f64>>()
-        .map_err(|_| value_error(name, "not a float64 array"))?;
-    let values = array
-        .try_readonly()
-        .map_err(|e| value_error(name, e))?
-        .as_slice()
-        .map_err(|e| value_error(name, e))?
-        .to_vec();
+    let values: Vec<f64> = values(&array, "float64", name)?;
     let v = Vec3::new(values[0] as f32, values[1] as f32, values[2] as f32);
     if !v.is_finite() {
         return Err(value_error(
@@ -168,17 +170,7 @@ pub fn floats(object: &Bound<'_, PyAny>, name: &str, shape: &[usize]) -> PyResul
             format!("expected shape {shape:?}, got {:?}", array.shape()),
         ));
     }
-    let array = contiguous(&array, "float64")?;
-    let array = array
-        .cast_into::<numpy::PyArrayDyn<f64>>()
-        .map_err(|_| value_error(name, "not a float64 array"))?;
-    let values = array
-        .try_readonly()
-        .map_err(|e| value_error(name, e))?
-        .as_slice()
-        .map_err(|e| value_error(name, e))?
-        .to_vec();
-    Ok(values)
+    values(&array, "float64", name)
 }
 
 /// `object` as a 2-D integer array (rows of equal length) or `None` when
@@ -210,16 +202,7 @@ pub fn index_rows(object: &Bound<'_, PyAny>, name: &str) -> PyResult<Option<(Vec
             format!("expected shape (F, k) or a list of index sequences, got {shape:?}"),
         ));
     }
-    let array = contiguous(&array, "int64")?;
-    let array = array
-        .cast_into::<PyArray2<i64>>()
-        .map_err(|_| value_error(name, "not an int64 array"))?;
-    let values = array
-        .try_readonly()
-        .map_err(|e| value_error(name, e))?
-        .as_slice()
-        .map_err(|e| value_error(name, e))?
-        .to_vec();
+    let values: Vec<i64> = values(&array, "int64", name)?;
     Ok(Some((values, shape[1])))
 }
 
@@ -235,17 +218,7 @@ pub fn index_list(object: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<i64>> {
             format!("expected a sequence of indices, got shape {:?}", array.shape()),
         ));
     }
-    let array = contiguous(&array, "int64")?;
-    let array = array
-        .cast_into::<PyArray1<i64>>()
-        .map_err(|_| value_error(name, "not an int64 array"))?;
-    let values = array
-        .try_readonly()
-        .map_err(|e| value_error(name, e))?
-        .as_slice()
-        .map_err(|e| value_error(name, e))?
-        .to_vec();
-    Ok(values)
+    values(&array, "int64", name)
 }
 
 /// A flat vector of `rows * columns` values as a (rows, columns) array.

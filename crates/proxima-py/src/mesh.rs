@@ -8,7 +8,7 @@ use crate::voxels::VoxelGrid;
 use numpy::{PyArray1, PyArray2};
 use proxima::BuildError;
 use proxima::prelude::*;
-use proxima::sdf::Sign;
+use proxima::sdf::{Sign, SignedDistanceField};
 use pyo3::IntoPyObjectExt;
 use pyo3::prelude::*;
 use pyo3::types::PyList;
@@ -64,6 +64,30 @@ impl PyMesh {
             ));
         }
         Ok(())
+    }
+
+    /// `answer` on the field signed by `sign`, for `points` checked as
+    /// `check`, without the GIL on the pool `threads` names; `what` names
+    /// the call in errors.
+    #[allow(clippy::too_many_arguments)]
+    fn on_field<T: Send>(
+        &self,
+        py: Python<'_>,
+        points: &Bound<'_, PyAny>,
+        check: Check,
+        threads: Option<i64>,
+        what: &str,
+        sign: Sign,
+        answer: impl Fn(&SignedDistanceField, &[Vec3]) -> Vec<T> + Send + Sync,
+    ) -> PyResult<Vec<T>> {
+        let points = arrays::points(points, "points", check)?;
+        let points = points.as_slice();
+        self.require_faces(what)?;
+        threads::run(py, threads, || {
+            let field = self.structures.field(&self.mesh, sign)?;
+            Ok::<_, BuildError>(answer(field, points))
+        })?
+        .map_err(|e| value_error(what, e))
     }
 
     /// Fails unless the mesh has faces (signed distances, rays).
@@ -298,20 +322,21 @@ impl PyMesh {
         threads: Option<i64>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let sign = self::sign(sign)?;
-        let points = arrays::points(points, "points", Check::QueryPoint)?;
-        let points = points.as_slice();
-        self.require_faces("signed_distance")?;
-        let values = threads::run(py, threads, || {
-            let field = self.structures.field(&self.mesh, sign)?;
-            Ok::<_, BuildError>(
-                field
-                    .signed_distance_batch(points)
+        let values = self.on_field(
+            py,
+            points,
+            Check::QueryPoint,
+            threads,
+            "signed_distance",
+            sign,
+            |field, points| {
+                let answers = field.signed_distance_batch(points);
+                answers
                     .iter()
                     .map(|d| d.map_or(f64::NAN, |d| d.distance as f64))
-                    .collect(),
-            )
-        })?
-        .map_err(|e| value_error("signed_distance", e))?;
+                    .collect()
+            },
+        )?;
         Ok(arrays::vector(py, values))
     }
 
@@ -323,14 +348,15 @@ impl PyMesh {
         points: &Bound<'py, PyAny>,
         threads: Option<i64>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let points = arrays::points(points, "points", Check::Finite)?;
-        let points = points.as_slice();
-        self.require_faces("winding_number")?;
-        let values = threads::run(py, threads, || {
-            let field = self.structures.field(&self.mesh, Sign::WindingNumber)?;
-            Ok::<_, BuildError>(field.winding_number_batch(points).into_iter().map(f64::from).collect())
-        })?
-        .map_err(|e| value_error("winding_number", e))?;
+        let values = self.on_field(
+            py,
+            points,
+            Check::Finite,
+            threads,
+            "winding_number",
+            Sign::WindingNumber,
+            |field, points| field.winding_number_batch(points).into_iter().map(f64::from).collect(),
+        )?;
         Ok(arrays::vector(py, values))
     }
 
@@ -342,14 +368,15 @@ impl PyMesh {
         points: &Bound<'py, PyAny>,
         threads: Option<i64>,
     ) -> PyResult<Bound<'py, PyArray1<bool>>> {
-        let points = arrays::points(points, "points", Check::Finite)?;
-        let points = points.as_slice();
-        self.require_faces("contains")?;
-        let values = threads::run(py, threads, || {
-            let field = self.structures.field(&self.mesh, Sign::WindingNumber)?;
-            Ok::<_, BuildError>(field.contains_batch(points))
-        })?
-        .map_err(|e| value_error("contains", e))?;
+        let values = self.on_field(
+            py,
+            points,
+            Check::Finite,
+            threads,
+            "contains",
+            Sign::WindingNumber,
+            |field, points| field.contains_batch(points),
+        )?;
         Ok(arrays::vector(py, values))
     }
 

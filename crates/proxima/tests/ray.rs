@@ -11,7 +11,7 @@ use proptest::prelude::*;
 use proxima::bvh::SplitMethod;
 use proxima::grid::{FastHash, GridConfig, HashGrid};
 use proxima::prelude::*;
-use proxima::primitive::{RayIntersect, WatertightRay};
+use proxima::primitive::{RayIntersect, TriangleHit, WatertightRay};
 use proxima::sample::Rng;
 use proxima::{AabbTree, BuildConfig, Mesh, PrimitiveSet, RayError, RayTree, Triangle, Vec3};
 use rayon::prelude::*;
@@ -25,17 +25,22 @@ fn brute_first(set: &PrimitiveSet<Triangle>, o: Vec3, d: Vec3, t_min: f32, t_max
         if let Some(h) = tri.intersect_ray(&ray, t_min, t_max)
             && best.is_none_or(|b| h.t < b.t)
         {
-            best = Some(RayHit {
-                primitive: i as u32,
-                source: set.sources[i],
-                t: h.t,
-                point: tri.hit_point(&h),
-                u: h.u,
-                v: h.v,
-            });
+            best = Some(hit_of(set, i, &h));
         }
     }
     best
+}
+
+/// The answer for `h`, a hit on primitive `i` of `set`.
+fn hit_of(set: &PrimitiveSet<Triangle>, i: usize, h: &TriangleHit) -> RayHit {
+    RayHit {
+        primitive: i as u32,
+        source: set.sources[i],
+        t: h.t,
+        point: set.primitives[i].hit_point(h),
+        u: h.u,
+        v: h.v,
+    }
 }
 
 fn brute_any(set: &PrimitiveSet<Triangle>, o: Vec3, d: Vec3, t_min: f32, t_max: f32) -> bool {
@@ -63,15 +68,11 @@ fn check_some_hit(
         let h = tri
             .intersect_ray(&WatertightRay::new(o, d).unwrap(), t_min, t_max)
             .unwrap_or_else(|| panic!("{what}: some hit on triangle {i}, which the ray misses ({o}, {d})"));
-        let want = RayHit {
-            primitive: i as u32,
-            source: set.sources[i],
-            t: h.t,
-            point: tri.hit_point(&h),
-            u: h.u,
-            v: h.v,
-        };
-        assert_eq!(got, want, "{what}: some hit ({o}, {d}, [{t_min}, {t_max}])");
+        assert_eq!(
+            got,
+            hit_of(set, i, &h),
+            "{what}: some hit ({o}, {d}, [{t_min}, {t_max}])"
+        );
     }
 }
 
