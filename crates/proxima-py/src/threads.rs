@@ -1,11 +1,12 @@
 //! The `threads=` argument of batch calls: rayon pools of a given size,
-//! made once per size and kept.
+//! made once per size and calling thread, and kept.
 
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use rayon::ThreadPool;
+use std::cell::RefCell;
 use std::collections::HashMap;
-use std::sync::{Arc, Mutex, OnceLock, PoisonError};
+use std::sync::Arc;
 
 /// The largest `threads` accepted: 4 per core, at least 8 (as the command
 /// line's `--threads`); more would only cost memory and scheduling.
@@ -17,6 +18,10 @@ fn max_threads() -> usize {
 /// The pool of `threads` workers, or `None` for rayon's global pool (all
 /// cores) when `threads` is `None`. Fails with a `ValueError` for 0 or more
 /// than [`max_threads`].
+///
+/// Each calling (Python) thread has its own pools: `threads=k` means k
+/// workers for this call, so two Python threads that each ask for one run
+/// side by side instead of queueing on one shared worker.
 pub fn pool(threads: Option<i64>) -> PyResult<Option<Arc<ThreadPool>>> {
     let Some(threads) = threads else {
         return Ok(None);
@@ -27,22 +32,22 @@ pub fn pool(threads: Option<i64>) -> PyResult<Option<Arc<ThreadPool>>> {
             "threads: {threads} is not between 1 and {cap} (4 per core on this machine, at least 8), or None for all cores"
         )));
     };
-    static POOLS: OnceLock<Mutex<HashMap<usize, Arc<ThreadPool>>>> = OnceLock::new();
-    let mut pools = POOLS
-        .get_or_init(Default::default)
-        .lock()
-        .unwrap_or_else(PoisonError::into_inner);
-    if let Some(pool) = pools.get(&threads) {
-        return Ok(Some(pool.clone()));
+    thread_local! {
+        static POOLS: RefCell<HashMap<usize, Arc<ThreadPool>>> = RefCell::default();
     }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .thread_name(|i| format!("proxima-{i}"))
-        .build()
-        .map_err(|e| PyValueError::new_err(format!("threads: {threads}: {e}")))?;
-    let pool = Arc::new(pool);
-    pools.insert(threads, pool.clone());
-    Ok(Some(pool))
+    POOLS.with_borrow_mut(|pools| {
+        if let Some(pool) = pools.get(&threads) {
+            return Ok(Some(pool.clone()));
+        }
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .thread_name(|i| format!("proxima-{i}"))
+            .build()
+            .map_err(|e| PyValueError::new_err(format!("threads: {threads}: {e}")))?;
+        let pool = Arc::new(pool);
+        pools.insert(threads, pool.clone());
+        Ok(Some(pool))
+    })
 }
 
 /// Runs `work` without the GIL (other Python threads go on meanwhile) on

@@ -77,6 +77,11 @@ class Mesh:
     ``closest_points`` on faces builds the faces' tree, later calls (and
     ``signed_distance``, which uses the same tree) reuse it.
 
+    Every batch call takes ``threads``: ``None`` for rayon's pool of all
+    cores, or ``k`` for k worker threads of its own (pools are kept per
+    calling Python thread, so two Python threads each asking for one run
+    side by side). The GIL is released while a call works.
+
     >>> import numpy as np, proxima
     >>> mesh = proxima.Mesh(np.eye(3), [[0, 1, 2]])
     >>> closest, distance, face = mesh.closest_points([[0, 0, 0]])
