@@ -371,8 +371,7 @@ impl RayQuery<Triangle> for RayTree {
     }
 
     fn any_hit_batch(&self, rays: &[(Vec3, Vec3)], t_min: f32, t_max: f32) -> Vec<Result<bool, crate::RayError>> {
-        let hits = self.some_hit_batch_interleaved(rays, t_min, t_max);
-        hits.into_iter().map(|hit| hit.map(|hit| hit.is_some())).collect()
+        self.any_hit_batch_interleaved(rays, t_min, t_max)
     }
 
     fn some_hit_batch(
