@@ -8,17 +8,10 @@ set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 repo="$(cd "$here/../../.." && pwd)"
 venv="${PROXIMA_DATASET_VENV:-$repo/target/py-dataset-venv}"
-python="${PYTHON:-python3}"
-
-if [ ! -x "$venv/bin/python" ]; then
-    echo "creating $venv" >&2
-    "$python" -m venv "$venv"
-fi
-# maturin's PEP 517 backend runs `maturin` from PATH: the venv's bin first.
-export PATH="$venv/bin:$PATH"
-"$venv/bin/pip" install -q -r "$here/requirements-dataset.txt"
+source "$repo/scripts/python-venv.sh"
+proxima_venv "$venv" "$here/requirements-dataset.txt"
 if [ "${PROXIMA_BENCH_SKIP_INSTALL:-0}" != 1 ]; then
     echo "installing proxima from $here/.. (maturin, release build)" >&2
-    "$venv/bin/pip" install -q --no-build-isolation --force-reinstall --no-deps "$here/.."
+    proxima_install "$venv"
 fi
 exec "$venv/bin/python" "$here/dataset_bench.py" "$@"

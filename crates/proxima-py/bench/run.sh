@@ -7,15 +7,8 @@ set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 repo="$(cd "$here/../../.." && pwd)"
 venv="${PROXIMA_BENCH_VENV:-$repo/target/py-bench-venv}"
-python="${PYTHON:-python3}"
-
-if [ ! -x "$venv/bin/python" ]; then
-    echo "creating $venv" >&2
-    "$python" -m venv "$venv"
-fi
-# maturin's PEP 517 backend runs `maturin` from PATH: the venv's bin first.
-export PATH="$venv/bin:$PATH"
-"$venv/bin/pip" install -q -r "$here/requirements.txt"
+source "$repo/scripts/python-venv.sh"
+proxima_venv "$venv" "$here/requirements.txt"
 # Open3D's wheel links libusb-1.0, which slim Debian images lack.
 if ! "$venv/bin/python" -c "import open3d" >/dev/null 2>&1; then
     if ! ldconfig -p | grep -q libusb-1.0 && [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
@@ -26,6 +19,6 @@ if ! "$venv/bin/python" -c "import open3d" >/dev/null 2>&1; then
 fi
 if [ "${PROXIMA_BENCH_SKIP_INSTALL:-0}" != 1 ]; then
     echo "installing proxima from $here/.. (maturin, release build)" >&2
-    "$venv/bin/pip" install -q --no-build-isolation --force-reinstall --no-deps "$here/.."
+    proxima_install "$venv"
 fi
 exec "$venv/bin/python" "$here/bench.py" "$@"
