@@ -1,8 +1,9 @@
 //! The Python `Mesh`: a mesh, the structures built on it, and every query.
 
 use crate::arrays::{self, Check, value_error};
-use crate::closest::{Closest, ClosestAnswers, InFrustum, KNearest};
+use crate::closest::{Closest, InFrustum, KNearest};
 use crate::structures::Structures;
+use crate::structures::TreeTask;
 use crate::threads;
 use crate::voxels::VoxelGrid;
 use numpy::{PyArray1, PyArray2};
@@ -64,6 +65,28 @@ impl PyMesh {
             ));
         }
         Ok(())
+    }
+
+    /// `task` on the tree of `kind` (built on first use), without the GIL on
+    /// the pool `threads` names; nothing built and the task's empty answer
+    /// when `empty` (no query to answer).
+    fn on_tree<F: TreeTask + Send>(
+        &self,
+        py: Python<'_>,
+        kind: PrimitiveKind,
+        empty: bool,
+        threads: Option<i64>,
+        task: F,
+    ) -> PyResult<F::Output>
+    where
+        F::Output: Default + Send,
+    {
+        if empty {
+            return Ok(F::Output::default());
+        }
+        self.require(kind)?;
+        threads::run(py, threads, || self.structures.on_tree(&self.mesh, kind, task))?
+            .map_err(|e| value_error("primitives", e))
     }
 
     /// `answer` on the field signed by `sign`, for `points` checked as
@@ -262,16 +285,7 @@ impl PyMesh {
         let kind = kind(primitives)?;
         let points = arrays::points(points, "points", Check::QueryPoint)?;
         let points = points.as_slice();
-        if !points.is_empty() {
-            self.require(kind)?;
-        }
-        let answers = threads::run(py, threads, || {
-            if points.is_empty() {
-                return Ok(ClosestAnswers::default());
-            }
-            self.structures.on_tree(&self.mesh, kind, Closest { points })
-        })?
-        .map_err(|e| value_error("primitives", e))?;
+        let answers = self.on_tree(py, kind, points.is_empty(), threads, Closest { points })?;
         Ok((
             arrays::matrix(py, answers.closest, 3)?,
             arrays::vector(py, answers.distance),
@@ -299,16 +313,7 @@ impl PyMesh {
         // The answers: 16 bytes per (point, rank), and the hits behind them.
         check_budget("k", k, points.len() as u128 * k as u128, 48)?;
         let k = k as usize;
-        if !points.is_empty() {
-            self.require(kind)?;
-        }
-        let (distance, index) = threads::run(py, threads, || {
-            if points.is_empty() {
-                return Ok((Vec::new(), Vec::new()));
-            }
-            self.structures.on_tree(&self.mesh, kind, KNearest { points, k })
-        })?
-        .map_err(|e| value_error("primitives", e))?;
+        let (distance, index) = self.on_tree(py, kind, points.is_empty(), threads, KNearest { points, k })?;
         Ok((arrays::matrix(py, distance, k)?, arrays::matrix(py, index, k)?))
     }
 
@@ -426,14 +431,9 @@ impl PyMesh {
         let m: Vec<f32> = m.iter().map(|&x| x as f32).collect();
         let matrix = Mat4::from_cols_slice(&m).transpose();
         let frustum = Frustum::from_view_projection(matrix).map_err(|e| value_error("view_projection", e))?;
-        if kind.available(&self.mesh) == 0 {
-            return Ok(arrays::vector(py, Vec::new()));
-        }
-        let found = threads::run(py, None, || {
-            self.structures
-                .on_tree(&self.mesh, kind, InFrustum { frustum: &frustum })
-        })?
-        .map_err(|e| value_error("primitives", e))?;
+        // A mesh without that kind of element sees nothing: not an error.
+        let nothing = kind.available(&self.mesh) == 0;
+        let found = self.on_tree(py, kind, nothing, None, InFrustum { frustum: &frustum })?;
         Ok(arrays::vector(py, found))
     }
 
