@@ -396,7 +396,7 @@ impl PyMesh {
         any_hit: bool,
         threads: Option<i64>,
     ) -> PyResult<RayArrays<'py>> {
-        let (origins, directions) = crate::rays::arrays(origins, directions)?;
+        let (origins, directions) = crate::rays::ray_arrays(origins, directions)?;
         let (origins, directions) = (origins.as_slice(), directions.as_slice());
         self.require_faces("cast_rays")?;
         let (t, index) = threads::run(py, threads, || {
@@ -454,7 +454,7 @@ impl PyMesh {
     ) -> PyResult<f64> {
         let rays = match directions {
             Some(directions) => {
-                let (origins, directions) = crate::rays::arrays(points, directions)?;
+                let (origins, directions) = crate::rays::ray_arrays(points, directions)?;
                 crate::rays::rays(origins.as_slice(), directions.as_slice())
             }
             None => Vec::new(),

@@ -7,7 +7,7 @@ use rayon::prelude::*;
 
 /// The origins and directions of `cast_rays`, checked: both (N, 3), finite,
 /// origins within the trees' range.
-pub fn arrays<'py>(
+pub fn ray_arrays<'py>(
     origins: &Bound<'py, PyAny>,
     directions: &Bound<'py, PyAny>,
 ) -> PyResult<(Points<'py>, Points<'py>)> {
