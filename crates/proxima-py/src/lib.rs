@@ -57,6 +57,21 @@ fn noisy_icosphere(py: Python<'_>, frequency: u32, seed: u64) -> PyResult<PyMesh
     ))
 }
 
+/// The memory budget in bytes that every size is checked against before
+/// anything is allocated: `PROXIMA_MEMORY_BUDGET` (bytes, or with a K, M or G
+/// suffix) or the library's default (three quarters of the available
+/// memory, at most 2 GiB); `ValueError` when the variable is malformed.
+#[pyfunction]
+fn memory_budget() -> PyResult<u64> {
+    proxima::budget::memory_budget_from_env().map_err(pyo3::exceptions::PyValueError::new_err)
+}
+
+/// The largest `threads=` a batch call accepts: 4 per core, at least 8.
+#[pyfunction]
+fn max_threads() -> usize {
+    threads::max_threads()
+}
+
 /// The native module.
 #[pymodule]
 fn _proxima(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -66,5 +81,7 @@ fn _proxima(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(load, m)?)?;
     m.add_function(wrap_pyfunction!(noisy_icosphere, m)?)?;
     m.add_function(wrap_pyfunction!(traverse::traverse, m)?)?;
+    m.add_function(wrap_pyfunction!(memory_budget, m)?)?;
+    m.add_function(wrap_pyfunction!(max_threads, m)?)?;
     Ok(())
 }

@@ -10,7 +10,7 @@ use std::sync::Arc;
 
 /// The largest `threads` accepted: 4 per core, at least 8 (as the command
 /// line's `--threads`); more would only cost memory and scheduling.
-fn max_threads() -> usize {
+pub fn max_threads() -> usize {
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     (4 * cores).max(8)
 }

@@ -142,6 +142,26 @@ def test_voxelize_memory_budget_from_environment(monkeypatch):
     assert len(M.voxelize(400)) > 0
 
 
+def test_limits_are_the_ones_calls_enforce(monkeypatch):
+    """memory_budget() and max_threads() report the limits the calls apply."""
+    import os
+
+    cap = proxima.max_threads()
+    assert cap == max(8, 4 * (os.cpu_count() or 1))
+    M.closest_points(P, threads=cap)
+    with pytest.raises(ValueError, match="threads"):
+        M.closest_points(P, threads=cap + 1)
+    monkeypatch.setenv("PROXIMA_MEMORY_BUDGET", "64K")
+    assert proxima.memory_budget() == 64 << 10
+    with pytest.raises(ValueError, match="budget"):
+        M.sample_uniform(64 << 10)  # 12 bytes a point: past 64 KiB
+    monkeypatch.setenv("PROXIMA_MEMORY_BUDGET", "64 apples")
+    with pytest.raises(ValueError, match="PROXIMA_MEMORY_BUDGET"):
+        proxima.memory_budget()
+    monkeypatch.delenv("PROXIMA_MEMORY_BUDGET")
+    assert proxima.memory_budget() > 64 << 20
+
+
 def test_nothing_is_built_wrong_after_errors():
     """A mesh that refused bad input still answers."""
     m = mesh()

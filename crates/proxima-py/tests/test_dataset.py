@@ -7,6 +7,7 @@ ray"``) and skip with a note when Ray Data is not installed
 (``pip install -r tests/requirements-ray.txt``)."""
 
 import json
+import re
 import shutil
 import signal
 import subprocess
@@ -236,6 +237,74 @@ def test_options_change_recomputes(corpus, tmp_path):
     assert (first["done"], again["skipped"], again["done"]) == (1, 1, 0)
     changed = sample_corpus(path, tmp_path, n_points=500, engine="local")
     assert changed["done"] == 1 and npz_arrays(tmp_path / "ico.npz")["points"].shape == (500, 3)
+
+
+# --- bad options -----------------------------------------------------------------------
+
+BAD_OPTIONS = [
+    ({"n_points": -1}, "n_points"),
+    ({"n_points": 0}, "nothing to sample"),
+    ({"near_sigma": float("nan")}, "near_sigma"),
+    ({"uniform_fraction": 1.5}, "uniform_fraction"),
+    ({"grid": 0}, "grid"),
+    ({"grid": 2000}, "grid"),
+    ({"kind": "density"}, "kind"),
+    ({"seed": -1}, "seed"),
+    ({"normalize": "unit-ball"}, "normalize"),
+    ({"padding": -0.5}, "padding"),
+    ({"engine": "dask"}, "engine"),
+    ({"threads": 0}, "threads"),
+    ({"threads": 10**6}, "threads"),
+    ({"workers": 0}, "workers"),
+    ({"workers": 10**6}, "workers"),  # local: one thread each
+    ({"local_pool": "fiber"}, "local_pool"),
+    ({"n_points": 10**10}, "n_points: 10000000000 needs about"),  # 1.8 TiB at any default budget
+]
+
+
+@pytest.mark.parametrize("options,message", BAD_OPTIONS, ids=[m.split(":")[0] + "-" + str(o) for o, m in BAD_OPTIONS])
+def test_bad_options_are_refused_before_any_work(corpus, tmp_path, options, message):
+    out = tmp_path / "out"
+    kwargs = {"engine": "local", **options}
+    with pytest.raises(ValueError, match=re.escape(message)):
+        sample_corpus(corpus, out, **kwargs)
+    assert not out.exists()  # refused before the output folder, or any mesh, was touched
+
+
+def test_sizes_are_checked_against_the_memory_budget(corpus, tmp_path, monkeypatch):
+    monkeypatch.setenv("PROXIMA_MEMORY_BUDGET", "512M")
+    assert proxima.memory_budget() == 512 << 20
+    out = tmp_path / "out"
+    # A grid of 256^3 cells is 64 MiB of output and one 1M-cell chunk at a
+    # time (about 200 MiB): it fits; 512^3 is 512 MiB of output alone.
+    with pytest.raises(ValueError, match=r"^grid: 512 needs about .* more than the budget of 512.0 MiB"):
+        sample_corpus(corpus, out, n_points=1000, grid=512, engine="local")
+    # 2M points fit one mesh (about 381 MiB), not two side by side in one
+    # process; the process pool (one mesh per process) and Ray's actors hold
+    # one each.
+    with pytest.raises(ValueError, match=r"^n_points: 2000000 .* x 2 meshes at a time in one process \(workers\)"):
+        sample_corpus(corpus, out, n_points=2_000_000, engine="local", workers=2)
+    assert not out.exists()
+    from proxima.dataset import check_memory
+
+    check_memory(Options(n_points=2_000_000), 1)
+    check_memory(Options(n_points=1000, grid=256), 1)
+    monkeypatch.setenv("PROXIMA_MEMORY_BUDGET", "lots")
+    with pytest.raises(ValueError, match="PROXIMA_MEMORY_BUDGET"):
+        proxima.memory_budget()
+    with pytest.raises(ValueError, match="PROXIMA_MEMORY_BUDGET"):
+        sample_corpus(corpus, out, n_points=1000, engine="local")
+
+
+def test_command_refuses_bad_options_in_one_line(corpus, tmp_path):
+    result = subprocess.run(
+        [sys.executable, "-m", "proxima.dataset", str(corpus), str(tmp_path / "out"), "--points", str(10**10), "--engine", "local"],
+        capture_output=True, text=True, timeout=120,
+    )
+    assert result.returncode == 2, result.stderr
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: n_points: 10000000000 needs about"), result.stderr
+    assert result.stdout == "" and not (tmp_path / "out").exists()
 
 
 # --- fault tolerance -------------------------------------------------------------------

@@ -11,6 +11,6 @@ call releases the GIL and runs on all cores (``threads=1`` for one).
 >>> inside = mesh.signed_distance(points) < 0
 """
 
-from ._proxima import Mesh, VoxelGrid, __version__, load, noisy_icosphere, traverse
+from ._proxima import Mesh, VoxelGrid, __version__, load, max_threads, memory_budget, noisy_icosphere, traverse
 
-__all__ = ["Mesh", "VoxelGrid", "__version__", "load", "noisy_icosphere", "traverse"]
+__all__ = ["Mesh", "VoxelGrid", "__version__", "load", "max_threads", "memory_budget", "noisy_icosphere", "traverse"]

@@ -31,6 +31,21 @@ def noisy_icosphere(frequency: int, seed: int = 1) -> Mesh:
     (320, 3)
     """
 
+def memory_budget() -> int:
+    """The memory budget in bytes that every size is checked against before
+    anything is allocated: ``PROXIMA_MEMORY_BUDGET`` (bytes, or with a K, M
+    or G suffix: ``"512M"``) or the default, three quarters of the available
+    memory and at most 2 GiB. ``ValueError`` when the variable is malformed.
+
+    >>> import os, proxima
+    >>> os.environ["PROXIMA_MEMORY_BUDGET"] = "512M"
+    >>> proxima.memory_budget()
+    536870912
+    """
+
+def max_threads() -> int:
+    """The largest ``threads=`` a batch call accepts: 4 per core, at least 8."""
+
 def traverse(
     origin: npt.ArrayLike,
     direction: npt.ArrayLike,

@@ -50,12 +50,15 @@ import time
 from pathlib import Path
 from typing import Iterable, List, Optional, Sequence, Tuple, Union
 
+import proxima
+
 from .sampling import (
     ATTEMPTS_SUFFIX,
     KINDS,
     NORMALIZATIONS,
     TMP_MARKER,
     Options,
+    check_memory,
     is_complete,
     is_mesh_file,
     mesh_seed,
@@ -72,6 +75,7 @@ __all__ = [
     "resolve_inputs",
     "mesh_names",
     "Options",
+    "check_memory",
     "process_mesh",
     "sample_mesh",
     "normalization",
@@ -228,9 +232,25 @@ def sample_corpus(
     )
     if engine not in ("ray", "local"):
         raise ValueError(f"engine: {engine!r} is not 'ray' or 'local'")
-    if threads is not None and int(threads) < 1:
-        raise ValueError(f"threads: {threads!r} is not >= 1")
+    cap = proxima.max_threads()
+    if threads is not None and not 1 <= int(threads) <= cap:
+        raise ValueError(f"threads: {threads!r} is not between 1 and {cap} (4 per core on this machine, at least 8)")
     threads = 1 if threads is None else int(threads)
+    if workers is not None:
+        workers = int(workers)
+        # Ray's actors may wait for an autoscaling cluster to grow; local
+        # workers are this process' threads or child processes.
+        if workers < 1 or (engine == "local" and workers > cap):
+            bound = f"between 1 and {cap} for the local engine" if engine == "local" else ">= 1"
+            raise ValueError(f"workers: {workers!r} is not {bound}")
+    if local_pool not in ("thread", "process"):
+        raise ValueError(f"local_pool: {local_pool!r} is not 'thread' or 'process'")
+    # Each Ray actor and each local process holds one mesh at a time; local
+    # threads share this process.
+    at_once = 1
+    if engine == "local" and local_pool == "thread":
+        at_once = workers if workers is not None else max(1, (os.cpu_count() or 1) // threads)
+    check_memory(options, at_once)
 
     paths = resolve_inputs(inputs)
     names = mesh_names(paths)

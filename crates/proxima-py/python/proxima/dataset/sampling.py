@@ -75,6 +75,13 @@ KINDS = ("sdf", "occupancy")
 #: Rows of the grid's signed distances computed per batch call (memory bound).
 GRID_CHUNK = 1 << 20
 
+#: Peak bytes of one mesh's processing per signed distance computed (the
+#: points, their sdf and the query's per-point state and temporaries): at
+#: most 188 measured (VmHWM, 250k to 2M points, and grids of 64^3 to 160^3
+#: in chunks of GRID_CHUNK), rounded up. The mesh's own part (its
+#: triangles, tree and winding-number expansions) is checked by the loader.
+BYTES_PER_SAMPLE = 200
+
 #: The count of a mesh's attempts in a Ray run: ``NAME.npz.attempts``.
 ATTEMPTS_SUFFIX = ".npz.attempts"
 
@@ -155,6 +162,44 @@ class Options:
         d["padding"] = self.effective_padding
         d.pop("compress")  # how the file is stored, not what it holds
         return d
+
+
+def memory_per_mesh(options: Options) -> Dict[str, int]:
+    """The bytes one mesh's samples need at their peak, by the option that
+    sizes them: ``{"n_points": ..., "grid": ...}`` (see BYTES_PER_SAMPLE)."""
+    cells = int(options.grid) ** 3 if options.grid is not None else 0
+    return {
+        "n_points": int(options.n_points) * BYTES_PER_SAMPLE,
+        # The grid array itself, and one chunk of it being computed.
+        "grid": cells * 4 + min(cells, GRID_CHUNK) * BYTES_PER_SAMPLE,
+    }
+
+
+def check_memory(options: Options, meshes_at_once: int = 1) -> None:
+    """Raises ``ValueError`` naming the option (``n_points`` or ``grid``, the
+    larger part) when ``meshes_at_once`` meshes processed side by side in one
+    process would need more than the memory budget
+    (:func:`proxima.memory_budget`), before any mesh is read."""
+    budget = proxima.memory_budget()
+    parts = memory_per_mesh(options)
+    need = sum(parts.values()) * int(meshes_at_once)
+    if need <= budget:
+        return
+    name = max(parts, key=parts.get)
+    value = options.n_points if name == "n_points" else options.grid
+    at_once = f" x {meshes_at_once} meshes at a time in one process (workers)" if meshes_at_once > 1 else ""
+    raise ValueError(
+        f"{name}: {value} needs about {_human(need)} of memory per mesh{at_once}, more than the budget of "
+        f"{_human(budget)} (set PROXIMA_MEMORY_BUDGET to change it)"
+    )
+
+
+def _human(n: int) -> str:
+    value = float(n)
+    for unit in ("bytes", "KiB", "MiB", "GiB", "TiB", "PiB"):
+        if value < 1024 or unit == "PiB":
+            return f"{value:.0f} {unit}" if unit == "bytes" else f"{value:.1f} {unit}"
+        value /= 1024
 
 
 def mesh_stem(path) -> str:
