@@ -13,6 +13,12 @@ Phases (--phases, default all, in this order):
           workers=2, threads=1) into OUT/ray; outputs compared with local's
   igl     igl.signed_distance(P, V, F, sign_type=FAST_WINDING_NUMBER) in a
           multiprocessing.Pool(2), one mesh per task, every point of the npz
+  igl-default  the same with libigl's default sign_type (the exact,
+          hierarchical winding number), on every --igl-exact-stride'th point
+          (default 10), estimated as setup + query * stride (the setup timed
+          by a call on one point)
+  igl-pseudonormal  the same with sign_type=PSEUDONORMAL (right only on
+          closed, manifold meshes), every point
   m2s     mesh_to_sdf.mesh_to_sdf(surface_point_method="sample",
           sign_method="normal") (the only headless pair: "scan" and "depth"
           render with pyrender/OpenGL), in a Pool(2). Its surface cloud
@@ -153,16 +159,37 @@ def _peer_input(path, npz_path):
     return V, _triangles(mesh.faces), z["points"].astype(np.float64)
 
 
+#: libigl sign types benchmarked: results key -> (igl enum name, label).
+IGL_SIGNS = {
+    "igl": ("SIGNED_DISTANCE_TYPE_FAST_WINDING_NUMBER", "libigl fast winding number"),
+    "igl_default": ("SIGNED_DISTANCE_TYPE_DEFAULT", "libigl default (exact winding number)"),
+    "igl_pseudonormal": ("SIGNED_DISTANCE_TYPE_PSEUDONORMAL", "libigl pseudonormal"),
+}
+
+
 def _igl_task(args):
-    path, npz_path = args
+    """libigl's signed_distance on every ``stride``th point. With a stride,
+    a call on one point (the trees' builds and the per-call setup) is timed
+    too, and the full set is estimated as setup + (query - setup) * stride."""
+    path, npz_path, sign, stride = args
     os.environ["OMP_NUM_THREADS"] = "1"
     import igl
 
+    sign_type = getattr(igl, sign)
     V, F, P = _peer_input(path, npz_path)
+    Q = P[::stride]
+    setup = setup_cpu = 0.0
+    if stride > 1:
+        t, c = time.perf_counter(), time.process_time()
+        igl.signed_distance(Q[:1], V, F, sign_type=sign_type)
+        setup, setup_cpu = time.perf_counter() - t, time.process_time() - c
     t, c = time.perf_counter(), time.process_time()
-    s = igl.signed_distance(P, V, F, sign_type=igl.SIGNED_DISTANCE_TYPE_FAST_WINDING_NUMBER)
+    s = igl.signed_distance(Q, V, F, sign_type=sign_type)
     seconds, cpu = time.perf_counter() - t, time.process_time() - c
-    return {"seconds": seconds, "cpu": cpu, "sdf": np.asarray(s[0], dtype=np.float64)}
+    if stride > 1:
+        seconds = setup + (seconds - setup) * len(P) / len(Q)
+        cpu = setup_cpu + (cpu - setup_cpu) * len(P) / len(Q)
+    return {"seconds": seconds, "cpu": cpu, "stride": stride, "sdf": np.asarray(s[0], dtype=np.float64)}
 
 
 def _m2s_task(args):
@@ -202,11 +229,12 @@ def sign_stats(ours, theirs, n_near, idx=None):
 
 
 def run_peer(kind, paths, names, npz_dir: Path, stride=1, cloud=10_000_000):
+    """``kind`` "m2s" or a key of IGL_SIGNS."""
     tasks = []
     for p, n in zip(paths, names):
         npz = str(npz_dir / f"{n}.npz")
-        tasks.append((str(p), npz) if kind == "igl" else (str(p), npz, stride, cloud))
-    fn = _igl_task if kind == "igl" else _m2s_task
+        tasks.append((str(p), npz, stride, cloud) if kind == "m2s" else (str(p), npz, IGL_SIGNS[kind][0], stride))
+    fn = _m2s_task if kind == "m2s" else _igl_task
     ctx = mp.get_context("spawn")
     t = time.perf_counter()
     with ctx.Pool(2) as pool:
@@ -216,7 +244,7 @@ def run_peer(kind, paths, names, npz_dir: Path, stride=1, cloud=10_000_000):
     for n, r in zip(names, results):
         z = np.load(npz_dir / f"{n}.npz")
         ours, n_near = z["sdf"].astype(np.float64), int(z["n_near"])
-        idx = None if kind == "igl" else np.arange(0, len(ours), stride)
+        idx = None if stride == 1 else np.arange(0, len(ours), stride)
         row = {k: v for k, v in r.items() if k != "sdf"}
         row["signs"] = sign_stats(ours, r["sdf"], n_near, idx)
         per_mesh[n] = row
@@ -267,7 +295,8 @@ def main():
     ap.add_argument("--out", default=str(REPO / "target" / "dataset-bench"))
     ap.add_argument("--meshes", type=int, default=20)
     ap.add_argument("--points", type=int, default=250_000)
-    ap.add_argument("--phases", default="local,ray,amortized,igl,m2s,memory")
+    ap.add_argument("--phases", default="local,ray,amortized,igl,igl-default,igl-pseudonormal,m2s,memory")
+    ap.add_argument("--igl-exact-stride", type=int, default=10, help="query every Nth point with libigl's default (exact winding number) sign and scale")
     ap.add_argument("--m2s-stride", type=int, default=10, help="query every Nth point with mesh_to_sdf and scale")
     ap.add_argument("--m2s-cloud", type=int, default=10_000_000, help="mesh_to_sdf's surface sample count (its default 10M)")
     ap.add_argument("--copies", type=int, default=5, help="corpus repetitions of the 'amortized' phase")
@@ -319,12 +348,16 @@ def main():
         save()
         log(f"  ray.init {ray_start:.1f} s; {s['seconds']:.1f} s, {s['samples_per_second_per_core']:.0f} samples/s/core")
     npz_dir = out / "local"
-    if "igl" in phases:
-        log("libigl signed_distance (FWN), Pool(2) ...")
-        wall, per = run_peer("igl", paths, names, npz_dir)
-        results["igl"] = {"wall": wall, "samples": args.points * len(paths), "per_mesh": per}
+    for key, (_, label) in IGL_SIGNS.items():
+        phase = key.replace("_", "-")
+        if phase not in phases:
+            continue
+        stride = args.igl_exact_stride if key == "igl_default" else 1
+        log(f"{label}, Pool(2), every {stride}th point ...")
+        wall, per = run_peer(key, paths, names, npz_dir, stride=stride)
+        results[key] = {"wall": wall, "stride": stride, "samples": args.points * len(paths), "per_mesh": per}
         save()
-        log(f"  {wall:.1f} s")
+        log(f"  {wall:.1f} s wall")
     if "m2s" in phases:
         log(f"mesh_to_sdf sample/normal, cloud {args.m2s_cloud}, every {args.m2s_stride}th point, Pool(2) ...")
         wall, per = run_peer("m2s", paths, names, npz_dir, stride=args.m2s_stride, cloud=args.m2s_cloud)
@@ -377,20 +410,24 @@ def report(r, names):
     mem = [m for m in r.get("memory", {}).values() if "cpu" in m]
     if len(mem) == len(r["corpus"]):
         rows.append(("proxima process_mesh, per CPU-second", n / sum(m["cpu"] for m in mem)))
-    if r.get("igl"):
-        busy = sum(m["seconds"] for m in r["igl"]["per_mesh"].values())
-        rows.append(("libigl FWN, Pool(2), wall", n / r["igl"]["wall"] / cores))
-        rows.append(("libigl FWN, per busy process-second", n / busy))
-        if all("cpu" in m for m in r["igl"]["per_mesh"].values()):
-            rows.append(("libigl FWN, per CPU-second", n / sum(m["cpu"] for m in r["igl"]["per_mesh"].values())))
+    for key, (_, label) in IGL_SIGNS.items():
+        if not r.get(key):
+            continue
+        per = r[key]["per_mesh"].values()
+        suffix = f", est. from 1/{r[key]['stride']}" if r[key].get("stride", 1) > 1 else ""
+        if r[key].get("stride", 1) == 1:
+            rows.append((f"{label}, Pool(2), wall", n / r[key]["wall"] / cores))
+        rows.append((f"{label}, per busy process-s{suffix}", n / sum(m["seconds"] for m in per)))
+        if all("cpu" in m for m in per):
+            rows.append((f"{label}, per CPU-s{suffix}", n / sum(m["cpu"] for m in per)))
     if r.get("m2s"):
         rows.append(("mesh_to_sdf sample/normal, est., per busy s", n / r["m2s"]["estimated_cpu_seconds_full"]))
         if "estimated_process_cpu_seconds_full" in r["m2s"]:
             rows.append(("mesh_to_sdf sample/normal, est., per CPU-s", n / r["m2s"]["estimated_process_cpu_seconds_full"]))
     base = rows[0][1] if rows else 1.0
-    print(f"{'method':45s} {'samples/s/core':>15s} {'proxima local / this':>22s}")
+    print(f"{'method':60s} {'samples/s/core':>15s} {'proxima local / this':>22s}")
     for name, rate in rows:
-        print(f"{name:45s} {rate:15,.0f} {base / rate:22.2f}")
+        print(f"{name:60s} {rate:15,.0f} {base / rate:22.2f}")
     if loc and r.get("ray"):
         print(f"Ray overhead vs local: {100 * (1 - r['ray']['samples_per_second_per_core'] / loc['samples_per_second_per_core']):.1f}% "
               f"(ray.init {r['ray']['ray_init_seconds']:.1f} s apart; outputs differ: {r['ray'].get('differs_from_local')})")
@@ -399,17 +436,19 @@ def report(r, names):
         print(f"Ray overhead vs local on {am['meshes']} meshes: "
               f"{100 * (1 - am['ray']['samples_per_second_per_core'] / am['local']['samples_per_second_per_core']):.1f}% "
               f"(local {am['local']['samples_per_second_per_core']:,.0f}, ray {am['ray']['samples_per_second_per_core']:,.0f} samples/s/core)")
-    print(f"{'mesh':22s} {'tris':>8s} {'igl dis':>8s} {'igl >.01':>8s} {'m2s dis':>8s} {'m2s >.01':>8s} {'MiB/actor':>9s} {'npz MiB':>7s}")
+    peers = [k for k in (*IGL_SIGNS, "m2s") if r.get(k)]
+    print("sign disagreements with proxima (all / beyond 0.01 of the surface) per peer: " + ", ".join(peers))
+    print(f"{'mesh':22s} {'tris':>8s} " + " ".join(f"{k[:16]:>17s}" for k in peers) + f" {'MiB/actor':>9s} {'npz MiB':>7s}")
     for i in r["corpus"]:
         name = i["name"]
-        g = r.get("igl", {}).get("per_mesh", {}).get(name, {}).get("signs", {})
-        m = r.get("m2s", {}).get("per_mesh", {}).get(name, {}).get("signs", {})
+        cells = []
+        for k in peers:
+            g = r[k]["per_mesh"].get(name, {}).get("signs", {})
+            cells.append(f"{g.get('disagree', '-')}/{g.get('disagree_beyond_0.01', '-')}")
         mem = r.get("memory", {}).get(name, {}).get("delta")
         npz = Path(r.get("out", "")) / "local" / f"{name}.npz"
-        print(f"{name:22s} {i['triangles']:8d} {g.get('disagree', '-'):>8} {g.get('disagree_beyond_0.01', '-'):>8} "
-              f"{m.get('disagree', '-'):>8} {m.get('disagree_beyond_0.01', '-'):>8} "
-              f"{(mem or 0) / 2**20:9.0f} {npz.stat().st_size / 2**20 if npz.exists() else 0:7.2f}")
-
+        print(f"{name:22s} {i['triangles']:8d} " + " ".join(f"{c:>17s}" for c in cells)
+              + f" {(mem or 0) / 2**20:9.0f} {npz.stat().st_size / 2**20 if npz.exists() else 0:7.2f}")
 
 if __name__ == "__main__":
     main()
