@@ -38,6 +38,7 @@ pub const TARGETS: &[(&str, Body)] = &[
     ("load_ply", load_ply),
     ("load_stl", load_stl),
     ("load_off", load_off),
+    ("load_glb", load_glb),
     ("load_gzip", load_gzip),
     ("aabb_tree", aabb_tree),
     ("wide_tree", wide_tree),
@@ -74,12 +75,17 @@ pub fn load_off(data: &[u8]) {
     load(data, Format::Off)
 }
 
+/// Binary glTF bytes.
+pub fn load_glb(data: &[u8]) {
+    load(data, Format::Glb)
+}
+
 /// First byte picks the format, the rest is a gzip stream.
 pub fn load_gzip(data: &[u8]) {
     let Some((&which, rest)) = data.split_first() else {
         return;
     };
-    let format = [Format::Obj, Format::Ply, Format::Stl, Format::Off][which as usize % 4];
+    let format = [Format::Obj, Format::Ply, Format::Stl, Format::Off, Format::Glb][which as usize % 5];
     let rest = &rest[..rest.len().min(MAX_INPUT)];
     match proxima::io::gunzip(rest, MAX_GUNZIP) {
         Ok(bytes) => {

@@ -15,7 +15,7 @@ set -euo pipefail
 cd "$(dirname "$0")"
 seconds=${1:-60}
 shift || true
-all=(load_obj load_ply load_stl load_off load_gzip aabb_tree wide_tree hash_grid traversal)
+all=(load_obj load_ply load_stl load_off load_glb load_gzip aabb_tree wide_tree hash_grid traversal)
 targets=("${@:-${all[@]}}")
 if [ $# -eq 0 ]; then targets=("${all[@]}"); fi
 
@@ -39,8 +39,8 @@ seed() { # seed TARGET EXTENSION [gzip FORMAT_BYTE]
         fi
     done
 }
-seed load_obj .obj; seed load_ply .ply; seed load_stl .stl; seed load_off .off
-seed load_gzip .obj gzip 00; seed load_gzip .ply gzip 01; seed load_gzip .stl gzip 02; seed load_gzip .off gzip 03
+seed load_obj .obj; seed load_ply .ply; seed load_stl .stl; seed load_off .off; seed load_glb .glb
+seed load_gzip .obj gzip 00; seed load_gzip .ply gzip 01; seed load_gzip .stl gzip 02; seed load_gzip .off gzip 03; seed load_gzip .glb gzip 04
 for t in aabb_tree wide_tree hash_grid traversal; do mkdir -p corpus/$t; done
 
 cargo fuzz build --sanitizer none -a

@@ -24,7 +24,7 @@ use mesh::PyMesh;
 use pyo3::prelude::*;
 use std::path::PathBuf;
 
-/// Reads a mesh file (OBJ, PLY, STL, OFF, optionally gzip-compressed), as
+/// Reads a mesh file (OBJ, PLY, STL, OFF, binary glTF, optionally gzip-compressed), as
 /// the command line does; `OSError` when it cannot be read, `ValueError`
 /// when it is malformed.
 #[pyfunction]

@@ -168,3 +168,37 @@ def test_from_trimesh_rejects_other_objects():
             assert isinstance(e, (TypeError, ValueError, AttributeError)), repr(e)
         else:
             pytest.fail(f"from_trimesh({bad!r}) accepted")
+
+
+@pytest.mark.parametrize("name", ["spot_triangulated.obj", "fandisk.obj", "stanford-bunny.obj"])
+def test_load_glb_written_by_trimesh(name, tmp_path):
+    """A shared mesh as a two-node GLB scene written by trimesh (the second
+    instance moved and turned): proxima reads what trimesh reads back."""
+    trimesh = pytest.importorskip("trimesh")
+    source = data_path(name)
+    loaded = trimesh_load(source)  # without materials (textures would need PIL)
+    mesh = trimesh.Trimesh(loaded.vertices, loaded.faces, process=False)
+    scene = trimesh.Scene()
+    scene.add_geometry(mesh, node_name="a", geom_name="g")
+    turn = trimesh.transformations.rotation_matrix(0.7, [0.3, 1.0, 0.2], [0.1, 0.0, 0.0])
+    turn[:3, 3] += [2.0, -1.0, 0.5]
+    scene.add_geometry(mesh, node_name="b", geom_name="g", transform=turn)
+    path = tmp_path / "scene.glb"
+    scene.export(path)
+    ours = proxima.load(path)
+    theirs = trimesh.load(path, process=False, force="mesh")
+    assert ours.faces.shape == theirs.faces.shape == (2 * len(mesh.faces), 3)
+    np.testing.assert_array_equal(ours.faces, theirs.faces)
+    # The two instances, in whichever order each reader lists the nodes.
+    n = len(mesh.vertices)
+    a, b = ours.vertices[:n], ours.vertices[n:]
+    c, d = np.asarray(theirs.vertices[:n]), np.asarray(theirs.vertices[n:])
+    if np.abs(a - c).max() > np.abs(a - d).max():
+        c, d = d, c
+    np.testing.assert_allclose(a, c, rtol=0, atol=1e-5)
+    np.testing.assert_allclose(b, d, rtol=0, atol=1e-5)
+    np.testing.assert_allclose(a, np.asarray(mesh.vertices), rtol=0, atol=1e-6)
+    # And the dataset pipeline takes it as any mesh file.
+    from proxima.dataset import is_mesh_file, mesh_stem
+
+    assert is_mesh_file(path) and mesh_stem(path) == "scene"

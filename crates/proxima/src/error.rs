@@ -72,7 +72,7 @@ pub enum LoadErrorKind {
     #[error("{0}")]
     Io(#[from] std::io::Error),
     /// The extension names no format we read.
-    #[error("unknown mesh format (expected .obj, .ply, .stl or .off, optionally .gz)")]
+    #[error("unknown mesh format (expected .obj, .ply, .stl, .off or .glb, optionally .gz)")]
     UnknownFormat,
     /// The content does not follow the format.
     #[error("{0}")]

@@ -19,7 +19,7 @@
 //!
 //! | Layer | Modules |
 //! |---|---|
-//! | Input | [`io`] (OBJ, PLY, STL, OFF, gzip; limits), [`mesh`] ([`Mesh`]), [`kind`] ([`PrimitiveKind`]: vertices, edges, faces, polygons) |
+//! | Input | [`io`] (OBJ, PLY, STL, OFF, GLB, gzip; limits), [`mesh`] ([`Mesh`]), [`kind`] ([`PrimitiveKind`]: vertices, edges, faces, polygons) |
 //! | Primitives | [`primitive`] ([`Point`], [`LineSegment`], [`Triangle`], [`ConvexPolygon`]; traits [`Bounded`], [`ClosestPoint`], [`BoxOverlap`], [`RayIntersect`]), [`frustum`] ([`Frustum`], [`FrustumOverlap`]), [`ray`] ([`Ray`]) |
 //! | Queries | [`sdf`] ([`SignedDistanceField`]: signed distance, winding numbers, inside tests, grids, samples), [`query`]: [`NearestQuery`], [`RayQuery`], [`FrustumQuery`], each written once over a structure's walk; answers [`ClosestHit`], [`RayHit`] |
 //! | Structures | [`bvh`] ([`AabbTree`]), [`wide_tree`] ([`WideTree`], 4-wide, SIMD leaves), [`ray_tree`] ([`RayTree`], 8-wide, for rays), [`sphere_tree`] ([`SphereTree`]), [`linear`] ([`LinearSearch`], brute force), [`grid`] ([`HashGrid`]), [`traversal`] ([`GridTraversal`]) |

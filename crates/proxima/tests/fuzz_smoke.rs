@@ -56,7 +56,8 @@ fn corpus(target: &str) -> Vec<Vec<u8>> {
         "load_ply" => seeds_for(".ply"),
         "load_stl" => seeds_for(".stl"),
         "load_off" => seeds_for(".off"),
-        "load_gzip" => [".obj", ".ply", ".stl", ".off"]
+        "load_glb" => seeds_for(".glb"),
+        "load_gzip" => [".obj", ".ply", ".stl", ".off", ".glb"]
             .iter()
             .enumerate()
             .flat_map(|(format, ext)| {

@@ -15,7 +15,7 @@ use std::time::{Duration, Instant};
 /// Arguments of `proxima frustum`.
 #[derive(clap::Args)]
 pub struct Args {
-    /// Mesh file (.obj, .ply, .stl, .off, optionally .gz).
+    /// Mesh file (.obj, .ply, .stl, .off, .glb, optionally .gz).
     mesh: PathBuf,
     /// Which primitives to test.
     #[arg(long, value_parser = kind_parser(), default_value = "faces")]

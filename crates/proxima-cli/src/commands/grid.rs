@@ -63,7 +63,7 @@ pub enum Hasher {
 /// Arguments of `proxima grid`.
 #[derive(clap::Args)]
 pub struct Args {
-    /// Mesh file (.obj, .ply, .stl, .off, optionally .gz).
+    /// Mesh file (.obj, .ply, .stl, .off, .glb, optionally .gz).
     mesh: PathBuf,
     /// Cell extents: one number for cubic cells, or W,H,D.
     #[arg(long, value_name = "W[,H,D]", value_parser = parse_cell, allow_hyphen_values = true)]

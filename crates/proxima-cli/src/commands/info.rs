@@ -12,7 +12,7 @@ use std::time::Instant;
 /// Arguments of `proxima info`.
 #[derive(clap::Args)]
 pub struct Args {
-    /// Mesh file (.obj, .ply, .stl, .off, optionally .gz).
+    /// Mesh file (.obj, .ply, .stl, .off, .glb, optionally .gz).
     mesh: PathBuf,
     /// Print one JSON object instead of text.
     #[arg(long)]

@@ -26,7 +26,7 @@ pub enum RayMethod {
 /// Arguments of `proxima raycast`.
 #[derive(clap::Args)]
 pub struct Args {
-    /// Mesh file (.obj, .ply, .stl, .off, optionally .gz).
+    /// Mesh file (.obj, .ply, .stl, .off, .glb, optionally .gz).
     pub(crate) mesh: PathBuf,
     /// Ray origin.
     #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true,

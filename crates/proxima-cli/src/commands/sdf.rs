@@ -48,7 +48,7 @@ impl SignMethod {
 #[derive(clap::Args)]
 #[command(group(clap::ArgGroup::new("what").required(true).args(["point", "points", "grid", "sample"])))]
 pub struct Args {
-    /// Mesh file (.obj, .ply, .stl, .off, optionally .gz).
+    /// Mesh file (.obj, .ply, .stl, .off, .glb, optionally .gz).
     mesh: PathBuf,
     /// One query point.
     #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]

@@ -11,7 +11,7 @@ use std::time::Duration;
 /// Arguments of `proxima view`.
 #[derive(clap::Args)]
 pub struct Args {
-    /// Mesh file (.obj, .ply, .stl, .off, optionally .gz); the embedded bunny when omitted.
+    /// Mesh file (.obj, .ply, .stl, .off, .glb, optionally .gz); the embedded bunny when omitted.
     mesh: Option<PathBuf>,
     /// Render one frame to this PNG and exit (needs a display; under CI use xvfb-run).
     #[arg(long, value_name = "PNG")]

@@ -13,7 +13,7 @@ use std::time::Instant;
 /// Arguments of `proxima voxelize`.
 #[derive(clap::Args)]
 pub struct Args {
-    /// Mesh file (.obj, .ply, .stl, .off, optionally .gz).
+    /// Mesh file (.obj, .ply, .stl, .off, .glb, optionally .gz).
     mesh: PathBuf,
     /// Cells along the longest side of the bounding box.
     #[arg(long, value_name = "N")]

@@ -14,7 +14,9 @@ __version__: str
 
 def load(path: Union[str, PathLike[str]]) -> Mesh:
     """Reads a mesh file: OBJ, PLY (ASCII or binary), STL (ASCII or binary),
-    OFF, each optionally gzip-compressed (``.gz``), as the command line does.
+    OFF, binary glTF (``.glb``: the triangles of its scene, node transforms
+    applied), each optionally gzip-compressed (``.gz``), as the command line
+    does.
 
     Raises ``OSError`` when the file cannot be read and ``ValueError`` when
     its content is malformed or holds no vertex; the message names the file

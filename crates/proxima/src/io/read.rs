@@ -48,6 +48,7 @@ impl TextGuard {
             Format::Obj | Format::Off => Mode::Text,
             Format::Ply => Mode::PlyHeader { ascii: false },
             Format::Stl => Mode::Stl,
+            Format::Glb => Mode::Binary,
         };
         Self::with_mode(mode, max_line_bytes)
     }

@@ -59,7 +59,7 @@ import proxima
 FORMAT_VERSION = 1
 
 #: Mesh file suffixes (each also with ``.gz``), as ``proxima.load`` reads them.
-MESH_SUFFIXES = (".obj", ".ply", ".stl", ".off")
+MESH_SUFFIXES = (".obj", ".ply", ".stl", ".off", ".glb")
 
 #: The temporary name of an output being written: ``NAME.npz.tmp-<hex>``.
 TMP_MARKER = ".npz.tmp-"

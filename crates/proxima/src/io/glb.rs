@@ -1,0 +1,584 @@
+//! Binary glTF 2.0 (`.glb`): the triangles of a scene, with the nodes'
+//! transforms applied, as one mesh.
+//!
+//! The container (a 12-byte header, a JSON chunk, an optional binary chunk) and
+//! the accessors are read here with every offset checked; the JSON itself is
+//! parsed by serde_json (depth-limited, so no input can exhaust the stack).
+//!
+//! What is read: the scene that `scene` names (else the first; with no scene,
+//! the nodes that are no node's child; with no node, every mesh as it is);
+//! each node's `matrix` or `translation`/`rotation`/`scale`, composed from the
+//! root in f64; the primitives of mode 4 (triangles), 5 (strip) and 6 (fan),
+//! their `POSITION` (float, or the integer types of `KHR_mesh_quantization`,
+//! normalized or not) and `indices` (unsigned 8, 16 or 32 bits, or none).
+//! Points and lines (modes 0 to 3) are skipped. Each primitive of each node
+//! that shows it adds its own vertices (nothing is welded), so an instanced
+//! mesh appears once per node, in place.
+//!
+//! Refused, each with a message naming the JSON element: compressed geometry
+//! (`KHR_draco_mesh_compression`, `EXT_meshopt_compression`), sparse
+//! accessors, buffers outside the file (a `uri`), a node hierarchy that is not
+//! a tree, offsets or sizes past their buffer, indices past the vertices, and
+//! scenes whose instancing would expand the file more than
+//! [`MAX_EXPANSION`] times (checked before allocating).
+
+use super::text::{syntax, truncated};
+use crate::error::LoadError;
+use crate::math::Vec3;
+use crate::mesh::Mesh;
+use glam::{DMat4, DQuat, DVec3};
+use serde_json::Value;
+use std::path::Path;
+
+/// `glTF` in ASCII, little-endian.
+const MAGIC: u32 = 0x4654_6C67;
+/// Chunk types: `JSON` and `BIN\0`.
+const CHUNK_JSON: u32 = 0x4E4F_534A;
+const CHUNK_BIN: u32 = 0x004E_4942;
+
+/// The most vertices a file may produce per byte it holds (plus a fixed
+/// allowance): instancing repeats a mesh once per node, and a small file
+/// naming a large mesh many times would otherwise ask for any amount of
+/// memory. Real scenes stay far below (a plain mesh is about 0.1 vertex a
+/// byte).
+pub const MAX_EXPANSION: u64 = 16;
+const EXPANSION_ALLOWANCE: u64 = 1 << 24;
+
+pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Mesh, LoadError> {
+    let (json, bin) = chunks(bytes, path)?;
+    let root: Value = serde_json::from_slice(json).map_err(|e| syntax(path, None, format!("JSON chunk: {e}")))?;
+    let document = Document { root: &root, bin, path };
+    document.check_extensions()?;
+    let mut out = Triangles {
+        positions: Vec::new(),
+        triangles: Vec::new(),
+        max_vertices: (bytes.len() as u64).saturating_mul(MAX_EXPANSION) + EXPANSION_ALLOWANCE,
+    };
+    let instances = document.instances()?;
+    document.check_expansion(&instances, out.max_vertices)?;
+    for (mesh, transform) in instances {
+        document.add_mesh(mesh, &transform, &mut out)?;
+    }
+    Mesh::from_triangles(out.positions, &out.triangles).map_err(|e| LoadError::new(path, None, e))
+}
+
+/// The JSON chunk and the binary chunk (empty when absent) of a GLB file.
+fn chunks<'a>(bytes: &'a [u8], path: &Path) -> Result<(&'a [u8], &'a [u8]), LoadError> {
+    fn word(bytes: &[u8], at: usize) -> Option<u32> {
+        let b = bytes.get(at..at.checked_add(4)?)?;
+        Some(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+    }
+    let (Some(magic), Some(version), Some(length)) = (word(bytes, 0), word(bytes, 4), word(bytes, 8)) else {
+        if bytes.len() >= 4 && word(bytes, 0) != Some(MAGIC) {
+            return Err(syntax(path, None, "not a binary glTF file (no 'glTF' magic)"));
+        }
+        return Err(truncated(
+            path,
+            None,
+            format!("{} bytes: a GLB file has a 12-byte header", bytes.len()),
+        ));
+    };
+    if magic != MAGIC {
+        return Err(syntax(path, None, "not a binary glTF file (no 'glTF' magic)"));
+    }
+    if version != 2 {
+        return Err(syntax(
+            path,
+            None,
+            format!("glTF version {version}: only version 2 is read"),
+        ));
+    }
+    let length = length as usize;
+    if length > bytes.len() {
+        let message = format!("the header announces {length} bytes, the file has {}", bytes.len());
+        return Err(truncated(path, None, message));
+    }
+    let bytes = &bytes[..length];
+    let (mut json, mut bin) = (None, None);
+    let mut at = 12usize;
+    while at < bytes.len() {
+        let (Some(size), Some(kind)) = (word(bytes, at), word(bytes, at + 4)) else {
+            return Err(truncated(path, None, format!("a chunk header at byte {at}")));
+        };
+        let start = at + 8;
+        let end = start
+            .checked_add(size as usize)
+            .filter(|&end| end <= bytes.len())
+            .ok_or_else(|| truncated(path, None, format!("the chunk at byte {at} announces {size} bytes")))?;
+        match kind {
+            CHUNK_JSON if json.is_none() => json = Some(&bytes[start..end]),
+            CHUNK_BIN if json.is_some() && bin.is_none() => bin = Some(&bytes[start..end]),
+            CHUNK_JSON | CHUNK_BIN => {
+                return Err(syntax(
+                    path,
+                    None,
+                    format!("the chunk at byte {at} is out of order (JSON first, then at most one BIN)"),
+                ));
+            }
+            _ => {} // Chunks of other types are to be ignored.
+        }
+        // Chunks are padded to 4 bytes, but a lenient writer may not pad the last.
+        at = end.checked_add(3).map_or(usize::MAX, |e| e & !3);
+    }
+    let json = json.ok_or_else(|| syntax(path, None, "no JSON chunk"))?;
+    Ok((json, bin.unwrap_or(&[])))
+}
+
+/// The triangles gathered so far, and the vertex cap.
+struct Triangles {
+    positions: Vec<Vec3>,
+    triangles: Vec<[u32; 3]>,
+    max_vertices: u64,
+}
+
+struct Document<'a> {
+    root: &'a Value,
+    bin: &'a [u8],
+    path: &'a Path,
+}
+
+/// A component type of an accessor.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Component {
+    I8,
+    U8,
+    I16,
+    U16,
+    U32,
+    F32,
+}
+
+impl Component {
+    fn from_code(code: u64) -> Option<Self> {
+        Some(match code {
+            5120 => Self::I8,
+            5121 => Self::U8,
+            5122 => Self::I16,
+            5123 => Self::U16,
+            5125 => Self::U32,
+            5126 => Self::F32,
+            _ => return None,
+        })
+    }
+
+    fn size(self) -> usize {
+        match self {
+            Self::I8 | Self::U8 => 1,
+            Self::I16 | Self::U16 => 2,
+            Self::U32 | Self::F32 => 4,
+        }
+    }
+
+    /// The component at the start of `b` (at least `size()` bytes), as f64;
+    /// `normalized` maps integers to [-1, 1] or [0, 1] as glTF specifies.
+    fn read(self, b: &[u8], normalized: bool) -> f64 {
+        let (value, scale) = match self {
+            Self::I8 => (f64::from(b[0] as i8), 127.0),
+            Self::U8 => (f64::from(b[0]), 255.0),
+            Self::I16 => (f64::from(i16::from_le_bytes([b[0], b[1]])), 32767.0),
+            Self::U16 => (f64::from(u16::from_le_bytes([b[0], b[1]])), 65535.0),
+            Self::U32 => (f64::from(u32::from_le_bytes([b[0], b[1], b[2], b[3]])), 4294967295.0),
+            Self::F32 => return f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]])),
+        };
+        if normalized { (value / scale).max(-1.0) } else { value }
+    }
+}
+
+/// An accessor resolved to checked bytes: element `i` starts at
+/// `data[i * stride]` and holds `components` values of `component`.
+struct Elements<'a> {
+    data: &'a [u8],
+    stride: usize,
+    count: usize,
+    components: usize,
+    component: Component,
+    normalized: bool,
+}
+
+impl Elements<'_> {
+    fn get(&self, i: usize, c: usize) -> f64 {
+        let at = i * self.stride + c * self.component.size();
+        self.component.read(&self.data[at..], self.normalized)
+    }
+}
+
+impl<'a> Document<'a> {
+    fn error(&self, message: impl Into<String>) -> LoadError {
+        syntax(self.path, None, message)
+    }
+
+    /// `root[key]` as an array (absent: empty).
+    fn array(&self, value: &'a Value, key: &str, at: &str) -> Result<&'a [Value], LoadError> {
+        match value.get(key) {
+            None => Ok(&[]),
+            Some(Value::Array(items)) => Ok(items),
+            Some(_) => Err(self.error(format!("{at}.{key} is not an array"))),
+        }
+    }
+
+    /// `value[key]` as a non-negative integer, `None` when absent.
+    fn integer(&self, value: &Value, key: &str, at: &str) -> Result<Option<u64>, LoadError> {
+        match value.get(key) {
+            None => Ok(None),
+            Some(v) => v
+                .as_u64()
+                .map(Some)
+                .ok_or_else(|| self.error(format!("{at}.{key} is not a non-negative integer: {v}"))),
+        }
+    }
+
+    /// Element `index` of the top-level array `kind`.
+    fn item(&self, kind: &str, index: u64, from: &str) -> Result<&'a Value, LoadError> {
+        let items = self.array(self.root, kind, "the document")?;
+        usize::try_from(index)
+            .ok()
+            .and_then(|i| items.get(i))
+            .filter(|v| v.is_object())
+            .ok_or_else(|| self.error(format!("{from} refers to {kind}[{index}], which does not exist")))
+    }
+
+    fn numbers<const N: usize>(&self, value: &Value, key: &str, at: &str) -> Result<Option<[f64; N]>, LoadError> {
+        let Some(v) = value.get(key) else { return Ok(None) };
+        let bad = || self.error(format!("{at}.{key} is not {N} finite numbers"));
+        let items = v.as_array().filter(|a| a.len() == N).ok_or_else(bad)?;
+        let mut out = [0.0; N];
+        for (o, item) in out.iter_mut().zip(items) {
+            *o = item.as_f64().filter(|x| x.is_finite()).ok_or_else(bad)?;
+        }
+        Ok(Some(out))
+    }
+
+    fn check_extensions(&self) -> Result<(), LoadError> {
+        for extension in self.array(self.root, "extensionsRequired", "the document")? {
+            let name = extension.as_str().unwrap_or("");
+            if name == "KHR_draco_mesh_compression" || name == "EXT_meshopt_compression" {
+                return Err(self.error(format!(
+                    "geometry compressed with {name} is not read; decompress it first (for example `gltf-transform copy`)"
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// Every mesh to add, with its node's world transform.
+    fn instances(&self) -> Result<Vec<(u64, DMat4)>, LoadError> {
+        let nodes = self.array(self.root, "nodes", "the document")?;
+        let scenes = self.array(self.root, "scenes", "the document")?;
+        let roots: Vec<u64> = if !scenes.is_empty() || self.root.get("scene").is_some() {
+            let index = self.integer(self.root, "scene", "the document")?.unwrap_or(0);
+            let scene = self.item("scenes", index, "scene")?;
+            let at = format!("scenes[{index}]");
+            let mut roots = Vec::new();
+            for (i, node) in self.array(scene, "nodes", &at)?.iter().enumerate() {
+                roots.push(
+                    node.as_u64()
+                        .ok_or_else(|| self.error(format!("{at}.nodes[{i}] is not a node index")))?,
+                );
+            }
+            roots
+        } else if !nodes.is_empty() {
+            let mut is_child = vec![false; nodes.len()];
+            for (n, node) in nodes.iter().enumerate() {
+                for child in self.array(node, "children", &format!("nodes[{n}]"))? {
+                    if let Some(c) = child.as_u64().and_then(|c| is_child.get_mut(c as usize)) {
+                        *c = true;
+                    }
+                }
+            }
+            (0..nodes.len() as u64).filter(|&n| !is_child[n as usize]).collect()
+        } else {
+            let meshes = self.array(self.root, "meshes", "the document")?;
+            return Ok((0..meshes.len() as u64).map(|m| (m, DMat4::IDENTITY)).collect());
+        };
+        let mut visited = vec![false; nodes.len()];
+        let mut stack: Vec<(u64, DMat4)> = roots.into_iter().rev().map(|n| (n, DMat4::IDENTITY)).collect();
+        let mut out = Vec::new();
+        while let Some((index, parent)) = stack.pop() {
+            let node = self.item("nodes", index, "a scene or a node's children")?;
+            let seen = &mut visited[index as usize];
+            if *seen {
+                return Err(self.error(format!(
+                    "nodes[{index}] is reached twice: the node hierarchy is not a tree (a cycle, or a shared child)"
+                )));
+            }
+            *seen = true;
+            let at = format!("nodes[{index}]");
+            let transform = parent * self.local_transform(node, &at)?;
+            if let Some(mesh) = self.integer(node, "mesh", &at)? {
+                out.push((mesh, transform));
+            }
+            let children = self.array(node, "children", &at)?;
+            for (i, child) in children.iter().enumerate().rev() {
+                let child = child
+                    .as_u64()
+                    .ok_or_else(|| self.error(format!("{at}.children[{i}] is not a node index")))?;
+                stack.push((child, transform));
+            }
+        }
+        Ok(out)
+    }
+
+    fn local_transform(&self, node: &Value, at: &str) -> Result<DMat4, LoadError> {
+        if let Some(matrix) = self.numbers::<16>(node, "matrix", at)? {
+            return Ok(DMat4::from_cols_array(&matrix));
+        }
+        let translation = self.numbers::<3>(node, "translation", at)?.unwrap_or([0.0; 3]);
+        let scale = self.numbers::<3>(node, "scale", at)?.unwrap_or([1.0; 3]);
+        let rotation = match self.numbers::<4>(node, "rotation", at)? {
+            None => DQuat::IDENTITY,
+            Some(q) => {
+                let q = DQuat::from_array(q);
+                if q.length() < 1e-6 {
+                    return Err(self.error(format!("{at}.rotation is not a rotation (a zero quaternion)")));
+                }
+                q.normalize()
+            }
+        };
+        Ok(DMat4::from_scale_rotation_translation(
+            DVec3::from(scale),
+            rotation,
+            DVec3::from(translation),
+        ))
+    }
+
+    /// Fails when the scene's vertices and triangle corners (accessor counts
+    /// over every instance) pass `max_vertices`, before anything is read.
+    fn check_expansion(&self, instances: &[(u64, DMat4)], max_vertices: u64) -> Result<(), LoadError> {
+        let (mut vertices, mut corners) = (0u64, 0u64);
+        for &(mesh, _) in instances {
+            let value = self.item("meshes", mesh, "a node")?;
+            for primitive in self.array(value, "primitives", &format!("meshes[{mesh}]"))? {
+                let count = |key: &str| {
+                    let index = primitive
+                        .get("attributes")
+                        .and_then(|a| a.get(key))
+                        .or_else(|| primitive.get(key));
+                    let accessor = index
+                        .and_then(Value::as_u64)
+                        .and_then(|i| self.item("accessors", i, "").ok());
+                    accessor
+                        .and_then(|a| a.get("count"))
+                        .and_then(Value::as_u64)
+                        .unwrap_or(0)
+                };
+                let positions = count("POSITION");
+                vertices = vertices.saturating_add(positions);
+                let indices = count("indices");
+                corners = corners.saturating_add(if primitive.get("indices").is_some() {
+                    indices
+                } else {
+                    positions
+                });
+            }
+        }
+        if vertices > max_vertices || corners > 3 * max_vertices {
+            return Err(self.error(format!(
+                "the scene's instances add up to {vertices} vertices and {corners} triangle corners, more than \
+                 {max_vertices} and {} ({MAX_EXPANSION} vertices per byte of the file)",
+                3 * max_vertices
+            )));
+        }
+        Ok(())
+    }
+
+    fn add_mesh(&self, mesh: u64, transform: &DMat4, out: &mut Triangles) -> Result<(), LoadError> {
+        let value = self.item("meshes", mesh, "a node")?;
+        let at = format!("meshes[{mesh}]");
+        for (p, primitive) in self.array(value, "primitives", &at)?.iter().enumerate() {
+            let at = format!("{at}.primitives[{p}]");
+            let mode = self.integer(primitive, "mode", &at)?.unwrap_or(4);
+            if mode <= 3 {
+                continue; // points and lines: no surface
+            }
+            if mode > 6 {
+                return Err(self.error(format!("{at}.mode is {mode}, not a glTF primitive mode")));
+            }
+            if primitive
+                .get("extensions")
+                .is_some_and(|e| e.get("KHR_draco_mesh_compression").is_some())
+            {
+                return Err(self.error(format!(
+                    "{at} is compressed with KHR_draco_mesh_compression, which is not read; decompress it first"
+                )));
+            }
+            let attributes = primitive.get("attributes").unwrap_or(&Value::Null);
+            let position = self
+                .integer(attributes, "POSITION", &format!("{at}.attributes"))?
+                .ok_or_else(|| self.error(format!("{at} has no POSITION attribute")))?;
+            let positions = self.elements(position, &format!("{at}.attributes.POSITION"))?;
+            if positions.components != 3 {
+                return Err(self.error(format!("accessors[{position}] (POSITION of {at}) is not a VEC3")));
+            }
+            let first = out.positions.len() as u64;
+            let vertices = positions.count as u64;
+            if first + vertices > out.max_vertices || first + vertices > u64::from(u32::MAX) {
+                return Err(self.error(format!(
+                    "{at}: the scene's instances add up to more than {} vertices ({MAX_EXPANSION} per byte of the file)",
+                    out.max_vertices.min(u64::from(u32::MAX))
+                )));
+            }
+            out.positions.reserve(positions.count);
+            for i in 0..positions.count {
+                let p = DVec3::new(positions.get(i, 0), positions.get(i, 1), positions.get(i, 2));
+                out.positions.push(transform.transform_point3(p).as_vec3());
+            }
+            let corners: Vec<u32> = match self.integer(primitive, "indices", &at)? {
+                None => (0..positions.count as u32).collect(),
+                Some(indices) => {
+                    let elements = self.elements(indices, &format!("{at}.indices"))?;
+                    if elements.components != 1
+                        || !matches!(elements.component, Component::U8 | Component::U16 | Component::U32)
+                    {
+                        return Err(self.error(format!(
+                            "accessors[{indices}] (indices of {at}) is not a SCALAR of unsigned bytes, shorts or ints"
+                        )));
+                    }
+                    let mut corners = Vec::with_capacity(elements.count);
+                    for i in 0..elements.count {
+                        let v = elements.get(i, 0) as u64;
+                        if v >= vertices {
+                            return Err(self.error(format!(
+                                "accessors[{indices}] (indices of {at}): index {i} is {v}, but the primitive has {vertices} vertices"
+                            )));
+                        }
+                        corners.push(v as u32);
+                    }
+                    corners
+                }
+            };
+            // Each corner adds at most one triangle (strips and fans), and
+            // instancing repeats them: the same cap as the vertices'.
+            if out.triangles.len() as u64 + corners.len() as u64 > 3 * out.max_vertices {
+                return Err(self.error(format!(
+                    "{at}: the scene's instances add up to more than {} triangles ({} per byte of the file)",
+                    3 * out.max_vertices,
+                    3 * MAX_EXPANSION
+                )));
+            }
+            let offset = first as u32;
+            let corner = |i: usize| corners[i] + offset;
+            match mode {
+                4 => {
+                    if !corners.len().is_multiple_of(3) {
+                        return Err(self.error(format!("{at}: {} indices do not make whole triangles", corners.len())));
+                    }
+                    out.triangles
+                        .extend((0..corners.len() / 3).map(|t| [corner(3 * t), corner(3 * t + 1), corner(3 * t + 2)]));
+                }
+                5 => out.triangles.extend((0..corners.len().saturating_sub(2)).map(|i| {
+                    // Every other triangle of a strip is reversed to keep one orientation.
+                    if i % 2 == 0 {
+                        [corner(i), corner(i + 1), corner(i + 2)]
+                    } else {
+                        [corner(i + 1), corner(i), corner(i + 2)]
+                    }
+                })),
+                _ => out
+                    .triangles
+                    .extend((1..corners.len().saturating_sub(1)).map(|i| [corner(0), corner(i), corner(i + 1)])),
+            }
+        }
+        Ok(())
+    }
+
+    /// Accessor `index`, checked to lie inside its buffer view and buffer.
+    fn elements(&self, index: u64, from: &str) -> Result<Elements<'a>, LoadError> {
+        let accessor = self.item("accessors", index, from)?;
+        let at = format!("accessors[{index}]");
+        if accessor.get("sparse").is_some() {
+            return Err(self.error(format!("{at} ({from}) is sparse, which is not read")));
+        }
+        let code = self.integer(accessor, "componentType", &at)?.unwrap_or(0);
+        let component = Component::from_code(code)
+            .ok_or_else(|| self.error(format!("{at}.componentType is {code}, not a glTF component type")))?;
+        let components = match accessor.get("type").and_then(Value::as_str) {
+            Some("SCALAR") => 1,
+            Some("VEC2") => 2,
+            Some("VEC3") => 3,
+            Some("VEC4") => 4,
+            Some("MAT2") => 4,
+            Some("MAT3") => 9,
+            Some("MAT4") => 16,
+            other => return Err(self.error(format!("{at}.type is {other:?}, not a glTF accessor type"))),
+        };
+        let count = self.integer(accessor, "count", &at)?.unwrap_or(0);
+        let normalized = accessor.get("normalized").and_then(Value::as_bool).unwrap_or(false);
+        let element = (components * component.size()) as u64;
+        if count == 0 {
+            return Ok(Elements {
+                data: &[],
+                stride: 0,
+                count: 0,
+                components,
+                component,
+                normalized,
+            });
+        }
+        let view_index = self.integer(accessor, "bufferView", &at)?.ok_or_else(|| {
+            self.error(format!(
+                "{at} has no bufferView (an all-zero accessor), which is not read"
+            ))
+        })?;
+        let view = self.item("bufferViews", view_index, &at)?;
+        let view_at = format!("bufferViews[{view_index}]");
+        let buffer = self.integer(view, "buffer", &view_at)?.unwrap_or(0);
+        let buffer_value = self.item("buffers", buffer, &view_at)?;
+        if buffer_value.get("uri").is_some() {
+            return Err(self.error(format!(
+                "buffers[{buffer}] has a uri: only the GLB file's own binary chunk is read"
+            )));
+        }
+        if buffer != 0 {
+            return Err(self.error(format!(
+                "{view_at} refers to buffers[{buffer}]; a GLB file's binary chunk is buffers[0]"
+            )));
+        }
+        let view_offset = self.integer(view, "byteOffset", &view_at)?.unwrap_or(0);
+        let view_length = self.integer(view, "byteLength", &view_at)?.unwrap_or(0);
+        let view_end = view_offset
+            .checked_add(view_length)
+            .filter(|&end| end <= self.bin.len() as u64);
+        let Some(view_end) = view_end else {
+            return Err(truncated(
+                self.path,
+                None,
+                format!(
+                    "{view_at} spans bytes {view_offset}..{} of a binary chunk of {} bytes",
+                    view_offset.saturating_add(view_length),
+                    self.bin.len()
+                ),
+            ));
+        };
+        let stride = self.integer(view, "byteStride", &view_at)?.unwrap_or(element);
+        if stride < element {
+            return Err(self.error(format!(
+                "{view_at}.byteStride is {stride}, less than {at}'s {element}-byte elements"
+            )));
+        }
+        let offset = self.integer(accessor, "byteOffset", &at)?.unwrap_or(0);
+        // The last element's end, in u64 so that no count can overflow it.
+        let end = (count - 1)
+            .checked_mul(stride)
+            .and_then(|x| x.checked_add(offset))
+            .and_then(|x| x.checked_add(element))
+            .filter(|&end| end <= view_length);
+        if end.is_none() {
+            return Err(truncated(
+                self.path,
+                None,
+                format!(
+                    "{at}: {count} elements of {element} bytes every {stride} from byte {offset} pass the {view_length} bytes of {view_at}"
+                ),
+            ));
+        }
+        let data = &self.bin[(view_offset + offset) as usize..view_end as usize];
+        Ok(Elements {
+            data,
+            stride: stride as usize,
+            count: count as usize,
+            components,
+            component,
+            normalized,
+        })
+    }
+}
