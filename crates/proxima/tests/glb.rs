@@ -487,3 +487,14 @@ fn files_written_by_trimesh_load() {
         assert!((a.length() - 1.0).abs() < 1e-6);
     }
 }
+
+#[test]
+fn many_instances_of_many_primitives_are_refused_at_once() {
+    // 3,000 empty primitives shown by 3,000 nodes: 9M primitive instances
+    // from a file of about 100 KB, refused by counting, not by walking them.
+    let primitives: Vec<Value> = (0..3000).map(|_| json!({"attributes": {}})).collect();
+    let nodes: Vec<Value> = (0..3000).map(|_| json!({"mesh": 0})).collect();
+    let document = json!({"nodes": nodes, "meshes": [{"primitives": primitives}]});
+    let e = read(&glb(&document, &[])).unwrap_err().to_string();
+    assert!(e.contains("9000000 primitives"), "{e}"); // the count, made before any primitive is read
+}

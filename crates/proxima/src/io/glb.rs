@@ -28,6 +28,7 @@ use crate::math::Vec3;
 use crate::mesh::Mesh;
 use glam::{DMat4, DQuat, DVec3};
 use serde_json::Value;
+use std::collections::HashMap;
 use std::path::Path;
 
 /// `glTF` in ASCII, little-endian.
@@ -43,6 +44,11 @@ const CHUNK_BIN: u32 = 0x004E_4942;
 /// byte).
 pub const MAX_EXPANSION: u64 = 16;
 const EXPANSION_ALLOWANCE: u64 = 1 << 24;
+
+/// The most primitives a scene may show, instances counted: each costs a
+/// little work even when empty, and a mesh of many primitives shown by many
+/// nodes would otherwise keep the reader busy for minutes.
+const MAX_PRIMITIVE_INSTANCES: u64 = 1 << 22;
 
 pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Mesh, LoadError> {
     let (json, bin) = chunks(bytes, path)?;
@@ -341,44 +347,62 @@ impl<'a> Document<'a> {
         ))
     }
 
-    /// Fails when the scene's vertices and triangle corners (accessor counts
-    /// over every instance) pass `max_vertices`, before anything is read.
+    /// Fails when the scene's vertices, triangle corners or primitives
+    /// (accessor counts over every instance) pass the caps, before anything
+    /// is read: each mesh is counted once, then weighed by its instances.
     fn check_expansion(&self, instances: &[(u64, DMat4)], max_vertices: u64) -> Result<(), LoadError> {
-        let (mut vertices, mut corners) = (0u64, 0u64);
+        let mut per_mesh: HashMap<u64, [u64; 3]> = HashMap::new();
+        let mut total = [0u64; 3]; // vertices, corners, primitives
         for &(mesh, _) in instances {
-            let value = self.item("meshes", mesh, "a node")?;
-            for primitive in self.array(value, "primitives", &format!("meshes[{mesh}]"))? {
-                let count = |key: &str| {
-                    let index = primitive
-                        .get("attributes")
-                        .and_then(|a| a.get(key))
-                        .or_else(|| primitive.get(key));
-                    let accessor = index
-                        .and_then(Value::as_u64)
-                        .and_then(|i| self.item("accessors", i, "").ok());
-                    accessor
-                        .and_then(|a| a.get("count"))
-                        .and_then(Value::as_u64)
-                        .unwrap_or(0)
-                };
-                let positions = count("POSITION");
-                vertices = vertices.saturating_add(positions);
-                let indices = count("indices");
-                corners = corners.saturating_add(if primitive.get("indices").is_some() {
-                    indices
-                } else {
-                    positions
-                });
+            let counts = match per_mesh.get(&mesh) {
+                Some(&counts) => counts,
+                None => {
+                    let counts = self.mesh_counts(mesh)?;
+                    per_mesh.insert(mesh, counts);
+                    counts
+                }
+            };
+            for (t, c) in total.iter_mut().zip(counts) {
+                *t = t.saturating_add(c);
             }
         }
-        if vertices > max_vertices || corners > 3 * max_vertices {
+        let [vertices, corners, primitives] = total;
+        if vertices > max_vertices || corners > 3 * max_vertices || primitives > MAX_PRIMITIVE_INSTANCES {
             return Err(self.error(format!(
-                "the scene's instances add up to {vertices} vertices and {corners} triangle corners, more than \
-                 {max_vertices} and {} ({MAX_EXPANSION} vertices per byte of the file)",
+                "the scene's instances add up to {vertices} vertices, {corners} triangle corners and {primitives} \
+                 primitives, more than {max_vertices}, {} or {MAX_PRIMITIVE_INSTANCES} ({MAX_EXPANSION} vertices per \
+                 byte of the file)",
                 3 * max_vertices
             )));
         }
         Ok(())
+    }
+
+    /// A mesh's POSITION count, corner count and primitive count, from the
+    /// accessors' `count` alone (their bounds are checked when read).
+    fn mesh_counts(&self, mesh: u64) -> Result<[u64; 3], LoadError> {
+        let value = self.item("meshes", mesh, "a node")?;
+        let primitives = self.array(value, "primitives", &format!("meshes[{mesh}]"))?;
+        let mut counts = [0u64, 0, primitives.len() as u64];
+        for primitive in primitives {
+            let count = |index: Option<&Value>| {
+                let accessor = index
+                    .and_then(Value::as_u64)
+                    .and_then(|i| self.item("accessors", i, "").ok());
+                accessor
+                    .and_then(|a| a.get("count"))
+                    .and_then(Value::as_u64)
+                    .unwrap_or(0)
+            };
+            let positions = count(primitive.get("attributes").and_then(|a| a.get("POSITION")));
+            let corners = match primitive.get("indices") {
+                Some(indices) => count(Some(indices)),
+                None => positions,
+            };
+            counts[0] = counts[0].saturating_add(positions);
+            counts[1] = counts[1].saturating_add(corners);
+        }
+        Ok(counts)
     }
 
     fn add_mesh(&self, mesh: u64, transform: &DMat4, out: &mut Triangles) -> Result<(), LoadError> {
