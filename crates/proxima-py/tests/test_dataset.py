@@ -172,6 +172,51 @@ def rebuilt(z):
     return proxima.Mesh(v, source.faces)
 
 
+def test_occupancy_networks_loader_reads_outputs(corpus, local_out):
+    """What im2mesh's PointsField (unpackbits, with_transforms) does with a
+    points.npz, done on our files: the same occupancies and transform."""
+    out, _ = local_out
+    for name in expected_names(corpus):
+        points_dict = np.load(out / f"{name}.npz")
+        points = points_dict["points"]
+        occupancies = np.unpackbits(points_dict["occupancies"])[: points.shape[0]].astype(np.float32)
+        np.testing.assert_array_equal(occupancies, points_dict["occupancy"].astype(np.float32))
+        np.testing.assert_array_equal(occupancies == 1, points_dict["sdf"] < 0)
+        loc, scale = points_dict["loc"], points_dict["scale"]
+        assert loc.shape == (3,) and scale.shape == ()
+        np.testing.assert_array_equal(loc, points_dict["offset"])
+
+
+def test_deepsdf_loader_reads_outputs(corpus, tmp_path):
+    """What DeepSDF's data.py does with an SdfSamples npz (read pos and neg,
+    take half of the samples from each), done on our files."""
+    paths = [p for p in resolve_inputs(corpus) if p.stem in ("ico", "open_ico")]
+    summary = sample_corpus(paths, tmp_path, n_points=4000, seed=3, engine="local", deepsdf=True)
+    assert summary["done"] == 2
+    plain = sample_corpus(paths, tmp_path / "plain", n_points=4000, seed=3, engine="local")
+    assert plain["done"] == 2
+    for name in ("ico", "open_ico"):
+        z = np.load(tmp_path / f"{name}.npz")
+        pos, neg = z["pos"], z["neg"]
+        assert pos.dtype == neg.dtype == np.float32 and pos.shape[1] == neg.shape[1] == 4
+        assert len(pos) + len(neg) == 4000 and len(pos) > 0 and len(neg) > 0
+        assert np.all(pos[:, 3] >= 0) and np.all(neg[:, 3] < 0)
+        rows = np.concatenate([z["points"], z["sdf"][:, None]], axis=1)
+        np.testing.assert_array_equal(pos, rows[z["sdf"] >= 0])
+        np.testing.assert_array_equal(neg, rows[z["sdf"] < 0])
+        # DeepSDF's unpack_sdf_samples: a random half from each of pos and neg.
+        rng = np.random.default_rng(0)
+        half = 500
+        samples = np.concatenate([pos[rng.integers(0, len(pos), half)], neg[rng.integers(0, len(neg), half)]])
+        assert samples.shape == (1000, 4)
+        assert np.all(samples[:half, 3] >= 0) and np.all(samples[half:, 3] < 0)
+        # The option adds keys only: the other arrays equal a run without it.
+        other = np.load(tmp_path / "plain" / f"{name}.npz")
+        for key in ("points", "sdf", "scale", "offset"):
+            np.testing.assert_array_equal(z[key], other[key])
+        assert "pos" not in other.files
+
+
 def test_sdf_equals_single_point_queries(corpus, local_out):
     out, _ = local_out
     rng = np.random.default_rng(0)
@@ -258,6 +303,7 @@ BAD_OPTIONS = [
     ({"workers": 0}, "workers"),
     ({"workers": 10**6}, "workers"),  # local: one thread each
     ({"local_pool": "fiber"}, "local_pool"),
+    ({"deepsdf": "yes"}, "deepsdf"),
     ({"n_points": 10**10}, "n_points: 10000000000 needs about"),  # 1.8 TiB at any default budget
 ]
 

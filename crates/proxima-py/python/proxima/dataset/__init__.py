@@ -185,6 +185,7 @@ def sample_corpus(
     threads: Optional[int] = None,
     local_pool: str = "thread",
     compress: bool = False,
+    deepsdf: bool = False,
     max_task_retries: int = 3,
     progress: bool = True,
 ) -> dict:
@@ -200,6 +201,10 @@ def sample_corpus(
     unit-sphere for ``kind="sdf"`` and unit-cube for ``"occupancy"``.
     ``padding``: ``None`` for the normalization's default (0.03 unit-sphere,
     0 unit-cube). ``seed``: with the mesh's name, fixes its samples.
+    ``kind="occupancy"`` outputs also hold Occupancy Networks' names
+    (``occupancies`` packed, ``loc``); ``deepsdf=True`` adds DeepSDF's
+    ``pos``/``neg`` arrays (16 more bytes a sample), so that either project's
+    loader reads the files as they are.
 
     ``engine``: ``"ray"`` or ``"local"``. ``workers`` meshes at a time (Ray:
     actors; default: the CPUs divided by ``threads``), each queried with
@@ -229,6 +234,7 @@ def sample_corpus(
         normalize=normalize,
         padding=None if padding is None else float(padding),
         compress=bool(compress),
+        deepsdf=deepsdf,
     )
     if engine not in ("ray", "local"):
         raise ValueError(f"engine: {engine!r} is not 'ray' or 'local'")

@@ -47,6 +47,7 @@ def main(argv=None):
     parser.add_argument("--threads", type=positive_int, default=None, help="threads per mesh (default 1)")
     parser.add_argument("--local-pool", choices=("thread", "process"), default="thread", help="the local engine's pool (default thread)")
     parser.add_argument("--compress", action="store_true", help="np.savez_compressed")
+    parser.add_argument("--deepsdf", action="store_true", help="also DeepSDF's pos/neg arrays (x, y, z, sdf rows split by sign)")
     parser.add_argument("--max-task-retries", type=int, default=3, help="Ray: retries of a mesh whose worker died (default 3)")
     parser.add_argument("--no-progress", action="store_true", help="no Ray progress bars")
     args = parser.parse_args(argv)
@@ -68,6 +69,7 @@ def main(argv=None):
             threads=args.threads,
             local_pool=args.local_pool,
             compress=args.compress,
+            deepsdf=args.deepsdf,
             max_task_retries=args.max_task_retries,
             progress=not args.no_progress,
         )

@@ -17,6 +17,16 @@ The npz layout (``np.load(path)``):
               exceeds 1/2 (right on open and self-intersecting meshes).
 ``occupancy`` bool (n,), only for ``kind="occupancy"``: ``sdf < 0`` (a point
               exactly on the surface counts outside).
+``occupancies`` uint8 (ceil(n / 8),) and
+``loc``       float64 (3,), only for ``kind="occupancy"``: the same occupancy
+              as ``np.packbits`` stores it, and ``offset`` again, under the
+              names Occupancy Networks' ``points.npz`` uses (its loader,
+              ``PointsField`` with ``unpackbits``, reads ``points``,
+              ``occupancies``, ``loc`` and ``scale`` from this file as is).
+``pos``, ``neg`` float32 (m, 4) and (n - m, 4), only with ``deepsdf=True``:
+              the rows ``(x, y, z, sdf)`` with ``sdf >= 0`` and ``sdf < 0``, in
+              the order of ``points``, as DeepSDF's ``SdfSamples`` files hold
+              them (its loader reads this file as is).
 ``grid``      float32 (N, N, N), only with ``grid=N``: the signed distance at
               the centres of the cells of the cube ``[-volume, volume]^3`` cut
               in N^3 cells; ``grid[i, j, k]`` is at
@@ -104,6 +114,7 @@ class Options:
     normalize: str = "unit-sphere"
     padding: Optional[float] = None
     compress: bool = False
+    deepsdf: bool = False
 
     def __post_init__(self):
         def check(ok, message):
@@ -125,6 +136,7 @@ class Options:
             f"padding: {self.padding!r} is not None or a finite number >= 0",
         )
         check(self.n_points > 0 or self.grid is not None, "nothing to sample: n_points is 0 and grid is None")
+        check(isinstance(self.deepsdf, (bool, np.bool_)), f"deepsdf: {self.deepsdf!r} is not True or False")
 
     @property
     def effective_padding(self) -> float:
@@ -146,7 +158,9 @@ class Options:
         """The arrays a complete output holds."""
         keys = ["points", "sdf", "scale", "offset", "volume", "n_near", "meta"]
         if self.kind == "occupancy":
-            keys.append("occupancy")
+            keys += ["occupancy", "occupancies", "loc"]
+        if self.deepsdf:
+            keys += ["pos", "neg"]
         if self.grid is not None:
             keys.append("grid")
         return keys
@@ -161,6 +175,8 @@ class Options:
         d["uniform_fraction"] = float(self.uniform_fraction)
         d["padding"] = self.effective_padding
         d.pop("compress")  # how the file is stored, not what it holds
+        if not self.deepsdf:
+            d.pop("deepsdf")  # absent from outputs written before the option existed
         return d
 
 
@@ -168,8 +184,10 @@ def memory_per_mesh(options: Options) -> Dict[str, int]:
     """The bytes one mesh's samples need at their peak, by the option that
     sizes them: ``{"n_points": ..., "grid": ...}`` (see BYTES_PER_SAMPLE)."""
     cells = int(options.grid) ** 3 if options.grid is not None else 0
+    # DeepSDF's rows: 16 bytes a sample, twice (the rows, then split), and a mask.
+    per_point = BYTES_PER_SAMPLE + (48 if options.deepsdf else 0)
     return {
-        "n_points": int(options.n_points) * BYTES_PER_SAMPLE,
+        "n_points": int(options.n_points) * per_point,
         # The grid array itself, and one chunk of it being computed.
         "grid": cells * 4 + min(cells, GRID_CHUNK) * BYTES_PER_SAMPLE,
     }
@@ -412,6 +430,14 @@ def sample_mesh(path, name: str, options: Options, threads: Optional[int] = None
     }
     if options.kind == "occupancy":
         arrays["occupancy"] = sdf < 0
+        # Occupancy Networks' points.npz names (im2mesh's PointsField).
+        arrays["occupancies"] = np.packbits(arrays["occupancy"])
+        arrays["loc"] = arrays["offset"]
+    if options.deepsdf:
+        # DeepSDF's SdfSamples: (x, y, z, sdf) rows split by sign.
+        rows = np.concatenate([points, sdf[:, None]], axis=1)
+        arrays["pos"] = np.ascontiguousarray(rows[sdf >= 0])
+        arrays["neg"] = np.ascontiguousarray(rows[sdf < 0])
     if options.grid is not None:
         t = time.perf_counter()
         n = int(options.grid)
