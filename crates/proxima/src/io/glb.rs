@@ -55,13 +55,12 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Mesh, LoadError> {
     let root: Value = serde_json::from_slice(json).map_err(|e| syntax(path, None, format!("JSON chunk: {e}")))?;
     let document = Document { root: &root, bin, path };
     document.check_extensions()?;
-    let mut out = Triangles {
-        positions: Vec::new(),
-        triangles: Vec::new(),
-        max_vertices: (bytes.len() as u64).saturating_mul(MAX_EXPANSION) + EXPANSION_ALLOWANCE,
-    };
     let instances = document.instances()?;
-    document.check_expansion(&instances, out.max_vertices)?;
+    // Vertex numbers are u32: the cap never lets them pass it.
+    let max_vertices =
+        ((bytes.len() as u64).saturating_mul(MAX_EXPANSION) + EXPANSION_ALLOWANCE).min(u64::from(u32::MAX));
+    document.check_expansion(&instances, max_vertices)?;
+    let mut out = Triangles::default();
     for (mesh, transform) in instances {
         document.add_mesh(mesh, &transform, &mut out)?;
     }
@@ -130,11 +129,11 @@ fn chunks<'a>(bytes: &'a [u8], path: &Path) -> Result<(&'a [u8], &'a [u8]), Load
     Ok((json, bin.unwrap_or(&[])))
 }
 
-/// The triangles gathered so far, and the vertex cap.
+/// The triangles gathered so far.
+#[derive(Default)]
 struct Triangles {
     positions: Vec<Vec3>,
     triangles: Vec<[u32; 3]>,
-    max_vertices: u64,
 }
 
 struct Document<'a> {
@@ -433,14 +432,9 @@ impl<'a> Document<'a> {
             if positions.components != 3 {
                 return Err(self.error(format!("accessors[{position}] (POSITION of {at}) is not a VEC3")));
             }
+            // Within u32 and the caps: check_expansion counted these very accessors.
             let first = out.positions.len() as u64;
             let vertices = positions.count as u64;
-            if first + vertices > out.max_vertices || first + vertices > u64::from(u32::MAX) {
-                return Err(self.error(format!(
-                    "{at}: the scene's instances add up to more than {} vertices ({MAX_EXPANSION} per byte of the file)",
-                    out.max_vertices.min(u64::from(u32::MAX))
-                )));
-            }
             out.positions.reserve(positions.count);
             for i in 0..positions.count {
                 let p = DVec3::new(positions.get(i, 0), positions.get(i, 1), positions.get(i, 2));
@@ -470,15 +464,6 @@ impl<'a> Document<'a> {
                     corners
                 }
             };
-            // Each corner adds at most one triangle (strips and fans), and
-            // instancing repeats them: the same cap as the vertices'.
-            if out.triangles.len() as u64 + corners.len() as u64 > 3 * out.max_vertices {
-                return Err(self.error(format!(
-                    "{at}: the scene's instances add up to more than {} triangles ({} per byte of the file)",
-                    3 * out.max_vertices,
-                    3 * MAX_EXPANSION
-                )));
-            }
             let offset = first as u32;
             let corner = |i: usize| corners[i] + offset;
             match mode {
