@@ -284,6 +284,12 @@ fn rich_file() -> Vec<u8> {
     b.file(document)
 }
 
+/// The error kind a malformed file must give.
+enum Expect {
+    Syntax,
+    Truncated,
+}
+
 #[test]
 fn malformed_files_are_typed_errors_naming_the_element() {
     let mut b = Builder::default();
@@ -335,76 +341,111 @@ fn malformed_files_are_typed_errors_naming_the_element() {
     bad_json[20] = b'[';
     is_syntax(syntax(bad_json, &["JSON chunk"]));
 
-    is_truncated(syntax(
-        with(&["accessors", "0", "count"], json!(9)),
-        &["accessors[0]", "bufferViews[0]"],
-    ));
-    is_truncated(syntax(
-        with(&["accessors", "0", "byteOffset"], json!(4)),
-        &["accessors[0]"],
-    ));
-    is_truncated(syntax(
-        with(&["bufferViews", "1", "byteLength"], json!(1 << 20)),
-        &["bufferViews[1]", "binary chunk"],
-    ));
-    is_syntax(syntax(
-        with(&["bufferViews", "0", "byteStride"], json!(4)),
-        &["byteStride"],
-    ));
-    is_syntax(syntax(
-        with(&["accessors", "0", "type"], json!("VEC2")),
-        &["not a VEC3", "POSITION"],
-    ));
-    is_syntax(syntax(
-        with(&["accessors", "1", "componentType"], json!(5120)),
-        &["indices", "SCALAR of unsigned"],
-    ));
-    is_syntax(syntax(
-        with(&["accessors", "1", "componentType"], json!(1234)),
-        &["componentType is 1234"],
-    ));
-    is_syntax(syntax(
-        with(&["accessors", "0", "sparse"], json!({"count": 1})),
-        &["sparse"],
-    ));
-    is_syntax(syntax(
-        with(&["buffers", "0", "uri"], json!("cube.bin")),
-        &["buffers[0] has a uri"],
-    ));
-    is_syntax(syntax(
-        with(&["meshes", "0", "primitives", "0", "mode"], json!(9)),
-        &["mode is 9"],
-    ));
-    is_syntax(syntax(
-        with(&["meshes", "0", "primitives", "0", "indices"], json!(7)),
-        &["accessors[7]", "does not exist"],
-    ));
-    is_syntax(syntax(
-        with(&["meshes", "0", "primitives", "0", "attributes"], json!({})),
-        &["no POSITION"],
-    ));
-    is_syntax(syntax(with(&["nodes", "0", "mesh"], json!(3)), &["meshes[3]"]));
-    is_syntax(syntax(
-        with(&["nodes", "0", "children"], json!([0])),
-        &["nodes[0] is reached twice"],
-    ));
-    is_syntax(syntax(
-        with(&["nodes"], json!([{"children": [1, 1]}, {"mesh": 0}])),
-        &["nodes[1] is reached twice"],
-    ));
-    is_syntax(syntax(
-        with(&["nodes", "0", "matrix"], json!([1, 0, 0])),
-        &["nodes[0].matrix", "16 finite numbers"],
-    ));
-    is_syntax(syntax(
-        with(&["nodes", "0", "rotation"], json!([0, 0, 0, 0])),
-        &["zero quaternion"],
-    ));
-    is_syntax(syntax(with(&["scene"], json!(4)), &["scenes[4]"]));
-    is_syntax(syntax(
-        with(&["extensionsRequired"], json!(["KHR_draco_mesh_compression"])),
-        &["KHR_draco_mesh_compression"],
-    ));
+    // Edits of the good document: the error kind, the JSON path, its new value, words the message names.
+    use Expect::{Syntax, Truncated};
+    let edits: Vec<(Expect, &[&str], Value, &[&str])> = vec![
+        (
+            Truncated,
+            &["accessors", "0", "count"],
+            json!(9),
+            &["accessors[0]", "bufferViews[0]"],
+        ),
+        (
+            Truncated,
+            &["accessors", "0", "byteOffset"],
+            json!(4),
+            &["accessors[0]"],
+        ),
+        (
+            Truncated,
+            &["bufferViews", "1", "byteLength"],
+            json!(1 << 20),
+            &["bufferViews[1]", "binary chunk"],
+        ),
+        (Syntax, &["bufferViews", "0", "byteStride"], json!(4), &["byteStride"]),
+        (
+            Syntax,
+            &["accessors", "0", "type"],
+            json!("VEC2"),
+            &["not a VEC3", "POSITION"],
+        ),
+        (
+            Syntax,
+            &["accessors", "1", "componentType"],
+            json!(5120),
+            &["indices", "SCALAR of unsigned"],
+        ),
+        (
+            Syntax,
+            &["accessors", "1", "componentType"],
+            json!(1234),
+            &["componentType is 1234"],
+        ),
+        (Syntax, &["accessors", "0", "sparse"], json!({"count": 1}), &["sparse"]),
+        (
+            Syntax,
+            &["buffers", "0", "uri"],
+            json!("cube.bin"),
+            &["buffers[0] has a uri"],
+        ),
+        (
+            Syntax,
+            &["meshes", "0", "primitives", "0", "mode"],
+            json!(9),
+            &["mode is 9"],
+        ),
+        (
+            Syntax,
+            &["meshes", "0", "primitives", "0", "indices"],
+            json!(7),
+            &["accessors[7]", "does not exist"],
+        ),
+        (
+            Syntax,
+            &["meshes", "0", "primitives", "0", "attributes"],
+            json!({}),
+            &["no POSITION"],
+        ),
+        (Syntax, &["nodes", "0", "mesh"], json!(3), &["meshes[3]"]),
+        (
+            Syntax,
+            &["nodes", "0", "children"],
+            json!([0]),
+            &["nodes[0] is reached twice"],
+        ),
+        (
+            Syntax,
+            &["nodes"],
+            json!([{"children": [1, 1]}, {"mesh": 0}]),
+            &["nodes[1] is reached twice"],
+        ),
+        (
+            Syntax,
+            &["nodes", "0", "matrix"],
+            json!([1, 0, 0]),
+            &["nodes[0].matrix", "16 finite numbers"],
+        ),
+        (
+            Syntax,
+            &["nodes", "0", "rotation"],
+            json!([0, 0, 0, 0]),
+            &["zero quaternion"],
+        ),
+        (Syntax, &["scene"], json!(4), &["scenes[4]"]),
+        (
+            Syntax,
+            &["extensionsRequired"],
+            json!(["KHR_draco_mesh_compression"]),
+            &["KHR_draco_mesh_compression"],
+        ),
+    ];
+    for (expect, path, value, words) in edits {
+        let kind = syntax(with(path, value), words);
+        match expect {
+            Syntax => is_syntax(kind),
+            Truncated => is_truncated(kind),
+        }
+    }
     // An index past the vertices.
     let mut bin = b.bin.clone();
     let index_view = b.views[1]["byteOffset"].as_u64().unwrap() as usize;
