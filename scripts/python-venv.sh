@@ -6,6 +6,9 @@
 #                                       requirements files
 #   proxima_install VENV                builds and installs crates/proxima-py
 #                                       into VENV (release, maturin)
+#   proxima_bench_install VENV          the same, for the benchmarks' run
+#                                       scripts: skipped when
+#                                       PROXIMA_BENCH_SKIP_INSTALL=1
 #
 # maturin is installed into the venv (rather than pip making an isolated
 # build environment each time) so that builds reuse cargo's target directory;
@@ -30,4 +33,11 @@ proxima_venv() {
 
 proxima_install() {
   "$1/bin/python" -m pip install --quiet --no-build-isolation --no-deps --force-reinstall "$proxima_repo/crates/proxima-py"
+}
+
+proxima_bench_install() {
+  if [ "${PROXIMA_BENCH_SKIP_INSTALL:-0}" != 1 ]; then
+    echo "installing proxima from $proxima_repo/crates/proxima-py (maturin, release build)" >&2
+    proxima_install "$1"
+  fi
 }

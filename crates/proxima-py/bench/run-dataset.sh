@@ -10,8 +10,5 @@ repo="$(cd "$here/../../.." && pwd)"
 venv="${PROXIMA_DATASET_VENV:-$repo/target/py-dataset-venv}"
 source "$repo/scripts/python-venv.sh"
 proxima_venv "$venv" "$here/requirements-dataset.txt"
-if [ "${PROXIMA_BENCH_SKIP_INSTALL:-0}" != 1 ]; then
-    echo "installing proxima from $here/.. (maturin, release build)" >&2
-    proxima_install "$venv"
-fi
+proxima_bench_install "$venv"
 exec "$venv/bin/python" "$here/dataset_bench.py" "$@"

@@ -17,8 +17,5 @@ if ! "$venv/bin/python" -c "import open3d" >/dev/null 2>&1; then
     fi
     "$venv/bin/python" -c "import open3d" >/dev/null 2>&1 || echo "note: open3d does not import; its rows will be skipped" >&2
 fi
-if [ "${PROXIMA_BENCH_SKIP_INSTALL:-0}" != 1 ]; then
-    echo "installing proxima from $here/.. (maturin, release build)" >&2
-    proxima_install "$venv"
-fi
+proxima_bench_install "$venv"
 exec "$venv/bin/python" "$here/bench.py" "$@"
