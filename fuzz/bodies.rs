@@ -491,7 +491,7 @@ pub fn hash_grid(data: &[u8]) {
 /// cell (the oracle of `tests/traversal.rs`).
 pub fn brute_walk(layout: &GridLayout, o: Vec3, d: Vec3, t_min: f32, t_max: f32) -> Vec<TraversalStep> {
     let (o64, inv) = (o.to_array().map(|x| x as f64), d.to_array().map(|x| 1.0 / x as f64));
-    let crossing = |a: usize, n: i64| (layout.boundary(a, n) as f64 - o64[a]) * inv[a];
+    let crossing = |a: usize, n: i64| (layout.boundary(a, n) - o64[a]) * inv[a];
     let (p0, p1) = (o + d * t_min, o + d * t_max);
     let (s, g) = (layout.cell_size(), layout.origin());
     let lo: [i64; 3] = std::array::from_fn(|a| ((p0[a].min(p1[a]) - g[a]) / s[a]).floor() as i64 - 2);
@@ -506,7 +506,7 @@ pub fn brute_walk(layout: &GridLayout, o: Vec3, d: Vec3, t_min: f32, t_max: f32)
                 for a in 0..3 {
                     if d[a] == 0.0 {
                         let (b0, b1) = (layout.boundary(a, cell[a]), layout.boundary(a, cell[a] + 1));
-                        inside &= b0 <= o[a] && o[a] < b1;
+                        inside &= b0 <= o64[a] && o64[a] < b1;
                     } else {
                         let (c0, c1) = (crossing(a, cell[a]), crossing(a, cell[a] + 1));
                         t0 = t0.max(c0.min(c1));

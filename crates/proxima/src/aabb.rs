@@ -1,6 +1,6 @@
 //! Axis-aligned bounding boxes.
 
-use crate::math::{Vec3, Vec3A};
+use crate::math::{DVec3, Vec3, Vec3A};
 
 /// An axis-aligned box, closed: points on its faces belong to it.
 ///
@@ -106,6 +106,32 @@ impl Aabb {
     pub fn grow(&mut self, p: Vec3) {
         self.min = self.min.min(p);
         self.max = self.max.max(p);
+    }
+
+    /// The smallest `f32` box holding the `f64` box `[min, max]`: each bound
+    /// rounded outward where it is not an `f32` (a grid's exact cell planes,
+    /// for example).
+    ///
+    /// ```
+    /// use proxima::{Aabb, DVec3, Vec3};
+    /// let third = 1.0 / 3.0;
+    /// let b = Aabb::enclosing(DVec3::splat(third), DVec3::splat(1.0));
+    /// assert!((b.min.x as f64) < third && b.min.x == (third as f32).next_down().max(b.min.x));
+    /// assert_eq!(b.max, Vec3::ONE);
+    /// ```
+    pub fn enclosing(min: DVec3, max: DVec3) -> Aabb {
+        let down = |x: f64| {
+            let r = x as f32;
+            if r as f64 > x { r.next_down() } else { r }
+        };
+        let up = |x: f64| {
+            let r = x as f32;
+            if (r as f64) < x { r.next_up() } else { r }
+        };
+        Aabb::new(
+            Vec3::new(down(min.x), down(min.y), down(min.z)),
+            Vec3::new(up(max.x), up(max.y), up(max.z)),
+        )
     }
 
     /// The smallest box holding both boxes.

@@ -257,9 +257,25 @@ pub enum GridError {
         /// Index of the primitive in the input.
         index: usize,
     },
-    /// A point whose cell index does not fit the supported range (|index| < 2^52).
+    /// A point whose cell index does not fit the layout's range: beyond
+    /// [`GridLayout::max_index`](crate::grid::GridLayout::max_index), where
+    /// cell planes stop being exact in `f64` (at most 2^50).
     #[error("a coordinate lies too far from the grid origin for the cell size (cell index out of range)")]
     OutOfRange,
+    /// A grid origin whose lowest bits lie so far below the cell size's that
+    /// the planes `origin + i · size` next to it need more than `f64`'s 53
+    /// bits: not even cell 0 could be placed exactly.
+    #[error(
+        "grid origin {origin:e} along {axis} has bits far below those of the cell size {size:e}: its cell planes cannot be exact (round the origin to a multiple of the cell size)"
+    )]
+    InexactPlanes {
+        /// The axis, `x`, `y` or `z`.
+        axis: char,
+        /// The origin's coordinate along it.
+        origin: f32,
+        /// The cell size along it.
+        size: f32,
+    },
     /// A primitive whose cell indices do not fit the supported range
     /// ([`OutOfRange`](GridError::OutOfRange) met while building a grid).
     #[error("primitive {index} lies too far from the grid origin for the cell size (cell index out of range)")]

@@ -34,8 +34,8 @@
 //!
 //! The walk ends when `t_max` is reached, after `max_steps` cells, with the
 //! cell whose exit parameter no longer fits `f32` (yielded with
-//! `t_exit = ∞`), or when a cell index would leave `±2^50`
-//! ([`MAX_CELL_INDEX`]) — never later: with `t_max = ∞` and no step limit it
+//! `t_exit = ∞`), or when a cell index would leave the layout's range
+//! ([`GridLayout::max_index`], at most `±2^50`) — never later: with `t_max = ∞` and no step limit it
 //! is merely very long. The parameters are
 //! tracked in `f64`, so huge `t` does not stall the walk; they are yielded as
 //! `f32`.
@@ -61,7 +61,7 @@
 
 use crate::error::GridError;
 use crate::exact::{Exact, common_scale, integer};
-use crate::grid::{Cell, GridLayout, MAX_CELL_INDEX, last_true};
+use crate::grid::{Cell, GridLayout, last_true};
 use crate::math::Vec3;
 use num_bigint::BigInt;
 use std::cmp::Ordering;
@@ -214,12 +214,13 @@ impl GridTraversal {
         for a in 0..3 {
             let start = o[a] + t0 * d[a];
             let guess = ((start - layout.origin()[a] as f64) / layout.cell_size()[a] as f64).floor();
+            let max = layout.max_index(a);
             let index = match walk.step[a] {
                 // The last cell entered at or before t0.
-                1 => last_true(guess, |i| walk.compare_with(a, i, t0) != Ordering::Greater),
+                1 => last_true(guess, max, |i| walk.compare_with(a, i, t0) != Ordering::Greater),
                 // Going down, cell i is entered at b(i + 1) and left at b(i).
-                -1 => last_true(guess, |i| walk.compare_with(a, i, t0) == Ordering::Greater),
-                _ => last_true(guess, |i| layout.boundary(a, i) as f64 <= o[a]),
+                -1 => last_true(guess, max, |i| walk.compare_with(a, i, t0) == Ordering::Greater),
+                _ => last_true(guess, max, |i| layout.boundary(a, i) <= o[a]),
             };
             walk.cell[a] = index.ok_or(GridError::OutOfRange)?;
             if walk.step[a] != 0 {
@@ -232,7 +233,7 @@ impl GridTraversal {
     /// Parameter where the ray crosses the boundary `b_axis(index)`, rounded.
     #[inline]
     fn crossing(&self, axis: usize, index: i64) -> f64 {
-        (self.layout.boundary(axis, index) as f64 - self.origin[axis]) * self.inv[axis]
+        (self.layout.boundary(axis, index) - self.origin[axis]) * self.inv[axis]
     }
 
     /// The exact crossing parameter of `b_axis(index)` compared with `t`:
@@ -240,18 +241,13 @@ impl GridTraversal {
     fn compare_with(&self, axis: usize, index: i64, t: f64) -> Ordering {
         let c = self.crossing(axis, index);
         let slack = CROSSING_SLACK * c.abs().max(t.abs());
-        if !c.is_finite() {
-            // A boundary beyond f32 (far from the origin for its cell size):
-            // infinitely far along the ray, which the rounded value says exactly.
-            return c.partial_cmp(&t).unwrap_or(Ordering::Equal);
-        }
         if c < t - slack {
             Ordering::Less
         } else if c > t + slack {
             Ordering::Greater
         } else {
             exact_crossing_vs(
-                self.layout.boundary(axis, index) as f64,
+                self.layout.boundary(axis, index),
                 self.origin[axis],
                 self.direction[axis],
                 t,
@@ -261,14 +257,9 @@ impl GridTraversal {
 
     /// The exact order of the crossings of `b_a(n)` and `b_b(m)` (both axes moving).
     fn compare_crossings(&self, a: usize, n: i64, b: usize, m: i64) -> Ordering {
-        let (ca, cb) = (self.crossing(a, n), self.crossing(b, m));
-        if !(ca.is_finite() && cb.is_finite()) {
-            // Boundaries beyond f32: see `compare_with`.
-            return ca.partial_cmp(&cb).unwrap_or(Ordering::Equal);
-        }
         exact_crossings(
-            [self.layout.boundary(a, n) as f64, self.origin[a], self.direction[a]],
-            [self.layout.boundary(b, m) as f64, self.origin[b], self.direction[b]],
+            [self.layout.boundary(a, n), self.origin[a], self.direction[a]],
+            [self.layout.boundary(b, m), self.origin[b], self.direction[b]],
         )
     }
 
@@ -284,7 +275,7 @@ impl GridTraversal {
     #[inline(always)]
     fn advance(&mut self, a: usize) -> bool {
         let next = self.cell[a] + self.step[a];
-        if next.unsigned_abs() > MAX_CELL_INDEX as u64 {
+        if next.abs() > self.layout.max_index(a) {
             return false;
         }
         self.cell[a] = next;
@@ -315,7 +306,7 @@ impl GridTraversal {
 
     /// After the crossing of `b_m(n)` at rounded parameter `t`: steps every
     /// axis whose next crossing is exactly at or before it — the crossing
-    /// axis, the other axes of an edge or corner, and zero-width cells — until
+    /// axis and the other axes of an edge or corner — until
     /// the current cell has positive length. `false` when an index would
     /// leave the supported range.
     #[cold]

@@ -17,6 +17,7 @@ mod bodies;
 mod common;
 
 use common::degenerate::{Case, cases};
+use common::exact::{ExactBox, triangle_touches_exact_box};
 use proxima::bvh::{MAX_COORDINATE, SplitMethod};
 use proxima::grid::{GridConfig, GridLayout, HashGrid, VoxelConfig, voxelize};
 use proxima::prelude::*;
@@ -92,7 +93,12 @@ fn grids_equal_brute_force_on_every_case() {
 #[test]
 fn walks_from_cell_corners_edges_and_faces_equal_the_oracle() {
     let layout = GridLayout::new(Vec3::new(0.0, 0.5, -0.25), Vec3::new(0.5, 0.25, 1.0)).unwrap();
-    let b = |i: i64, j: i64, k: i64| Vec3::new(layout.boundary(0, i), layout.boundary(1, j), layout.boundary(2, k));
+    // Round extents: every plane is an f32, so these points lie ON them.
+    let b = |i: i64, j: i64, k: i64| {
+        let (lo, _) = layout.cell_bounds([i, j, k]);
+        assert_eq!(lo.as_vec3().as_dvec3(), lo);
+        lo.as_vec3()
+    };
     let corner = b(1, -2, 3);
     let starts = [
         corner,
@@ -141,15 +147,21 @@ fn voxelization_of_degenerate_cases() {
         let bounds = proxima::Aabb::from_points(case.positions.iter().copied());
         match voxelize(&tris, &bounds, &VoxelConfig::new(4)) {
             Ok(voxels) => {
-                // Exactly the cells some triangle's own overlap test accepts.
+                // Exactly the cells the exact oracle finds some triangle touching.
                 let layout = *voxels.layout();
+                let (origin, size) = (layout.origin(), layout.cell_size());
                 let mut want: Vec<_> = tris
                     .iter()
                     .flat_map(|t| {
+                        // The library's range widened by a cell: the oracle decides the edges.
                         let range = layout.cell_range(&proxima::Bounded::bounds(t)).unwrap();
+                        let range = proxima::grid::CellRange {
+                            min: range.min.map(|i| i - 1),
+                            max: range.max.map(|i| i + 1),
+                        };
                         range
                             .iter()
-                            .filter(|&c| proxima::BoxOverlap::overlaps_box(t, &layout.cell_box(c)))
+                            .filter(|&c| triangle_touches_exact_box(t, &ExactBox::of_cell(origin, size, c)))
                             .collect::<Vec<_>>()
                     })
                     .filter(|c| c.iter().all(|&i| (0..4).contains(&i)))

@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::oracle::{Q, clip_by_box};
+use common::oracle::{D3, Q, clip_by_bounds};
 use proxima::grid::{
     Cell, ClassicHash, FastHash, GridConfig, GridInsert, GridLayout, HashGrid, InsertMethod, InsertParams, VoxelConfig,
     voxelize,
@@ -24,35 +24,35 @@ use std::sync::OnceLock;
 /// The oracle. Decided in f64 when shrinking and growing the box by a hair
 /// does not change the answer; otherwise (touching, within rounding) exactly
 /// for small dyadic coordinates, and in f64 on the box itself for others.
-fn clip_oracle(points: &[Vec3], b: &Aabb) -> bool {
+/// The box is a grid cell with exact `f64` planes.
+fn clip_oracle(points: &[Vec3], lo: D3, hi: D3) -> bool {
     let scale = points
         .iter()
-        .chain(&[b.min, b.max])
-        .map(|p| p.abs().max_element())
-        .fold(0.0f32, f32::max);
-    let hair = Vec3::splat(scale * 1e-6);
-    let (inner, outer) = (
-        Aabb::new(b.min + hair, b.max - hair),
-        Aabb::new(b.min - hair, b.max + hair),
-    );
-    if !inner.is_empty() && clip_by_box::<f64>(points, &inner) {
+        .map(|p| p.abs().max_element() as f64)
+        .chain(lo.iter().chain(&hi).map(|x| x.abs()))
+        .fold(0.0f64, f64::max);
+    let hair = scale * 1e-6;
+    let (inner_lo, inner_hi) = (lo.map(|x| x + hair), hi.map(|x| x - hair));
+    if (0..3).all(|a| inner_lo[a] <= inner_hi[a]) && clip_by_bounds::<f64>(points, inner_lo, inner_hi) {
         return true;
     }
-    if !clip_by_box::<f64>(points, &outer) {
+    if !clip_by_bounds::<f64>(points, lo.map(|x| x - hair), hi.map(|x| x + hair)) {
         return false;
     }
-    let dyadic = |x: f32| {
-        let s = x as f64 * 1024.0;
+    let dyadic = |x: f64| {
+        let s = x * 1024.0;
         s == s.trunc() && s.abs() < 1e9
     };
     let all = points
         .iter()
-        .chain(&[b.min, b.max])
-        .all(|p| p.to_array().into_iter().all(dyadic));
+        .flat_map(|p| p.to_array().map(|x| x as f64))
+        .chain(lo)
+        .chain(hi)
+        .all(dyadic);
     if all {
-        clip_by_box::<Q>(points, b)
+        clip_by_bounds::<Q>(points, lo, hi)
     } else {
-        clip_by_box::<f64>(points, b)
+        clip_by_bounds::<f64>(points, lo, hi)
     }
 }
 
@@ -67,7 +67,11 @@ fn brute_cells(points: &[Vec3], layout: &GridLayout) -> Vec<Cell> {
     for k in lo[2]..=hi[2] {
         for j in lo[1]..=hi[1] {
             for i in lo[0]..=hi[0] {
-                if clip_oracle(points, &layout.cell_box([i, j, k])) {
+                // The cell's planes o + i · s, exact in f64 for these grids.
+                let plane = |a: usize, n: i64| o[a] as f64 + n as f64 * s[a] as f64;
+                let lo = [plane(0, i), plane(1, j), plane(2, k)];
+                let hi = [plane(0, i + 1), plane(1, j + 1), plane(2, k + 1)];
+                if clip_oracle(points, lo, hi) {
                     out.push([i, j, k]);
                 }
             }
@@ -692,4 +696,76 @@ fn raycast_matches_brute_force() {
         grid.first_hit(Vec3::splat(f32::NAN), Vec3::X, 0.0, 1.0).unwrap_err(),
         GridError::RayOrigin
     );
+}
+
+/// The planes are `origin + i · size` exactly, as exact rationals say, up to
+/// the layout's own index limit and one past it; a coordinate beyond the
+/// limit is out of range, not placed by a rounded plane; an origin whose
+/// planes cannot be exact even beside it is refused.
+#[test]
+fn planes_are_exact_up_to_the_layouts_limit() {
+    use num_rational::BigRational;
+    let q = |x: f64| BigRational::from_float(x).unwrap();
+    let mut rng = Rng::new(77);
+    let mut limits = Vec::new();
+    for n in 0..400 {
+        let origin = match n % 4 {
+            0 => 0.0,
+            1 => rng.range(-1.0, 1.0),
+            2 => rng.range(-1e4, 1e4),
+            _ => rng.range(-1e-6, 1e-6),
+        };
+        let size = match n % 3 {
+            0 => rng.range(1e-3, 1.0),
+            1 => 2f32.powi(rng.range(-20.0, 10.0) as i32),
+            _ => rng.range(1.0, 100.0),
+        };
+        let layout = match GridLayout::new(Vec3::splat(origin), Vec3::splat(size)) {
+            Ok(layout) => layout,
+            Err(e) => {
+                assert!(matches!(e, GridError::InexactPlanes { .. }), "{e}");
+                continue;
+            }
+        };
+        let max = layout.max_index(0);
+        limits.push(max);
+        assert!((1..=proxima::grid::MAX_CELL_INDEX).contains(&max));
+        for i in [0, 1, -1, 7, max / 3, -max / 2, max, -max, max + 1, -max - 1] {
+            if i.abs() > max + 1 {
+                continue;
+            }
+            let plane = q(origin as f64) + BigRational::from_integer(i.into()) * q(size as f64);
+            assert_eq!(q(layout.boundary(0, i)), plane, "origin {origin} size {size} plane {i}");
+        }
+        // Beyond the limit: out of range (the planes there need not be exact).
+        let far = (origin as f64 + (max as f64 + 4.0) * size as f64) as f32;
+        if far.is_finite() && (far as f64 - origin as f64) / size as f64 > max as f64 + 1.0 {
+            assert_eq!(layout.cell_of(Vec3::new(far, 0.0, 0.0)), Err(GridError::OutOfRange));
+        }
+    }
+    limits.sort_unstable();
+    println!(
+        "{} layouts, index limits from {} to {}",
+        limits.len(),
+        limits[0],
+        limits[limits.len() - 1]
+    );
+    // An origin of 1e-30 beside cells of 1: the first plane, 1 + 1e-30, needs 100 bits.
+    let e = GridLayout::new(Vec3::new(0.0, 1e-30, 0.0), Vec3::ONE).unwrap_err();
+    assert!(matches!(e, GridError::InexactPlanes { axis: 'y', .. }), "{e}");
+    assert!(e.to_string().contains("cannot be exact"), "{e}");
+    // Voxelizing a box whose minimum is 1e-30 still works: its origin is rounded down.
+    let tris = [Triangle::new(
+        Vec3::new(1e-30, 0.0, 0.0),
+        Vec3::new(1.0, 1.0, 0.0),
+        Vec3::new(0.0, 1.0, 1.0),
+    )];
+    let vox = voxelize(
+        &tris,
+        &Aabb::new(Vec3::new(1e-30, 0.0, 0.0), Vec3::ONE),
+        &VoxelConfig::new(8),
+    )
+    .unwrap();
+    assert!(vox.layout().origin().x <= 1e-30 && vox.layout().origin().x > -1e-6);
+    assert!(vox.occupied() > 0);
 }

@@ -1,12 +1,13 @@
 //! Exactness on lattice-aligned meshes: vertices that lie exactly on cell
-//! planes (or one `f32` step off them), triangles lying in cell faces, edges
-//! along cell edges. Voxelization and the hash grid (both insertion methods)
+//! planes or a few `f32` steps off them (on either side), triangles lying in
+//! cell faces, edges along cell edges, meshes written as decimal text and
+//! read back. Voxelization and the hash grid (both insertion methods)
 //! must report exactly the SET of cells an exact integer oracle finds
 //! (`common::exact`, cross-checked against exact rational clipping).
 
 mod common;
 
-use common::exact::{triangle_touches_box, triangle_touches_box_by_clipping};
+use common::exact::{ExactBox, triangle_touches_exact_box, triangle_touches_exact_box_by_clipping};
 use proxima::grid::{
     Cell, FastHash, GridConfig, GridInsert, GridLayout, HashGrid, InsertMethod, VoxelConfig, voxelize,
 };
@@ -16,10 +17,11 @@ use proxima::{Aabb, ConvexPolygon, LineSegment, Triangle, Vec3};
 use rayon::prelude::*;
 use std::collections::BTreeSet;
 
-/// The cells whose closed boxes (`layout.cell_box`, the grid's definition of
-/// its cells) touch the triangle, by the exact oracle. Candidates: the cells
-/// around the triangle's box, found by an `f64` estimate widened by one cell
-/// on each side, so that the oracle decides every boundary itself.
+/// The cells whose closed boxes (planes `origin + i · size` exactly, the
+/// grid's definition of its cells, computed by the oracle itself) touch the
+/// triangle, by the exact oracle. Candidates: the cells around the
+/// triangle's box, found by an `f64` estimate widened by one cell on each
+/// side, so that the oracle decides every boundary itself.
 fn oracle_cells(t: &Triangle, layout: &GridLayout, clip: bool) -> Vec<Cell> {
     let b = Aabb::from_points(t.vertices());
     let (o, s) = (layout.origin(), layout.cell_size());
@@ -30,12 +32,23 @@ fn oracle_cells(t: &Triangle, layout: &GridLayout, clip: bool) -> Vec<Cell> {
     for k in lo[2]..=hi[2] {
         for j in lo[1]..=hi[1] {
             for i in lo[0]..=hi[0] {
-                let cell_box = layout.cell_box([i, j, k]);
-                let touches = triangle_touches_box(t, &cell_box);
+                // Cells clearly apart from the triangle's box (by more than
+                // any rounding of the f64 planes) need no exact test.
+                let plane = |a: usize, n: i64| o[a] as f64 + n as f64 * s[a] as f64;
+                let apart = (0..3).any(|a| {
+                    let n = [i, j, k][a];
+                    let hair = 1e-9 * (plane(a, n).abs() + s[a] as f64);
+                    plane(a, n) - hair > b.max[a] as f64 || (b.min[a] as f64) > plane(a, n + 1) + hair
+                });
+                if apart {
+                    continue;
+                }
+                let cell_box = ExactBox::of_cell(o, s, [i, j, k]);
+                let touches = triangle_touches_exact_box(t, &cell_box);
                 if clip {
                     assert_eq!(
                         touches,
-                        triangle_touches_box_by_clipping(t, &cell_box),
+                        triangle_touches_exact_box_by_clipping(t, &cell_box),
                         "the two exact oracles disagree on {t:?} and cell {:?}",
                         [i, j, k]
                     );
@@ -269,6 +282,46 @@ fn lattice_line_triangles(count: usize, n: i64, seed: u64, lattice: impl Fn(usiz
         .collect()
 }
 
+/// `x` moved by `steps` `f32` steps (up for positive).
+fn ulps(x: f32, steps: i32) -> f32 {
+    let mut y = x;
+    for _ in 0..steps.unsigned_abs() {
+        y = if steps > 0 { y.next_up() } else { y.next_down() };
+    }
+    y
+}
+
+/// Every vertex coordinate moved by −3 to +3 `f32` steps: the `n`-th
+/// distinct vertex (in order of first appearance) takes the `n mod 343`-th
+/// of the 7³ combinations, so that with 343 vertices or more each is seen.
+/// A vertex shared by several triangles moves once. With `in_plane`, a pair
+/// of triangles (a quad `a b c`, `a c d`) lying in a plane of constant
+/// coordinate keeps that coordinate, so the quad stays planar. Returns the
+/// moved triangles and how many combinations were used.
+fn moved_by_ulps(tris: &[Triangle], in_plane: bool) -> (Vec<Triangle>, usize) {
+    use std::collections::HashMap;
+    let mut order: HashMap<[u32; 3], usize> = HashMap::new();
+    let mut seen = BTreeSet::new();
+    let mut out = Vec::with_capacity(tris.len());
+    for pair in tris.chunks(if in_plane { 2 } else { 1 }) {
+        let points: Vec<Vec3> = pair.iter().flat_map(|t| t.vertices()).collect();
+        let fixed = (0..3).find(|&a| in_plane && points.iter().all(|p| p[a] == points[0][a]));
+        for t in pair {
+            let [a, b, c] = t.vertices().map(|v| {
+                let next = order.len();
+                let n = *order.entry(v.to_array().map(f32::to_bits)).or_insert(next) % 343;
+                let combo = [n % 7, n / 7 % 7, n / 49].map(|d| d as i32 - 3);
+                seen.insert(combo);
+                Vec3::from_array(std::array::from_fn(|a| {
+                    if Some(a) == fixed { v[a] } else { ulps(v[a], combo[a]) }
+                }))
+            });
+            out.push(Triangle::new(a, b, c));
+        }
+    }
+    (out, seen.len())
+}
+
 /// The largest `f32` below `x`.
 fn next_down(x: f32) -> f32 {
     if x > 0.0 {
@@ -308,7 +361,8 @@ fn rescaled_and_snapped(tris: &[Triangle], half: f32, resolution: u32) -> (Vec<T
 
 // ----------------------------------------------------------------- tests ---
 
-/// Lattice planes as the grid computes them: `f32(origin + i · cell)`.
+/// The `f32` nearest each of the grid's exact planes `origin + i · cell`: on
+/// the plane when it is an `f32`, within half a step of it otherwise.
 fn grid_planes(origin: f32, cell: f32) -> impl Fn(usize, i64) -> f32 {
     move |_, i| (origin as f64 + i as f64 * cell as f64) as f32
 }
@@ -427,4 +481,97 @@ fn real_meshes_rescaled_onto_the_lattice() {
             );
         }
     }
+}
+
+/// The two triangles of the issue that found the rounded planes: vertices
+/// 0.4 `f32` step beside the grid's exact planes (origin −0.05, cells of
+/// 0.1/32 as `f32`), which rounded planes put ON them. Exactly 220 cells are
+/// touched (counted by exact rational clipping when the issue was filed).
+#[test]
+fn vertices_a_fraction_of_a_step_off_the_planes() {
+    // The file of the issue, read as a user's file is.
+    let off = "OFF\n6 2 0\n\
+        -0.0437499993 -0.0500000007 -0.0375000015\n\
+        -0.0437199995 -0.0437199995 -0.0381130017\n\
+        -0.0437499993 -0.0437499993 -0.0375000015\n\
+        -0.0500000007 -0.0500000007 -0.0500000007\n\
+        0.0500000007 0.0500000007 0.0500000007\n\
+        0.0500000007 0.0500000007 0.0499000000\n\
+        3 0 1 2\n3 3 4 5\n";
+    let mesh = proxima::io::parse(off.as_bytes(), proxima::io::Format::Off, std::path::Path::new("tri.off")).unwrap();
+    let tris = mesh.triangles().primitives;
+    let bounds = Aabb::from_points(tris.iter().flat_map(|t| t.vertices()));
+    let vox = voxelize(&tris, &bounds, &VoxelConfig::new(32)).unwrap();
+    assert_eq!(vox.occupied(), 220);
+    // The first triangle's lowest x is 2.00000045 cells from the origin and
+    // its largest z 3.9999997 cells: no cell with i = 1 or k = 4 touches it.
+    for cell in [[1, 0, 3], [1, 1, 3], [1, 1, 4], [1, 0, 4], [1, 2, 3], [1, 2, 4]] {
+        assert!(!vox.contains(cell), "{cell:?}");
+    }
+    check_voxelize("the issue's two triangles", &tris, &bounds, 32);
+    check_voxelize("the issue's two triangles", &tris, &bounds, 64);
+}
+
+#[test]
+fn lattice_meshes_moved_a_few_steps_off_the_planes() {
+    for (half, n, seed) in [(0.05f32, 8u32, 21u64), (1.0, 8, 22), (3.0, 10, 23), (1e-3, 8, 24)] {
+        let cell = 2.0 * half / n as f32;
+        let (origin, size) = (Vec3::splat(-half), Vec3::splat(cell));
+        let bounds = Aabb::new(origin, Vec3::splat(half));
+        let surface = voxel_surface(n as i64, seed, grid_planes(-half, cell));
+        let (moved, combos) = moved_by_ulps(&surface, false);
+        assert_eq!(combos, 343, "every combination of moves on the voxel surface ±{half}");
+        let name = format!("voxel surface ±{half} moved by ulps");
+        check_voxelize(&name, &moved, &bounds, n);
+        check_voxelize(&name, &moved, &bounds, n / 2);
+        check_grid(&name, &moved, origin, size);
+        check_edge_grid(&name, &moved, origin, size);
+        let (planar, _) = moved_by_ulps(&surface, true);
+        check_polygon_grid(&format!("{name}, in plane"), &planar, origin, size);
+        let lines = lattice_line_triangles(1500, n as i64, seed, grid_planes(-half, cell));
+        let (moved, combos) = moved_by_ulps(&lines, false);
+        assert_eq!(combos, 343, "every combination of moves on the lattice lines ±{half}");
+        let name = format!("lattice lines ±{half} moved by ulps");
+        check_voxelize(&name, &moved, &bounds, n);
+        check_grid(&name, &moved, origin, size);
+        check_edge_grid(&name, &moved, origin, size);
+    }
+}
+
+/// Real meshes rescaled to ±0.05, snapped to quarter cells, written as OBJ
+/// text with 10 decimals and read back (the CAD export of the issue: values
+/// like −0.0437499993, a fraction of a step off the planes), at several
+/// resolutions.
+#[test]
+fn real_meshes_written_as_decimal_text() {
+    let Some(dir) = common::data_dir() else { return };
+    let temp = std::env::temp_dir().join(format!("proxima-lattice-{}", std::process::id()));
+    std::fs::create_dir_all(&temp).unwrap();
+    for name in ["fandisk.obj", "bunny-npm.obj"] {
+        let mesh = proxima::io::load(dir.join(name)).unwrap();
+        let (snapped, _) = rescaled_and_snapped(&mesh.triangles().primitives, 0.05, 32);
+        let mut text = String::new();
+        for t in &snapped {
+            for v in t.vertices() {
+                text += &format!("v {:.10} {:.10} {:.10}\n", v.x, v.y, v.z);
+            }
+        }
+        for f in 0..snapped.len() {
+            text += &format!("f {} {} {}\n", 3 * f + 1, 3 * f + 2, 3 * f + 3);
+        }
+        let path = temp.join(name);
+        std::fs::write(&path, text).unwrap();
+        let read = proxima::io::load(&path).unwrap().triangles().primitives;
+        assert_eq!(read.len(), snapped.len());
+        let off = read.iter().zip(&snapped).filter(|(a, b)| a != b).count();
+        println!("{name}: {off} of {} triangles moved by the decimal text", read.len());
+        let bounds = Aabb::from_points(read.iter().flat_map(|t| t.vertices()));
+        for resolution in [32, 64, 128] {
+            check_voxelize(&format!("{name} as decimal text"), &read, &bounds, resolution);
+        }
+        let cell = Vec3::splat(0.1f32 / 32.0);
+        check_grid(&format!("{name} as decimal text"), &read, Vec3::splat(-0.05), cell);
+        check_edge_grid(&format!("{name} as decimal text"), &read, Vec3::splat(-0.05), cell);
+    }
+    std::fs::remove_dir_all(&temp).ok();
 }

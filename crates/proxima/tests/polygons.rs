@@ -270,7 +270,10 @@ fn check_cells(polygons: &[ConvexPolygon], layout: &GridLayout) {
                 let line = range.is_line();
                 range
                     .iter()
-                    .filter(|&c| line || polygon.overlaps_box(&layout.cell_box(c)))
+                    .filter(|&c| {
+                        let (lo, hi) = layout.cell_bounds(c);
+                        line || polygon.overlaps_bounds(lo, hi)
+                    })
                     .collect()
             }
         };

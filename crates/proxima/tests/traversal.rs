@@ -19,11 +19,15 @@ use std::time::Instant;
 /// `(b(n) − o) · (1/d)` (capped at `t_max`), its entry the previous exit.
 fn brute_walk(layout: &GridLayout, o: Vec3, d: Vec3, t_min: f32, t_max: f32) -> Vec<TraversalStep> {
     let (o64, inv) = (o.to_array().map(|x| x as f64), d.to_array().map(|x| 1.0 / x as f64));
-    let crossing = |a: usize, n: i64| (layout.boundary(a, n) as f64 - o64[a]) * inv[a];
-    let q = |x: f32| BigRational::from_float(x as f64).expect("finite");
-    let exact_crossing = |a: usize, n: i64| (q(layout.boundary(a, n)) - q(o[a])) / q(d[a]);
-    let (p0, p1) = (o + d * t_min, o + d * t_max);
     let (s, g) = (layout.cell_size(), layout.origin());
+    // The planes g + n · s: exact rationals for the decisions, and `f64`
+    // (exact for these grids) in the documented formula of the parameters.
+    let plane64 = |a: usize, n: i64| g[a] as f64 + n as f64 * s[a] as f64;
+    let crossing = |a: usize, n: i64| (plane64(a, n) - o64[a]) * inv[a];
+    let q = |x: f32| BigRational::from_float(x as f64).expect("finite");
+    let plane = |a: usize, n: i64| q(g[a]) + BigRational::from_integer(n.into()) * q(s[a]);
+    let exact_crossing = |a: usize, n: i64| (plane(a, n) - q(o[a])) / q(d[a]);
+    let (p0, p1) = (o + d * t_min, o + d * t_max);
     let lo: [i64; 3] = std::array::from_fn(|a| ((p0[a].min(p1[a]) - g[a]) / s[a]).floor() as i64 - 2);
     let hi: [i64; 3] = std::array::from_fn(|a| ((p0[a].max(p1[a]) - g[a]) / s[a]).floor() as i64 + 2);
     let mut out = Vec::new();
@@ -37,8 +41,8 @@ fn brute_walk(layout: &GridLayout, o: Vec3, d: Vec3, t_min: f32, t_max: f32) -> 
                 let mut inside = true;
                 for a in 0..3 {
                     if d[a] == 0.0 {
-                        let (b0, b1) = (layout.boundary(a, cell[a]), layout.boundary(a, cell[a] + 1));
-                        inside &= b0 <= o[a] && o[a] < b1;
+                        let (b0, b1) = (plane(a, cell[a]), plane(a, cell[a] + 1));
+                        inside &= b0 <= q(o[a]) && q(o[a]) < b1;
                     } else {
                         let (c0, c1) = (crossing(a, cell[a]), crossing(a, cell[a] + 1));
                         r0 = r0.max(c0.min(c1));
@@ -115,18 +119,21 @@ fn matches_brute_force_on_random_rays() {
         let layout = GridLayout::new(origin_grid, cell).unwrap();
         let mut o = Vec3::new(rng.range(-5.0, 5.0), rng.range(-5.0, 5.0), rng.range(-5.0, 5.0));
         let mut d = Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
+        // The f32 nearest a plane: on it when the plane is an f32, within
+        // half an f32 step otherwise (either side).
+        let near = |a: usize, n: i64| layout.boundary(a, n) as f32;
         match q % 8 {
-            // Origin exactly on boundary planes (and so on edges and corners).
-            1 => o = Vec3::new(layout.boundary(0, 3), layout.boundary(1, -2), o.z),
-            2 => o = Vec3::new(layout.boundary(0, -1), layout.boundary(1, 1), layout.boundary(2, 0)),
+            // Origin on (or next to) boundary planes, edges and corners.
+            1 => o = Vec3::new(near(0, 3), near(1, -2), o.z),
+            2 => o = Vec3::new(near(0, -1), near(1, 1), near(2, 0)),
             // Zero direction components.
             3 => d.y = 0.0,
             4 => (d.x, d.z) = (0.0, 0.0),
-            // Zero components with the origin in a boundary plane.
-            5 => (d.x, o.x) = (0.0, layout.boundary(0, 2)),
-            // Axis-aligned diagonals through cell corners.
+            // Zero components with the origin in (or next to) a boundary plane.
+            5 => (d.x, o.x) = (0.0, near(0, 2)),
+            // Axis-aligned diagonals through (or next to) cell corners.
             6 => {
-                o = Vec3::new(layout.boundary(0, 1), layout.boundary(1, 1), layout.boundary(2, 1));
+                o = Vec3::new(near(0, 1), near(1, 1), near(2, 1));
                 d = cell * Vec3::new(1.0, -1.0, 1.0);
             }
             _ => {}
@@ -409,7 +416,8 @@ fn steps_per_second() {
 fn lattice_rays_through_edges_and_corners() {
     let layouts = [
         GridLayout::cubic(0.25).unwrap(),
-        GridLayout::new(Vec3::splat(-0.05), Vec3::splat(0.1 / 32.0)).unwrap(),
+        // An origin of 24 significant bits, planes 2^-9 apart: still f32 values.
+        GridLayout::new(Vec3::splat(-0.05), Vec3::splat(1.0 / 512.0)).unwrap(),
         GridLayout::new(Vec3::new(1.0, -3.0, 0.5), Vec3::new(0.5, 0.25, 1.0)).unwrap(),
     ];
     let mut ties = 0;
@@ -423,7 +431,12 @@ fn lattice_rays_through_edges_and_corners() {
                     if d == Vec3::ZERO {
                         continue;
                     }
-                    let o = Vec3::new(layout.boundary(0, 2), layout.boundary(1, -1), layout.boundary(2, 3));
+                    let on = |a: usize, n: i64| {
+                        let b = layout.boundary(a, n);
+                        assert_eq!(b as f32 as f64, b, "these layouts' planes are f32 values");
+                        b as f32
+                    };
+                    let o = Vec3::new(on(0, 2), on(1, -1), on(2, 3));
                     let got = walk(layout, o, d, 0.0, 4.0);
                     let want = brute_walk(layout, o, d, 0.0, 4.0);
                     assert_eq!(got, want, "o {o:?} d {d:?} layout {layout:?}");
@@ -440,4 +453,56 @@ fn lattice_rays_through_edges_and_corners() {
         ties > 1000,
         "the rays should pass through many edges and corners, got {ties}"
     );
+}
+
+/// Rays from points a few `f32` steps beside the grid's exact planes (on
+/// either side, every combination of −3..+3 steps on the three axes), along
+/// lattice directions and a few others, on grids whose planes are not `f32`
+/// values (the voxelization grid of ±0.05 at 32 cells, as in the issue that
+/// found the rounded planes): the walk crosses exactly the planes the exact
+/// oracle does.
+#[test]
+fn rays_a_few_steps_off_the_planes() {
+    let layouts = [
+        GridLayout::new(Vec3::splat(-0.05), Vec3::splat(0.1 / 32.0)).unwrap(),
+        GridLayout::new(Vec3::new(0.1, -0.3, 0.7), Vec3::new(0.3, 0.7, 0.11)).unwrap(),
+    ];
+    let step = |x: f32, n: i32| {
+        let mut y = x;
+        for _ in 0..n.unsigned_abs() {
+            y = if n > 0 { y.next_up() } else { y.next_down() };
+        }
+        y
+    };
+    let mut compared = 0;
+    for layout in &layouts {
+        let s = layout.cell_size();
+        // These grids' planes are not all f32 values: "on a plane" is a few steps beside one.
+        assert!((0..3).any(|a| (1..8).any(|n| layout.boundary(a, n) as f32 as f64 != layout.boundary(a, n))));
+        // In cells per unit of t, so that the walks (and the oracle's box of
+        // candidate cells) stay a few cells long.
+        let directions = [
+            s,
+            s * Vec3::new(1.0, -2.0, 3.0),
+            s * Vec3::new(-3.0, 1.0, 0.0),
+            s * Vec3::new(0.3, 0.5, 1.0) * 3.7,
+            s * Vec3::new(-1.0, 0.0, 0.0),
+        ];
+        for combo in 0..343 {
+            let moves = [combo % 7, combo / 7 % 7, combo / 49].map(|m| m - 3);
+            let o = Vec3::from_array(std::array::from_fn(|a| {
+                step(layout.boundary(a, [2, -1, 3][a]) as f32, moves[a])
+            }));
+            for d in directions {
+                let got = walk(layout, o, d, -1.0, 3.0);
+                assert_eq!(
+                    got,
+                    brute_walk(layout, o, d, -1.0, 3.0),
+                    "o {o:?} d {d:?} layout {layout:?}"
+                );
+                compared += got.len();
+            }
+        }
+    }
+    println!("{compared} cells compared");
 }

@@ -40,12 +40,12 @@ pub(crate) fn for_each_cell(range: &CellRange, mut f: impl FnMut(Cell)) {
 #[inline]
 pub(crate) fn for_each_cell_box(layout: &GridLayout, range: &CellRange, mut f: impl FnMut(Cell, [f64; 3], [f64; 3])) {
     for k in range.min[2]..=range.max[2] {
-        let (z0, z1) = (layout.boundary64(2, k), layout.boundary64(2, k + 1));
+        let (z0, z1) = (layout.boundary(2, k), layout.boundary(2, k + 1));
         for j in range.min[1]..=range.max[1] {
-            let (y0, y1) = (layout.boundary64(1, j), layout.boundary64(1, j + 1));
-            let mut x0 = layout.boundary64(0, range.min[0]);
+            let (y0, y1) = (layout.boundary(1, j), layout.boundary(1, j + 1));
+            let mut x0 = layout.boundary(0, range.min[0]);
             for i in range.min[0]..=range.max[0] {
-                let x1 = layout.boundary64(0, i + 1);
+                let x1 = layout.boundary(0, i + 1);
                 f([i, j, k], [x0, y0, z0], [x1, y1, z1]);
                 x0 = x1;
             }
@@ -57,15 +57,15 @@ pub(crate) fn for_each_cell_box(layout: &GridLayout, range: &CellRange, mut f: i
 #[inline]
 pub(crate) fn classic_cells(layout: &GridLayout, range: &CellRange, test: &impl CellTest, mut visit: impl FnMut(Cell)) {
     for k in range.min[2]..=range.max[2] {
-        let (z0, z1) = (layout.boundary64(2, k), layout.boundary64(2, k + 1));
+        let (z0, z1) = (layout.boundary(2, k), layout.boundary(2, k + 1));
         for j in range.min[1]..=range.max[1] {
-            let (y0, y1) = (layout.boundary64(1, j), layout.boundary64(1, j + 1));
+            let (y0, y1) = (layout.boundary(1, j), layout.boundary(1, j + 1));
             if !test.run(0, [0.0, y0, z0], [0.0, y1, z1]) {
                 continue;
             }
-            let mut x0 = layout.boundary64(0, range.min[0]);
+            let mut x0 = layout.boundary(0, range.min[0]);
             for i in range.min[0]..=range.max[0] {
-                let x1 = layout.boundary64(0, i + 1);
+                let x1 = layout.boundary(0, i + 1);
                 if test.cell(0, [x0, y0, z0], [x1, y1, z1]) {
                     visit([i, j, k]);
                 }

@@ -20,7 +20,7 @@ use super::layout::GridLayout;
 use super::{Cell, CellRange, InsertMethod, scanline};
 use crate::aabb::Aabb;
 use crate::error::GridError;
-use crate::math::Vec3;
+use crate::math::DVec3;
 use crate::primitive::exact_sat::{self, box_magnitude, shape_bounds};
 use crate::primitive::sat::to64;
 use crate::primitive::segment_aabb::segment_overlaps as segment_aabb_overlap;
@@ -57,7 +57,7 @@ impl<'a> InsertParams<'a> {
 /// Implemented for [`Point`], [`LineSegment`], [`Triangle`] and
 /// [`ConvexPolygon`](crate::ConvexPolygon) (in `polygon_insert.rs`); any other
 /// [`BoxOverlap`] primitive can opt in with an empty `impl` block, which uses
-/// the classic insertion with [`BoxOverlap::overlaps_box`] per cell.
+/// the classic insertion with [`BoxOverlap::overlaps_bounds`] per cell.
 pub trait GridInsert: BoxOverlap {
     /// Calls `visit` once for every cell whose closed box the primitive
     /// overlaps (within `params.window` when set), in an unspecified order.
@@ -85,11 +85,7 @@ pub trait GridInsert: BoxOverlap {
         };
         let mut visit = visit;
         for_each_cell_box(params.layout, &window, |cell, lo, hi| {
-            let b = Aabb::new(
-                Vec3::new(lo[0] as f32, lo[1] as f32, lo[2] as f32),
-                Vec3::new(hi[0] as f32, hi[1] as f32, hi[2] as f32),
-            );
-            if self.overlaps_box(&b) {
+            if self.overlaps_bounds(DVec3::from_array(lo), DVec3::from_array(hi)) {
                 visit(cell);
             }
         });
@@ -127,10 +123,7 @@ pub(crate) fn ranges(bounds: &Aabb, params: &InsertParams<'_>) -> Result<Option<
 pub(crate) fn range_magnitude(layout: &GridLayout, range: &CellRange) -> f64 {
     (0..3)
         .map(|a| {
-            let (lo, hi) = (
-                layout.boundary64(a, range.min[a]),
-                layout.boundary64(a, range.max[a] + 1),
-            );
+            let (lo, hi) = (layout.boundary(a, range.min[a]), layout.boundary(a, range.max[a] + 1));
             lo.abs().max(hi.abs())
         })
         .fold(0.0, f64::max)

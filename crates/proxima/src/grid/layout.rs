@@ -3,32 +3,40 @@
 //!
 //! # Cell boundaries
 //!
-//! The boundary planes along axis `a` are `b_a(i) = f32(origin_a + i · size_a)`,
-//! evaluated in `f64` and rounded once to `f32`. Cell `(i, j, k)` is the closed
-//! box `[b_x(i), b_x(i+1)] × [b_y(j), b_y(j+1)] × [b_z(k), b_z(k+1)]`
-//! ([`GridLayout::cell_box`]); neighbouring cells share their boundary value
-//! bit for bit, `b` never decreases, and cell `(0, 0, 0)` starts at the grid
-//! origin. Every test of the grid (cell ranges, exact overlap, traversal)
-//! compares against these same `f32` values, so all of them agree on which
-//! cell a boundary point touches.
+//! The boundary planes along axis `a` are `b_a(i) = origin_a + i · size_a`,
+//! **exactly**: the origin and the extents are `f32` values, and every plane
+//! is the real number they give, held in `f64` without rounding
+//! ([`GridLayout::boundary`]). Cell `(i, j, k)` is the closed box
+//! `[b_x(i), b_x(i+1)] × [b_y(j), b_y(j+1)] × [b_z(k), b_z(k+1)]`; neighbouring
+//! cells share their planes, and cell `(0, 0, 0)` starts at the grid origin.
+//! Every test of the grid (cell ranges, exact overlap, traversal) compares
+//! against these exact planes, so a vertex a fraction of an `f32` step off a
+//! plane is on the side it really is, and all tests agree on it — the same
+//! answer a user gets from `origin + i * cell_size` in exact (or, for any
+//! reasonable grid, `f64`) arithmetic.
 //!
-//! Far from the origin relative to the cell size (`|i| > 2^24`), `f32` cannot
-//! tell neighbouring boundaries apart and some cells have zero width; they are
-//! still handled consistently (a closed zero-width cell touches what lies on
-//! its plane). Cell indices are limited to `|i| ≤ 2^50`
-//! ([`MAX_CELL_INDEX`]); beyond that a query is an error, not a wrap-around.
+//! A plane is a multiple of the lowest bit `2^L` of the origin and the
+//! extent, so it is exact in `f64` while `|origin| + |i| · size ≤ 2^(L+53)`.
+//! That bounds the cell indices of each axis ([`GridLayout::max_index`]: about
+//! `2^29` for an extent that uses all 24 bits of its `f32` mantissa, up to
+//! [`MAX_CELL_INDEX`] = `2^50` for round extents); beyond it a query is
+//! an error ([`GridError::OutOfRange`]), not a wrap-around or a rounded plane.
+//! An origin whose bits reach so far below the extent's that not even cell 0
+//! is exact (an origin of `1e-30` with cells of 1) is refused
+//! ([`GridError::InexactPlanes`]).
 
 use super::Cell;
 use crate::aabb::Aabb;
 use crate::error::GridError;
-use crate::math::Vec3;
+use crate::math::{DVec3, Vec3};
 
-/// The largest cell index magnitude on any axis.
+/// The largest cell index magnitude on any axis, whatever the layout (a
+/// layout's own limit, [`GridLayout::max_index`], may be lower).
 pub const MAX_CELL_INDEX: i64 = 1 << 50;
 
 /// Relative distance to a boundary (in cells, per unit of index) beyond which
-/// the `f32` rounding of boundaries (at most 2^-24 relative) cannot change the
-/// cell of a value: 2^-22, with a factor 4 to spare.
+/// the rounding of the estimate `(x − origin) / size` (a few units of 2^-53)
+/// cannot change the cell of a value: 2^-22, far more than needed.
 const FAST_MARGIN: f64 = 1.0 / (1u64 << 22) as f64;
 
 /// The placement of a grid's cells: origin and per-axis extents, validated.
@@ -43,6 +51,13 @@ const FAST_MARGIN: f64 = 1.0 / (1u64 << 22) as f64;
 /// let range = layout.cell_range(&Aabb::new(Vec3::splat(0.1), Vec3::splat(0.5))).unwrap();
 /// assert_eq!((range.min, range.max), ([0, 0, 0], [1, 1, 1]));
 /// assert!(GridLayout::new(Vec3::ZERO, Vec3::new(1.0, 0.0, 1.0)).is_err());
+///
+/// // Planes are exact: 3 · 0.1f32 is not an f32, and the plane is that real number.
+/// let tenth = GridLayout::cubic(0.1).unwrap();
+/// assert_eq!(tenth.boundary(0, 3), 3.0 * (0.1f32 as f64));
+/// let just_below = (3.0 * (0.1f32 as f64)) as f32; // rounds down, below the plane
+/// assert!((just_below as f64) < tenth.boundary(0, 3));
+/// assert_eq!(tenth.cell_of(Vec3::new(just_below, 0.0, 0.0)).unwrap()[0], 2);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GridLayout {
@@ -52,9 +67,12 @@ pub struct GridLayout {
     size64: [f64; 3],
     /// `1 / size` per axis.
     inv64: [f64; 3],
-    /// How far (in cells) the `f32` rounding of a boundary may move it near
-    /// the origin: `|origin| / size · 2^-23`, plus the same per cell of index.
+    /// How far (in cells) the rounding of the estimate may move a value near
+    /// the origin, with a wide margin: `(|origin| / size + 1) · 2^-22`.
     slack64: [f64; 3],
+    /// Per axis, the largest index magnitude `m` for which every plane
+    /// `b(i)`, `|i| ≤ m + 1`, is exact in `f64` (at most [`MAX_CELL_INDEX`]).
+    max_index: [i64; 3],
 }
 
 /// An inclusive box of cell indices: every cell `c` with `min ≤ c ≤ max` per axis.
@@ -131,7 +149,9 @@ impl CellRange {
 
 impl GridLayout {
     /// Cells of extents `cell_size` with cell `(0, 0, 0)` starting at `origin`.
-    /// Fails on a non-finite origin and on a zero, negative or non-finite extent.
+    /// Fails on a non-finite origin, on a zero, negative or non-finite extent,
+    /// and on an origin whose planes cannot be exact even next to it
+    /// ([`GridError::InexactPlanes`], see the module documentation).
     pub fn new(origin: Vec3, cell_size: Vec3) -> Result<Self, GridError> {
         if !(cell_size.is_finite() && cell_size.cmpgt(Vec3::ZERO).all()) {
             return Err(GridError::CellSize {
@@ -144,6 +164,14 @@ impl GridLayout {
             return Err(GridError::GridOrigin);
         }
         let to64 = |v: Vec3| [v.x as f64, v.y as f64, v.z as f64];
+        let max_index: [i64; 3] = std::array::from_fn(|a| exact_index_limit(origin[a], cell_size[a]));
+        if let Some(axis) = (0..3).find(|&a| max_index[a] < 1) {
+            return Err(GridError::InexactPlanes {
+                axis: b"xyz"[axis] as char,
+                origin: origin[axis],
+                size: cell_size[axis],
+            });
+        }
         Ok(Self {
             origin,
             cell_size,
@@ -151,6 +179,7 @@ impl GridLayout {
             size64: to64(cell_size),
             inv64: to64(cell_size).map(|s| 1.0 / s),
             slack64: std::array::from_fn(|a| (origin[a].abs() as f64 / cell_size[a] as f64 + 1.0) * FAST_MARGIN),
+            max_index,
         })
     }
 
@@ -171,33 +200,41 @@ impl GridLayout {
         self.cell_size
     }
 
-    /// The boundary plane `b_axis(index)`: the lower side of the cells of that index.
+    /// The largest cell index magnitude along `axis` whose planes are exact:
+    /// queries reaching beyond it are [`GridError::OutOfRange`].
     #[inline]
-    pub fn boundary(&self, axis: usize, index: i64) -> f32 {
-        (self.origin64[axis] + index as f64 * self.size64[axis]) as f32
+    pub fn max_index(&self, axis: usize) -> i64 {
+        self.max_index[axis]
     }
 
-    /// [`GridLayout::boundary`] widened to `f64` (exact).
-    #[inline]
-    pub(crate) fn boundary64(&self, axis: usize, index: i64) -> f64 {
-        self.boundary(axis, index) as f64
+    /// The boundary plane `b_axis(index) = origin + index · size`: the lower
+    /// side of the cells of that index. Exact for `|index| ≤ max_index + 1`
+    /// (every index a query of the layout reaches).
+    #[inline(always)]
+    pub fn boundary(&self, axis: usize, index: i64) -> f64 {
+        self.origin64[axis] + index as f64 * self.size64[axis]
     }
 
-    /// The closed box of `cell`.
+    /// The closed box of `cell`, exactly: its minimum and maximum corners.
+    #[inline]
+    pub fn cell_bounds(&self, cell: Cell) -> (DVec3, DVec3) {
+        let corner = |offset: i64| {
+            DVec3::new(
+                self.boundary(0, cell[0] + offset),
+                self.boundary(1, cell[1] + offset),
+                self.boundary(2, cell[2] + offset),
+            )
+        };
+        (corner(0), corner(1))
+    }
+
+    /// The closed box of `cell` in `f32`, rounded outward where a plane is
+    /// not an `f32`: it holds the cell ([`GridLayout::cell_bounds`] is the
+    /// cell itself). For drawing and for coarse tests.
     #[inline]
     pub fn cell_box(&self, cell: Cell) -> Aabb {
-        Aabb::new(
-            Vec3::new(
-                self.boundary(0, cell[0]),
-                self.boundary(1, cell[1]),
-                self.boundary(2, cell[2]),
-            ),
-            Vec3::new(
-                self.boundary(0, cell[0] + 1),
-                self.boundary(1, cell[1] + 1),
-                self.boundary(2, cell[2] + 1),
-            ),
-        )
+        let (lo, hi) = self.cell_bounds(cell);
+        Aabb::enclosing(lo, hi)
     }
 
     /// The cell holding `p` when cells are taken half-open, `[b(i), b(i+1))` on
@@ -242,7 +279,7 @@ impl GridLayout {
     #[cold]
     #[inline(never)]
     fn last_at_or_below_slow(&self, axis: usize, x: f64, guess: i64) -> Result<i64, GridError> {
-        last_true(guess as f64, |i| self.boundary64(axis, i) <= x).ok_or(GridError::OutOfRange)
+        last_true(guess as f64, self.max_index[axis], |i| self.boundary(axis, i) <= x).ok_or(GridError::OutOfRange)
     }
 
     /// `floor((x − origin) / size)` and whether `x` is so far from both
@@ -251,8 +288,9 @@ impl GridLayout {
     #[inline(always)]
     fn estimate(&self, axis: usize, x: f64) -> (i64, bool) {
         let t = (x - self.origin64[axis]) * self.inv64[axis];
-        if t.is_nan() || t.abs() >= MAX_CELL_INDEX as f64 {
-            return (if t > 0.0 { MAX_CELL_INDEX } else { -MAX_CELL_INDEX }, false);
+        let max = self.max_index[axis];
+        if t.is_nan() || t.abs() >= max as f64 {
+            return (if t > 0.0 { max } else { -max }, false);
         }
         let i = t as i64;
         let i = if (i as f64) > t { i - 1 } else { i };
@@ -276,32 +314,34 @@ impl GridLayout {
     #[cold]
     #[inline(never)]
     fn first_touching_slow(&self, axis: usize, x: f64, guess: i64) -> Result<i64, GridError> {
-        last_true(guess as f64 - 1.0, |i| self.boundary64(axis, i + 1) < x)
-            .map(|i| i + 1)
-            .ok_or(GridError::OutOfRange)
+        last_true(guess as f64 - 1.0, self.max_index[axis], |i| {
+            self.boundary(axis, i + 1) < x
+        })
+        .map(|i| i + 1)
+        .ok_or(GridError::OutOfRange)
     }
 }
 
-/// The largest `i` in `[-MAX_CELL_INDEX, MAX_CELL_INDEX]` for which `pred`
-/// holds, for a `pred` that is true up to some index and false after it;
-/// `None` when it holds nowhere or at `MAX_CELL_INDEX` (out of range).
-/// Galloping search from `guess`: two evaluations when the guess is right.
+/// The largest `i` in `[-max, max]` for which `pred` holds, for a `pred`
+/// that is true up to some index and false after it; `None` when it holds
+/// nowhere or at `max` (out of range). Galloping search from `guess`: two
+/// evaluations when the guess is right.
 #[inline]
-pub(crate) fn last_true(guess: f64, pred: impl Fn(i64) -> bool) -> Option<i64> {
-    const MAX: i64 = MAX_CELL_INDEX;
+pub(crate) fn last_true(guess: f64, max: i64, pred: impl Fn(i64) -> bool) -> Option<i64> {
+    let max_f = max as f64;
     if guess.is_nan() {
         return None;
     }
-    let g = guess.clamp(-MAX as f64, MAX as f64) as i64;
+    let g = guess.clamp(-max_f, max_f) as i64;
     let (mut lo, mut hi);
     if pred(g) {
         lo = g;
         let mut step = 1;
         loop {
-            if lo == MAX {
+            if lo == max {
                 return None;
             }
-            let next = (lo + step).min(MAX);
+            let next = (lo + step).min(max);
             if !pred(next) {
                 hi = next;
                 break;
@@ -313,10 +353,10 @@ pub(crate) fn last_true(guess: f64, pred: impl Fn(i64) -> bool) -> Option<i64> {
         hi = g;
         let mut step = 1;
         loop {
-            if hi == -MAX {
+            if hi == -max {
                 return None;
             }
-            let next = (hi - step).max(-MAX);
+            let next = (hi - step).max(-max);
             if pred(next) {
                 lo = next;
                 break;
@@ -334,4 +374,33 @@ pub(crate) fn last_true(guess: f64, pred: impl Fn(i64) -> bool) -> Option<i64> {
         }
     }
     Some(lo)
+}
+
+/// The exponent of the lowest set bit of a finite non-zero `x`.
+fn lowest_bit(x: f64) -> i32 {
+    let (_, exponent) = crate::exact::parts(x).expect("non-zero");
+    exponent
+}
+
+/// The largest `m ≤ MAX_CELL_INDEX` such that `origin + i · size` is exact in
+/// `f64` for every `|i| ≤ m + 1`; below 1 when even the first planes are not.
+///
+/// Every plane is a multiple of `2^L`, `L` the lowest bit of `origin` and
+/// `size`, so it is exact when its magnitude is at most `2^(L+53)`; so is
+/// `i · size`, a multiple of `2^L` no larger in magnitude than
+/// `|origin| + |i| · size`. Hence `m + 1 ≤ (2^(L+53) − |origin|) / size`,
+/// taken with a margin for the rounding of that quotient.
+pub(crate) fn exact_index_limit(origin: f32, size: f32) -> i64 {
+    let (origin, size) = (origin as f64, size as f64);
+    let low = if origin == 0.0 {
+        lowest_bit(size)
+    } else {
+        lowest_bit(origin).min(lowest_bit(size))
+    };
+    let room = (2f64.powi(low + 53) - origin.abs()) / size;
+    if room < 3.0 {
+        return 0;
+    }
+    // Rounded down and one more off for the quotient's rounding.
+    ((room * (1.0 - f64::EPSILON)).floor() as i64 - 2).min(MAX_CELL_INDEX)
 }

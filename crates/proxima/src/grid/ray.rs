@@ -76,16 +76,8 @@ impl<T: RayIntersect, S: BuildHasher> HashGrid<T, S> {
         let ray = WatertightRay::new(origin, direction).ok_or(GridError::RayDirection)?;
         let Some(bounds) = self.bounds else { return Ok(None) };
         let layout = &self.layout;
-        let lo = Vec3::new(
-            layout.boundary(0, bounds.min[0]),
-            layout.boundary(1, bounds.min[1]),
-            layout.boundary(2, bounds.min[2]),
-        );
-        let hi = Vec3::new(
-            layout.boundary(0, bounds.max[0] + 1),
-            layout.boundary(1, bounds.max[1] + 1),
-            layout.boundary(2, bounds.max[2] + 1),
-        );
+        // The occupied cells' box, rounded outward to f32.
+        let Aabb { min: lo, max: hi } = layout.cell_box(bounds.min).merge(&layout.cell_box(bounds.max));
         let margin = 1e-5 * (lo.abs().max(hi.abs()).max_element() + layout.cell_size().max_element());
         let world = Aabb::new(lo, hi).inflate(margin);
         // A far origin is moved close in f64 (see `FarRay`): in f32 the hit

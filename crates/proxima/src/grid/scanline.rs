@@ -203,7 +203,7 @@ fn scan_with<const N: usize>(
     let mut hi = [0.0; 3];
     let mut cell = [0i64; 3];
     for ks in window.min[s]..=window.max[s] {
-        let (s0, s1) = (layout.boundary64(s, ks), layout.boundary64(s, ks + 1));
+        let (s0, s1) = (layout.boundary(s, ks), layout.boundary(s, ks + 1));
         let slab = poly.clip(s, s0 - eps, s1 + eps);
         if slab.n == 0 {
             continue;
@@ -219,7 +219,7 @@ fn scan_with<const N: usize>(
             .min(window.max[r]);
         (lo[s], hi[s], cell[s]) = (s0, s1, ks);
         for jr in j0..=j1 {
-            let (r0, r1) = (layout.boundary64(r, jr), layout.boundary64(r, jr + 1));
+            let (r0, r1) = (layout.boundary(r, jr), layout.boundary(r, jr + 1));
             let Some((qmin, qmax)) = slab.strip_extent(r, r0 - eps, r1 + eps, q) else {
                 continue;
             };
@@ -235,9 +235,9 @@ fn scan_with<const N: usize>(
             if i0 > i1 || !test.run(q, lo, hi) {
                 continue;
             }
-            let mut q0 = layout.boundary64(q, i0);
+            let mut q0 = layout.boundary(q, i0);
             for iq in i0..=i1 {
-                let q1 = layout.boundary64(q, iq + 1);
+                let q1 = layout.boundary(q, iq + 1);
                 (lo[q], hi[q], cell[q]) = (q0, q1, iq);
                 if test.cell(q, lo, hi) {
                     visit(cell);

@@ -2,7 +2,9 @@
 //! touches.
 //!
 //! The grid covers a given box (usually the mesh's bounding box): cubic cells
-//! of side `longest side / N`, grid origin at the box minimum, and only cells
+//! of side `longest side / N`, grid origin at the box minimum (rounded down
+//! by less than `2^-23` cell in the rare case where the minimum's bits reach
+//! far below the cell's, so that every cell plane stays exact), and only cells
 //! with indices in `[0, N)` on each axis — a vertex on the box maximum touches
 //! cell `N`'s closed box but does not open it. A cell is occupied when some
 //! triangle shares at least one point with its closed box (the conservative
@@ -91,6 +93,27 @@ enum Storage {
     Sparse(Vec<Cell>),
 }
 
+/// The grid origin for `n` cells of side `cell` from `min`: `min` itself,
+/// unless its bits reach so far below the cell's that the planes of `n`
+/// cells would not be exact (a minimum of `1e-9` beside cells of `0.01`):
+/// then `min` rounded down to a multiple of the cell's lowest bit, a move of
+/// less than `2^-23` cell (see [`GridLayout`]'s exact planes).
+fn grid_origin(min: Vec3, cell: f32, n: u32) -> Vec3 {
+    let Some((_, low)) = crate::exact::parts(cell as f64) else {
+        return min;
+    };
+    let step = 2f64.powi(low);
+    Vec3::from_array(std::array::from_fn(|a| {
+        if super::layout::exact_index_limit(min[a], cell) > n as i64 {
+            min[a]
+        } else {
+            // A multiple of `step` no larger in magnitude than |min| + step:
+            // an f32 when rounding down is needed at all (|min| < cell).
+            ((min[a] as f64 / step).floor() * step) as f32
+        }
+    }))
+}
+
 /// Voxelizes `triangles` over `bounds` (see the module documentation).
 ///
 /// Errors: resolution 0 ([`GridError::Resolution`]); a box that is empty, not
@@ -129,14 +152,16 @@ pub fn voxelize(triangles: &[Triangle], bounds: &Aabb, config: &VoxelConfig) -> 
     // short: the grid would end before the box and the cells clipped away
     // would miss the triangles there. Each step moves the end by about one
     // ulp of the side, so this takes a step or two.
-    let reaches = |cell: f32| {
-        let end = bounds.min.as_dvec3() + DVec3::splat(cell as f64 * n as f64);
+    let reaches = |origin: Vec3, cell: f32| {
+        let end = origin.as_dvec3() + DVec3::splat(cell as f64 * n as f64);
         end.cmpge(bounds.max.as_dvec3()).all()
     };
-    while !reaches(cell) && cell.is_finite() {
+    let mut origin = grid_origin(bounds.min, cell, n);
+    while !reaches(origin, cell) && cell.is_finite() {
         cell = cell.next_up();
+        origin = grid_origin(bounds.min, cell, n);
     }
-    let layout = GridLayout::new(bounds.min, Vec3::splat(cell))?;
+    let layout = GridLayout::new(origin, Vec3::splat(cell))?;
     // The budget, before anything is allocated (`N³` overflows `u64` from
     // N = 2^22 on: counted in `u128`).
     let n128 = n as u128;

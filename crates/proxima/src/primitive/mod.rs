@@ -31,7 +31,7 @@ pub use triangle::Triangle;
 pub use triangle_aabb::TriangleBoxTest;
 
 use crate::aabb::Aabb;
-use crate::math::{Vec3, Vec3A};
+use crate::math::{DVec3, Vec3, Vec3A};
 
 /// A primitive with a bounding box.
 pub trait Bounded {
@@ -70,6 +70,16 @@ pub trait BoxOverlap: Bounded {
     /// `true` when the primitive and the closed box `b` share at least one
     /// point (touching counts).
     fn overlaps_box(&self, b: &Aabb) -> bool;
+
+    /// [`BoxOverlap::overlaps_box`] for a closed box with `f64` bounds (a
+    /// grid's exact cells, whose planes need not be `f32` values). The
+    /// crate's primitives decide it exactly; the default tests the enclosing
+    /// `f32` box ([`Aabb::enclosing`]), which may accept a box the primitive
+    /// only touches after that rounding.
+    #[inline]
+    fn overlaps_bounds(&self, min: DVec3, max: DVec3) -> bool {
+        self.overlaps_box(&Aabb::enclosing(min, max))
+    }
 }
 
 /// Primitives extracted from a mesh, each with the index of the mesh element it

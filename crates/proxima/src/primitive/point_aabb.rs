@@ -2,6 +2,7 @@
 
 use super::{BoxOverlap, Point};
 use crate::aabb::Aabb;
+use crate::math::DVec3;
 
 impl BoxOverlap for Point {
     /// Containment in the closed box (a point on a face, edge or corner counts).
@@ -15,5 +16,11 @@ impl BoxOverlap for Point {
     #[inline]
     fn overlaps_box(&self, b: &Aabb) -> bool {
         b.contains_point(self.0)
+    }
+
+    #[inline]
+    fn overlaps_bounds(&self, min: DVec3, max: DVec3) -> bool {
+        let p = self.0.as_dvec3();
+        min.cmple(p).all() && p.cmple(max).all()
     }
 }

@@ -24,6 +24,7 @@ use super::polygon::{ConvexPolygon, MAX_POLYGON_VERTICES};
 use super::sat::{Interval, Project, project_points, to64};
 use super::{BoxOverlap, Triangle};
 use crate::aabb::Aabb;
+use crate::math::DVec3;
 
 /// The separating axis test of one polygon, prepared once and then run
 /// against many boxes (a grid's cells).
@@ -154,7 +155,12 @@ impl PolygonBoxTest {
     /// (exactly so for a planar polygon; see the module documentation).
     #[inline]
     pub fn overlaps(&self, b: &Aabb) -> bool {
-        let (lo, hi) = (to64(b.min), to64(b.max));
+        self.overlaps_bounds(to64(b.min), to64(b.max))
+    }
+
+    /// [`PolygonBoxTest::overlaps`] for a box with `f64` bounds.
+    #[inline]
+    pub fn overlaps_bounds(&self, lo: [f64; 3], hi: [f64; 3]) -> bool {
         for k in 0..3 {
             if !(self.lo[k] <= hi[k] && lo[k] <= self.hi[k]) {
                 return false;
@@ -227,7 +233,9 @@ impl PolygonBoxTest {
     }
 }
 
-/// Center and half extents of the box `[lo, hi]` (exact in `f64`).
+/// Center and half extents of the box `[lo, hi]` (exact for `f32` bounds;
+/// for a grid's exact `f64` planes within one rounding, which the axes'
+/// rounding bound covers).
 #[inline(always)]
 fn center_half(lo: [f64; 3], hi: [f64; 3]) -> ([f64; 3], [f64; 3]) {
     (
@@ -244,6 +252,14 @@ impl BoxOverlap for ConvexPolygon {
         match self.as_triangle() {
             Some(tri) => Triangle::overlaps_box(&tri, b),
             None => PolygonBoxTest::new(self).overlaps(b),
+        }
+    }
+
+    #[inline]
+    fn overlaps_bounds(&self, min: DVec3, max: DVec3) -> bool {
+        match self.as_triangle() {
+            Some(tri) => Triangle::overlaps_bounds(&tri, min, max),
+            None => PolygonBoxTest::new(self).overlaps_bounds(min.to_array(), max.to_array()),
         }
     }
 }

@@ -18,6 +18,7 @@ use super::exact_sat;
 use super::sat::to64;
 use super::{BoxOverlap, LineSegment};
 use crate::aabb::Aabb;
+use crate::math::DVec3;
 
 /// `true` when the segment `a`–`b` meets the closed box `[lo, hi]` (all `f64`).
 #[inline]
@@ -63,5 +64,10 @@ impl BoxOverlap for LineSegment {
     #[inline]
     fn overlaps_box(&self, b: &Aabb) -> bool {
         segment_overlaps(to64(self.a), to64(self.b), to64(b.min), to64(b.max))
+    }
+
+    #[inline]
+    fn overlaps_bounds(&self, min: DVec3, max: DVec3) -> bool {
+        segment_overlaps(to64(self.a), to64(self.b), min.to_array(), max.to_array())
     }
 }

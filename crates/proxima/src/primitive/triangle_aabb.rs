@@ -24,6 +24,7 @@ use super::exact_sat::{self, box_magnitude, shape_bounds};
 use super::sat::to64;
 use super::{BoxOverlap, Triangle};
 use crate::aabb::Aabb;
+use crate::math::DVec3;
 
 /// The separating axis test of one triangle, prepared once and then run
 /// against many boxes (a grid's cells): the edge vectors, the ten non-box axes
@@ -135,7 +136,12 @@ impl TriangleBoxTest {
     /// `true` when the triangle and the closed box share at least one point.
     #[inline]
     pub fn overlaps(&self, b: &Aabb) -> bool {
-        let (lo, hi) = (to64(b.min), to64(b.max));
+        self.overlaps_bounds(to64(b.min), to64(b.max))
+    }
+
+    /// [`TriangleBoxTest::overlaps`] for a box with `f64` bounds (exact too).
+    #[inline]
+    pub fn overlaps_bounds(&self, lo: [f64; 3], hi: [f64; 3]) -> bool {
         for k in 0..3 {
             if !(self.lo[k] <= hi[k] && lo[k] <= self.hi[k]) {
                 return false;
@@ -148,7 +154,7 @@ impl TriangleBoxTest {
     /// triangle's bounding box (a cell of the bounding box's cell range).
     ///
     /// On each axis `a` the box's shadow is `c·a ± h·|a|` with `c` the box
-    /// center and `h` its half extents (both exact in `f64`); the axis
+    /// center and `h` its half extents (within a rounding); the axis
     /// separates when that interval misses the triangle's shadow.
     #[inline]
     pub(crate) fn overlaps_axes(&self, lo: [f64; 3], hi: [f64; 3]) -> bool {
@@ -222,7 +228,9 @@ impl TriangleBoxTest {
     }
 }
 
-/// Center and half extents of the box `[lo, hi]` (exact in `f64`).
+/// Center and half extents of the box `[lo, hi]` (exact for `f32` bounds;
+/// for a grid's exact `f64` planes within one rounding, which the axes'
+/// rounding bound covers).
 #[inline(always)]
 fn center_half(lo: [f64; 3], hi: [f64; 3]) -> ([f64; 3], [f64; 3]) {
     (
@@ -237,5 +245,10 @@ impl BoxOverlap for Triangle {
     #[inline]
     fn overlaps_box(&self, b: &Aabb) -> bool {
         TriangleBoxTest::new(self).overlaps(b)
+    }
+
+    #[inline]
+    fn overlaps_bounds(&self, min: DVec3, max: DVec3) -> bool {
+        TriangleBoxTest::new(self).overlaps_bounds(min.to_array(), max.to_array())
     }
 }

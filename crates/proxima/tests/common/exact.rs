@@ -48,6 +48,36 @@ fn cross(a: &[BigInt; 3], b: &[BigInt; 3]) -> [BigInt; 3] {
     ]
 }
 
+/// A closed box with exact bounds, as integers at the scale `2^149` (every
+/// `f32`, and every grid plane `origin + i · size` of `f32` origin and size,
+/// is one).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExactBox {
+    pub lo: [BigInt; 3],
+    pub hi: [BigInt; 3],
+}
+
+impl ExactBox {
+    /// The box itself.
+    pub fn of_aabb(b: &Aabb) -> Self {
+        Self {
+            lo: big3(b.min),
+            hi: big3(b.max),
+        }
+    }
+
+    /// The closed cell `cell` of the grid with minimum corner `origin` and
+    /// extents `size`: planes `origin + i · size` exactly, computed here from
+    /// the definition (not from the library's planes).
+    pub fn of_cell(origin: Vec3, size: Vec3, cell: [i64; 3]) -> Self {
+        let plane = |a: usize, i: i64| scaled(origin[a]) + BigInt::from(i) * scaled(size[a]);
+        Self {
+            lo: std::array::from_fn(|a| plane(a, cell[a])),
+            hi: std::array::from_fn(|a| plane(a, cell[a] + 1)),
+        }
+    }
+}
+
 /// Exact separating axis test of a triangle (possibly degenerate) and a
 /// closed box: the 13 axes of Akenine-Möller in integer arithmetic.
 pub fn triangle_touches_box(t: &Triangle, b: &Aabb) -> bool {
@@ -57,8 +87,20 @@ pub fn triangle_touches_box(t: &Triangle, b: &Aabb) -> bool {
     if (0..3).any(|k| hi[k] < b.min[k] || b.max[k] < lo[k]) {
         return false;
     }
+    triangle_touches_exact_box(t, &ExactBox::of_aabb(b))
+}
+
+/// [`triangle_touches_box`] against a box with exact bounds.
+pub fn triangle_touches_exact_box(t: &Triangle, b: &ExactBox) -> bool {
     let v = [big3(t.a), big3(t.b), big3(t.c)];
-    let (lo, hi) = (big3(b.min), big3(b.max));
+    let (lo, hi) = (&b.lo, &b.hi);
+    // The box normals first: cheap, and they reject most candidates.
+    for k in 0..3 {
+        let coordinates = || v.iter().map(|p| &p[k]);
+        if coordinates().max().unwrap() < &lo[k] || &hi[k] < coordinates().min().unwrap() {
+            return false;
+        }
+    }
     let e = [sub(&v[1], &v[0]), sub(&v[2], &v[1]), sub(&v[0], &v[2])];
     let mut axes: Vec<[BigInt; 3]> = Vec::with_capacity(13);
     for j in 0..3 {
@@ -103,15 +145,27 @@ pub fn triangle_touches_box_by_clipping(t: &Triangle, b: &Aabb) -> bool {
     points_touch_box_by_clipping(&t.vertices(), b)
 }
 
+/// [`triangle_touches_box_by_clipping`] against a box with exact bounds.
+pub fn triangle_touches_exact_box_by_clipping(t: &Triangle, b: &ExactBox) -> bool {
+    points_touch_exact_box_by_clipping(&t.vertices(), b)
+}
+
 /// Exact clipping of the convex hull of 1 to 3 points (a point, a segment, a
 /// triangle) by the closed box.
 pub fn points_touch_box_by_clipping(points: &[Vec3], b: &Aabb) -> bool {
+    points_touch_exact_box_by_clipping(points, &ExactBox::of_aabb(b))
+}
+
+/// Exact clipping of a convex planar polygon (or a point, a segment) by a
+/// closed box with exact bounds.
+pub fn points_touch_exact_box_by_clipping(points: &[Vec3], b: &ExactBox) -> bool {
+    let unscale = |x: &BigInt| BigRational::new(x.clone(), BigInt::from(1) << 149usize);
     let mut poly: Vec<[BigRational; 3]> = points
         .iter()
         .map(|p| [rational(p.x), rational(p.y), rational(p.z)])
         .collect();
     for axis in 0..3 {
-        for (plane, upper) in [(rational(b.min[axis]), false), (rational(b.max[axis]), true)] {
+        for (plane, upper) in [(unscale(&b.lo[axis]), false), (unscale(&b.hi[axis]), true)] {
             let side = |p: &[BigRational; 3]| if upper { &p[axis] - &plane } else { &plane - &p[axis] };
             let n = poly.len();
             let mut out = Vec::with_capacity(n + 1);

@@ -64,6 +64,7 @@ pub fn triangle_distance(t: &Triangle, p: D3) -> f64 {
 /// The arithmetic of the clipping oracle: `f64`, or exact rationals.
 pub trait Num: Copy {
     fn of(x: f32) -> Self;
+    fn of64(x: f64) -> Self;
     fn sub(self, o: Self) -> Self;
     fn mul(self, o: Self) -> Self;
     fn div(self, o: Self) -> Self;
@@ -73,6 +74,9 @@ pub trait Num: Copy {
 impl Num for f64 {
     fn of(x: f32) -> Self {
         x as f64
+    }
+    fn of64(x: f64) -> Self {
+        x
     }
     fn sub(self, o: Self) -> Self {
         self - o
@@ -108,7 +112,10 @@ impl Q {
 
 impl Num for Q {
     fn of(x: f32) -> Self {
-        let scaled = x as f64 * 1024.0;
+        Q::of64(x as f64)
+    }
+    fn of64(x: f64) -> Self {
+        let scaled = x * 1024.0;
         assert!(
             scaled == scaled.trunc() && scaled.abs() < 1e15,
             "the exact oracle takes multiples of 2^-10, got {x}"
@@ -138,6 +145,11 @@ const CLIP_CAPACITY: usize = 8 + 6;
 /// the six closed half-spaces leaves something. Fixed arrays, no allocation
 /// (the grid tests call it for every cell of every triangle's box).
 pub fn clip_by_box<N: Num>(points: &[Vec3], b: &Aabb) -> bool {
+    clip_by_bounds::<N>(points, d3(b.min), d3(b.max))
+}
+
+/// [`clip_by_box`] for a box with `f64` bounds (a grid's exact cells).
+pub fn clip_by_bounds<N: Num>(points: &[Vec3], lo: D3, hi: D3) -> bool {
     assert!(!points.is_empty() && points.len() <= 8);
     let mut poly = [[N::of(0.0); 3]; CLIP_CAPACITY];
     let mut n = points.len();
@@ -145,7 +157,7 @@ pub fn clip_by_box<N: Num>(points: &[Vec3], b: &Aabb) -> bool {
         *slot = [N::of(p.x), N::of(p.y), N::of(p.z)];
     }
     for axis in 0..3 {
-        for (plane, upper) in [(N::of(b.min[axis]), false), (N::of(b.max[axis]), true)] {
+        for (plane, upper) in [(N::of64(lo[axis]), false), (N::of64(hi[axis]), true)] {
             let side = |p: &[N; 3]| if upper { p[axis].sub(plane) } else { plane.sub(p[axis]) };
             let mut out = [[N::of(0.0); 3]; CLIP_CAPACITY];
             let mut m = 0;
