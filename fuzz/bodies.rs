@@ -221,7 +221,7 @@ fn build_config(u: &mut Unstructured<'_>) -> Result<BuildConfig> {
 // ---------------------------------------------------------------- trees ---
 
 /// Builds a tree (binary, or wide when `wide`) over `set` and asserts that
-/// closest, best-first, k-nearest and batch answers equal [`LinearSearch`]'s
+/// closest, k-nearest and batch answers equal [`LinearSearch`]'s
 /// on every field.
 pub fn check_tree<T>(set: PrimitiveSet<T>, config: &BuildConfig, queries: &[Vec3], k: usize, wide: bool)
 where
@@ -266,7 +266,7 @@ fn tree_body(data: &[u8], wide: bool) -> Result<()> {
     Ok(())
 }
 
-/// AabbTree closest, best-first, k-nearest and batch against LinearSearch.
+/// AabbTree closest, k-nearest and batch against LinearSearch.
 pub fn aabb_tree(data: &[u8]) {
     let _ = tree_body(data, false);
 }

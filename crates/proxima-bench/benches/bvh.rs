@@ -91,14 +91,6 @@ fn closest(c: &mut Criterion) {
             group.bench_function(id("proxima-sah"), |b| {
                 b.iter(|| points.iter().map(|&p| sah.closest(p).unwrap().distance).sum::<f32>())
             });
-            group.bench_function(id("proxima-best-first"), |b| {
-                b.iter(|| {
-                    points
-                        .iter()
-                        .map(|&p| tree.closest_best_first(p).unwrap().distance)
-                        .sum::<f32>()
-                })
-            });
             group.bench_function(id("proxima-batch-1thread"), |b| {
                 b.iter(|| one_thread.install(|| tree.closest_batch_with(&points, BatchOptions::default())))
             });

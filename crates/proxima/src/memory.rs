@@ -26,44 +26,10 @@
 //! made builds much slower; advised afterwards, the kernel's `khugepaged`
 //! moves the arrays to huge pages in the background and no build waits
 //! (measurements in `docs/perf-log.md`, "Huge pages").
-//!
-//! With the `experimental` cargo feature, `set_huge_pages` switches huge
-//! pages off or on for the whole process: a measuring tool
-//! (`proxima-bench`'s `compare`), not part of the stable interface.
 
 use bytemuck::Pod;
 use std::fmt;
 use std::ops::Deref;
-use std::sync::atomic::{AtomicBool, Ordering};
-
-/// Whether new large arrays ask for huge pages (`set_huge_pages`).
-static HUGE_PAGES: AtomicBool = AtomicBool::new(true);
-
-/// Turns the use of huge pages for arrays made from now on on or off, for the
-/// whole process (on by default); arrays already made keep their storage.
-///
-/// Experimental (cargo feature `experimental`): a process-wide switch, kept
-/// for measuring what huge pages bring (`proxima-bench`'s `compare`).
-///
-/// ```
-/// proxima::memory::set_huge_pages(false);
-/// assert!(!proxima::memory::huge_pages());
-/// proxima::memory::set_huge_pages(true);
-/// ```
-#[cfg(feature = "experimental")]
-pub fn set_huge_pages(enabled: bool) {
-    HUGE_PAGES.store(enabled, Ordering::Relaxed);
-}
-
-/// Whether arrays made now ask for huge pages: always, unless switched off
-/// by `set_huge_pages` (feature `experimental`).
-///
-/// ```
-/// assert!(proxima::memory::huge_pages()); // nothing switched them off
-/// ```
-pub fn huge_pages() -> bool {
-    HUGE_PAGES.load(Ordering::Relaxed)
-}
 
 /// Size of a transparent huge page on x86-64 and most aarch64 kernels.
 pub const HUGE_PAGE: usize = 2 << 20;
@@ -91,11 +57,10 @@ enum Storage<T> {
 
 impl<T: Pod> HugePageArray<T> {
     /// The values of `values`, moved to huge pages when they take at least
-    /// 8 MiB (and [`huge_pages`] is on).
+    /// 8 MiB.
     pub fn new(values: Vec<T>) -> Self {
         #[cfg(target_os = "linux")]
         if std::mem::size_of_val(&values[..]) >= MAPPED_FROM
-            && huge_pages()
             && let Some(storage) = Self::mapped(&values)
         {
             return Self { storage };
@@ -148,7 +113,6 @@ impl<T: Pod> HugePageVec<T> {
     pub(crate) fn with_capacity(capacity: usize) -> Self {
         #[cfg(target_os = "linux")]
         if capacity.saturating_mul(std::mem::size_of::<T>()) >= MAPPED_FROM
-            && huge_pages()
             && let Some((map, offset)) = Self::map(capacity)
         {
             return Self {

@@ -50,16 +50,6 @@ trait Structure<T: MeshPrimitive>: NearestQuery<T> + FrustumQuery<T> + Sync + Si
     fn other_forms(&self) -> Vec<(&'static str, Self)> {
         Vec::new()
     }
-
-    /// Other ways this structure answers a closest query (experiments).
-    fn closest_other_ways(&self, _p: Vec3) -> Vec<(&'static str, Option<ClosestHit>)> {
-        Vec::new()
-    }
-
-    /// Other ways this structure answers a closest batch (experiments).
-    fn closest_batch_other_ways(&self, _points: &[Vec3]) -> Vec<(String, Vec<Option<ClosestHit>>)> {
-        Vec::new()
-    }
 }
 
 /// One kind of structure over every primitive type: what `suite!` runs on.
@@ -80,11 +70,6 @@ impl<T: MeshPrimitive> Structure<T> for AabbTree<T> {
 
     fn node_count(&self) -> usize {
         self.stats().nodes
-    }
-
-    #[cfg(feature = "experimental")]
-    fn closest_other_ways(&self, p: Vec3) -> Vec<(&'static str, Option<ClosestHit>)> {
-        vec![("best-first", self.closest_best_first(p))]
     }
 }
 
@@ -113,20 +98,6 @@ impl<T: MeshPrimitive> Structure<T> for WideTree<T> {
         wide_shape::check_structure(&portable, false);
         wide_shape::check_structure(&four_at_a_time, self.uses_avx2());
         vec![("portable", portable), ("four at a time", four_at_a_time)]
-    }
-
-    #[cfg(feature = "experimental")]
-    fn closest_batch_other_ways(&self, points: &[Vec3]) -> Vec<(String, Vec<Option<ClosestHit>>)> {
-        let mut out = Vec::new();
-        for walks in common::INTERLEAVED_WALKS {
-            for reorder in [false, true] {
-                out.push((
-                    format!("{walks} interleaved walks, reorder {reorder}"),
-                    self.closest_batch_interleaved(points, reorder, walks),
-                ));
-            }
-        }
-        out
     }
 }
 
@@ -286,9 +257,6 @@ impl Expected {
             |(scratch, out), ((&p, (e, within)), k_nearest)| {
                 let e = *e;
                 assert_eq!(structure.closest(p), e, "{name}: closest at {p}, config {config:?}");
-                for (way, hit) in structure.closest_other_ways(p) {
-                    assert_eq!(hit, e, "{name}: {way} at {p}, config {config:?}");
-                }
                 for (form, other) in &forms {
                     assert_eq!(
                         other.closest(p),
@@ -318,9 +286,6 @@ impl Expected {
                 expected,
                 "{name}: {options:?}"
             );
-        }
-        for (way, answers) in structure.closest_batch_other_ways(points) {
-            assert_eq!(answers, expected, "{name}: {way}");
         }
         if let Some((last, &k)) = self.ks.iter().enumerate().max_by_key(|&(_, k)| k) {
             let want: Vec<&Vec<ClosestHit>> = self.k_nearest.iter().map(|per_k| &per_k[last]).collect();
@@ -496,9 +461,6 @@ fn non_finite_queries_answer_nothing<F: Family>() {
         Vec3::new(0.0, f32::NAN, 1.0),
     ] {
         assert_eq!(structure.closest(p), None);
-        for (way, hit) in structure.closest_other_ways(p) {
-            assert_eq!(hit, None, "{way}");
-        }
         assert!(structure.k_nearest(p, 3).is_empty());
         assert_eq!(structure.closest_batch(&[p]), vec![None]);
         // Between finite queries, whose answers seed the next search: the
@@ -508,9 +470,6 @@ fn non_finite_queries_answer_nothing<F: Family>() {
         assert!(expected[0].is_some() && expected[1].is_none());
         for options in batch_options() {
             assert_eq!(structure.closest_batch_with(&mixed, options), expected, "{options:?}");
-        }
-        for (way, answers) in structure.closest_batch_other_ways(&mixed) {
-            assert_eq!(answers, expected, "{way}");
         }
     }
 }

@@ -90,14 +90,9 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &
         (trimesh, t_parry_build) = (Some(m), t_parry_build.min(s));
     }
     let (tree, trimesh) = (tree.unwrap(), trimesh.unwrap());
-    // The same wide tree on 4 KiB pages, to measure what huge pages bring.
-    proxima::memory::set_huge_pages(false);
-    let binary = tree.clone();
-    let (wide_small, t_small_build) = timed(|| with_wide.then(|| one_thread.install(|| WideTree::from_tree(binary))));
-    proxima::memory::set_huge_pages(true);
     if let Some(wide) = &wide {
         println!(
-            "wide tree: {} wide nodes (binary {}), depth {} (binary {}), the binary tree collapsed in {t_collapse:.3} s on 1 thread, best of 5 ({t_small_build:.3} s on 4 KiB pages, once), {:.1} MB on top of the binary tree's {:.1} MB; {:.1} MB of this process on huge pages",
+            "wide tree: {} wide nodes (binary {}), depth {} (binary {}), the binary tree collapsed in {t_collapse:.3} s on 1 thread, best of 5, {:.1} MB on top of the binary tree's {:.1} MB; {:.1} MB of this process on huge pages",
             wide.node_count(),
             tree.node_count(),
             wide.depth(),
@@ -132,8 +127,7 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &
     ] {
         let (mut t_ours, mut t_batch, mut t_parry) = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
         let (mut ours, mut theirs) = (Vec::new(), Vec::new());
-        let (mut t_wide, mut t_wide_small) = (f64::INFINITY, f64::INFINITY);
-        let (mut t_wide_batch, mut t_wide_morton, mut t_wide_all) = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
+        let (mut t_wide, mut t_wide_batch, mut t_wide_all) = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
         // Each round's own ratios (to parry3d per query and in a batch; the
         // batch on all threads to the batch on one), whose median is steadier
         // than the ratio of best times when the machine's load drifts.
@@ -159,34 +153,14 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &
                 assert_eq!(w, ours, "wide and binary trees disagree");
                 t_wide = t_wide.min(t);
                 round_wide = t;
-                // Batches on one thread, in Morton order: one query after the
-                // other (the default), and 8 interleaved walks.
-                for (walks, best) in [(1, &mut t_wide_batch), (8, &mut t_wide_morton)] {
-                    let (b, t) = warm(|| {
-                        one_thread.install(|| match walks {
-                            1 => wide.closest_batch_with(&points, BatchOptions::default()),
-                            _ => wide.closest_batch_interleaved(&points, true, walks),
-                        })
-                    });
-                    assert!(b.iter().zip(&ours).all(|(h, &d)| h.unwrap().distance == d));
-                    *best = best.min(t);
-                    if round_batch.is_nan() {
-                        round_batch = t;
-                    }
-                }
+                // The batch on one thread, in Morton order.
+                let (b, t) = warm(|| one_thread.install(|| wide.closest_batch_with(&points, BatchOptions::default())));
+                assert!(b.iter().zip(&ours).all(|(h, &d)| h.unwrap().distance == d));
+                t_wide_batch = t_wide_batch.min(t);
+                round_batch = t;
                 let t = warm(|| wide.closest_batch(&points)).1;
                 t_wide_all = t_wide_all.min(t);
                 round_ratios.2.push(round_batch / t);
-            }
-            if let Some(small) = &wide_small {
-                let (w, t) = warm(|| {
-                    points
-                        .iter()
-                        .map(|&p| small.closest(p).unwrap().distance)
-                        .collect::<Vec<_>>()
-                });
-                assert_eq!(w, ours, "wide and binary trees disagree");
-                t_wide_small = t_wide_small.min(t);
             }
             let (o, t) = warm(|| points.iter().map(|&p| parry_distance(&trimesh, p)).collect::<Vec<_>>());
             (theirs, t_parry) = (o, t_parry.min(t));
@@ -216,7 +190,7 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &
                 median(&mut round_ratios.2)
             ));
             wide_rows.push(format!(
-                "| {set} | {:.1} | {:.1} | {:.1} | {:.0} | {:.0} | {:.0} | {:.2}x | {:.2}x | {:.2}x | {:.0} | {:.2}x | {:.2}x | {:.2}x |",
+                "| {set} | {:.1} | {:.1} | {:.1} | {:.0} | {:.0} | {:.0} | {:.2}x | {:.2}x | {:.0} | {:.2}x | {:.2}x |",
                 nodes as f64 / n as f64,
                 4.0 * nodes as f64 / n as f64,
                 prims as f64 / n as f64,
@@ -225,10 +199,8 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &
                 rate(n, t_parry),
                 t_parry / t_wide,
                 t_ours / t_wide,
-                t_wide_small / t_wide,
                 rate(n, t_wide_batch),
                 t_parry / t_wide_batch,
-                t_wide_batch / t_wide_morton,
                 t_wide_batch / t_wide_all,
             ));
         }
@@ -246,9 +218,9 @@ fn compare(name: &str, mesh: &Mesh, n_queries: usize, n_linear: usize, config: &
     if !wide_rows.is_empty() {
         println!("\nwide tree, per query in input order (same rounds as above):");
         println!(
-            "| query set | wide nodes/query | boxes/query | primitives/query | binary q/s | wide q/s | parry3d q/s | wide/parry | wide/binary | huge/4K pages | wide batch q/s | wide batch/parry | batch 8 interleaved/one by one | batch all threads/1 |"
+            "| query set | wide nodes/query | boxes/query | primitives/query | binary q/s | wide q/s | parry3d q/s | wide/parry | wide/binary | wide batch q/s | wide batch/parry | batch all threads/1 |"
         );
-        println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+        println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
         for row in wide_rows {
             println!("{row}");
         }

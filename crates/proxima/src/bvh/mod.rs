@@ -6,8 +6,6 @@
 //! many points in `batch.rs`, first hit and any hit along a ray in `ray.rs`,
 //! statistics and invariants in `validate.rs`.
 
-#[cfg(feature = "experimental")]
-mod best_first;
 mod build;
 mod config;
 mod frustum;

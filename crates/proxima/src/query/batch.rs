@@ -96,8 +96,8 @@ impl Seed {
 }
 
 /// Queries per parallel task of [`closest_in_chunks`]: large enough that
-/// interleaved walks stay busy and radius seeding rarely restarts, small
-/// enough to share work between threads.
+/// radius seeding rarely restarts, small enough to share work between
+/// threads.
 const CHUNK: usize = 1024;
 
 /// The closest-hit batch of both trees: the points, in Morton order within

@@ -42,8 +42,6 @@ pub use ray::{RayHit, RayQuery};
 pub use visitor::{Counter, NearestVisitor, QueryStats, RayVisitor};
 
 pub(crate) use batch::answer_batch_indexed;
-#[cfg(feature = "experimental")]
-pub(crate) use batch::closest_in_chunks;
 pub(crate) use batch::{morton_order, unpermute};
 pub(crate) use closest::Best;
 pub(crate) use ray::{AnyHit, FarRay, FirstHit, hit_answer, prepare_structure_ray, sort_points};

@@ -37,8 +37,6 @@ pub(crate) use convert::{open_largest, subtree_ranges};
 #[cfg(not(target_arch = "x86_64"))]
 pub(crate) use walk::Avx2;
 pub(crate) use walk::detect_avx2;
-#[cfg(feature = "experimental")]
-mod batch;
 mod convert;
 mod nearest;
 pub(crate) mod packet;

@@ -100,9 +100,6 @@ pub fn batch_options() -> Vec<proxima::BatchOptions> {
     out
 }
 
-/// The numbers of interleaved walks worth checking (`experimental` feature).
-pub const INTERLEAVED_WALKS: [usize; 4] = [1, 2, 8, 16];
-
 /// Query points of every kind: far away, near the surface, uniform in the box,
 /// exactly on vertices, on edge midpoints, at the center (inside closed meshes).
 pub fn queries(mesh: &Mesh, n: usize, seed: u64) -> Vec<Vec3> {
