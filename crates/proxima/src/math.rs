@@ -1,20 +1,17 @@
-//! The one place that names the vector library.
+//! The one place that names the vector library (glam).
 //!
-//! Everything else imports its vector types from here, so switching the scalar
-//! type or the vector crate is a one-file change. Stored data uses [`Vec3`]
-//! (12 bytes, tightly packed); per-query temporaries use [`Vec3A`] (16 bytes,
-//! SIMD-friendly).
+//! Everything else imports its vector and matrix types from here. Stored data
+//! uses [`Vec3`] (12 bytes, tightly packed); per-query temporaries use
+//! [`Vec3A`] (16 bytes, SIMD-friendly); `f64` work (exact fallbacks, winding
+//! numbers, glTF transforms) uses [`DVec3`], [`DMat3`], [`DMat4`], [`DQuat`].
+//!
+//! One coupling is not a matter of names: the wide tree's triangle packets
+//! (`wide_tree/packet.rs`, `wide_tree/avx2.rs`) repeat [`Vec3A`]'s dot and
+//! cross products operation for operation, so that each lane equals the
+//! scalar answer bit for bit. Another vector crate must keep that order, or
+//! those routines must follow it.
 
-pub use glam::{DMat4, DVec3, DVec4, Mat4, Vec3, Vec3A, Vec4};
-
-/// The scalar type of every coordinate.
-pub type Real = f32;
-
-/// `true` when all three components are finite (neither NaN nor infinite).
-#[inline]
-pub fn is_finite3(v: Vec3) -> bool {
-    v.is_finite()
-}
+pub use glam::{BVec3A, DMat3, DMat4, DQuat, DVec3, DVec4, Mat4, Vec3, Vec3A, Vec4};
 
 /// OpenGL camera matrices (right-handed, clip space `-w..w`), as the frustum
 /// queries read them.

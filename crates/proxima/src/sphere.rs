@@ -7,8 +7,7 @@
 //! certain: whatever the center came out as, the radius is recomputed as the
 //! largest distance from it, in `f64`, and rounded up to `f32`.
 
-use crate::math::{Vec3, Vec3A};
-use glam::DVec3;
+use crate::math::{DVec3, Vec3, Vec3A};
 
 /// A sphere: all points within `radius` of `center`.
 ///

@@ -28,11 +28,10 @@
 use super::AabbTree;
 use super::node::Node;
 use super::walk::{BinaryQuery, walk};
-use crate::math::{Vec3, Vec3A};
+use crate::math::{BVec3A, Vec3, Vec3A};
 use crate::memory::prefetch;
 use crate::primitive::{RayIntersect, WatertightRay};
 use crate::query::{Counter, RayQuery, RayVisitor, SpatialIndex};
-use glam::BVec3A;
 use std::ops::{ControlFlow, Range};
 
 /// A ray as the box tests need it: origin, reciprocal direction, which planes

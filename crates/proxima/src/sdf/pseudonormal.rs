@@ -12,9 +12,8 @@
 //! Vertices are welded by exact position first, so meshes stored as
 //! separate triangles (STL) get the normals of their shared edges.
 
-use crate::math::Vec3;
+use crate::math::{DVec3, Vec3};
 use crate::mesh::Mesh;
-use glam::DVec3;
 use rayon::prelude::*;
 use std::collections::HashMap;
 

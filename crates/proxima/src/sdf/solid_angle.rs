@@ -11,8 +11,7 @@
 //! surface gets a defined winding number, never NaN.
 
 use crate::Triangle;
-use crate::math::Vec3;
-use glam::DVec3;
+use crate::math::{DVec3, Vec3};
 use wide::f32x4;
 
 /// The signed solid angle of `triangle` seen from `p`, in `f64` (the exact

@@ -31,13 +31,12 @@ use super::solid_angle::solid_angle;
 use super::solid_angle::{solid_angle_f64, solid_angle_x4};
 use crate::Triangle;
 use crate::aabb::Aabb;
-use crate::math::{Vec3, Vec3A};
+use crate::math::{DMat3, DVec3, Vec3, Vec3A};
 use crate::memory::{HugePageArray, prefetch};
 use crate::query::SpatialIndex;
 #[cfg(target_arch = "x86_64")]
 use crate::wide_tree::{Avx2, Avx2Task};
 use crate::wide_tree::{WideChild, WideTree};
-use glam::{DMat3, DVec3};
 use std::ops::Range;
 use wide::f32x4;
 
@@ -137,7 +136,7 @@ struct Sums {
     third: [DMat3; 3],
 }
 
-// Not derived: glam's matrices default to the identity.
+// Not derived: `DMat3::default()` is the identity.
 impl Default for Sums {
     fn default() -> Self {
         Self {

@@ -163,7 +163,7 @@ fn scale(a: V8, s: __m256) -> V8 {
     }
 }
 
-/// `(x x' + y y') + z z'`, glam's order.
+/// `(x x' + y y') + z z'`, the order of `Vec3A::dot`.
 #[target_feature(enable = "avx2")]
 #[inline]
 fn dot(a: V8, b: V8) -> __m256 {

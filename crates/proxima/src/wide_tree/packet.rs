@@ -3,13 +3,13 @@
 //!
 //! The lanes repeat the scalar routine's arithmetic (`closest_triangle.rs`)
 //! operation for operation: the same differences, the same dot products
-//! summed in the same order (`(x + y) + z`, as glam's `Vec3A::dot`), the same
-//! cross product (fused exactly where glam fuses it), the same divisions, and
-//! the Voronoi regions chosen with the same priority (vertex a, vertex b, edge
-//! ab, vertex c, edge ac, edge bc, face). IEEE arithmetic is deterministic, so
-//! each lane gives the scalar answer. Slivers and degenerate triangles, which
-//! the scalar routine sends to its `f64` path, are marked at build time and
-//! answered by the scalar routine itself.
+//! summed in the same order (`(x + y) + z`, as `Vec3A::dot`), the same
+//! cross product (fused exactly where `Vec3A::cross` fuses it), the same
+//! divisions, and the Voronoi regions chosen with the same priority (vertex
+//! a, vertex b, edge ab, vertex c, edge ac, edge bc, face). IEEE arithmetic
+//! is deterministic, so each lane gives the scalar answer. Slivers and
+//! degenerate triangles, which the scalar routine sends to its `f64` path,
+//! are marked at build time and answered by the scalar routine itself.
 
 use crate::math::{Vec3, Vec3A};
 use crate::primitive::closest_triangle::{FAST_REACH2, takes_f64_path_x4};
@@ -39,7 +39,7 @@ pub trait WidePrimitive: Sized {
 }
 
 impl WidePrimitive for Triangle {
-    /// On x86-64, where the packet arithmetic is known to repeat glam's bit for bit.
+    /// On x86-64, where the packet arithmetic is known to repeat `Vec3A`'s bit for bit.
     const PACKED: bool = cfg!(target_arch = "x86_64");
     #[inline(always)]
     fn as_triangles(primitives: &[Self]) -> Option<&[Triangle]> {
@@ -129,13 +129,13 @@ impl V3 {
         }
     }
 
-    /// `(x x' + y y') + z z'`, glam's order.
+    /// `(x x' + y y') + z z'`, the order of `Vec3A::dot`.
     #[inline(always)]
     pub(crate) fn dot(self, o: Self) -> f32x4 {
         self.x * o.x + self.y * o.y + self.z * o.z
     }
 
-    /// glam's SSE2 cross product: `(self.zxy * o - o.zxy * self).zxy`, the
+    /// `Vec3A::cross` on SSE2: `(self.zxy * o - o.zxy * self).zxy`, the
     /// second product fused into the difference where the target has FMA.
     #[inline(always)]
     fn cross(self, o: Self) -> Self {
