@@ -163,8 +163,8 @@ impl<T: Bounded + Copy + Send + Sync> AabbTree<T> {
             }
         };
         // A random gather: the primitive a few slots ahead is asked for
-        // early, so that the misses overlap (gather 1.1-1.15x faster with 32
-        // ahead than with none on ico1m; 16 and 64 about the same, 8 less).
+        // early, so that the misses overlap (the distance ahead was measured:
+        // docs/perf-log.md).
         let (ordered, sources): (Vec<T>, Vec<u32>) = indices
             .par_iter()
             .enumerate()

@@ -111,9 +111,9 @@ impl BuildConfig {
         Self::default()
     }
 
-    /// Binned SAH with leaves of up to 4 primitives: about 10-25% fewer nodes
-    /// and primitives visited per closest-point query than [`fast_build`](Self::fast_build),
-    /// for a build about three times as slow. For trees that answer many queries.
+    /// Binned SAH with leaves of up to 4 primitives: fewer nodes and
+    /// primitives visited per closest-point query than [`fast_build`](Self::fast_build),
+    /// for a slower build (figures in docs/perf-log.md). For trees that answer many queries.
     pub fn fast_queries() -> Self {
         Self {
             split: SplitMethod::BinnedSah,

@@ -103,9 +103,9 @@ fn subtree_slots<N: PairedNode>(pairs: &[N::Pair], node: usize) -> std::ops::Ran
 const RADIX_BITS: u32 = 11;
 
 /// Sorts `out` (values below `bound`) ascending. The traversal reports
-/// primitives in leaf order, and sorting that list was most of the query time
-/// on large answers (dragon, 89k faces seen: 4.8 of 5.9 ms with
-/// `sort_unstable`); a least-significant-digit radix sort takes one pass per
+/// primitives in leaf order, and sorting that list with `sort_unstable` was
+/// most of the query time on large answers (docs/perf-log.md); a
+/// least-significant-digit radix sort takes one pass per
 /// 11 bits of `bound` (two for the dragon) and uses the second half of the
 /// vector itself as scratch, so a reused vector does not allocate.
 fn sort_indices(out: &mut Vec<u32>, bound: usize) {

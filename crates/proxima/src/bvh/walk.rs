@@ -15,7 +15,7 @@ use std::ops::{ControlFlow, Range};
 
 /// A node of a binary tree stored as sibling pairs (flat node `i` at
 /// `pairs[i / 2][i % 2]`, an inner node's children at `first_child` and
-/// `first_child + 1`): what [`nearest_first`] needs to walk it. The AABB tree
+/// `first_child + 1`): what [`nearest_walk`] needs to walk it. The AABB tree
 /// and the sphere tree differ only in their bounding volume.
 pub(crate) trait PairedNode: Sized {
     /// The pair type the tree stores.

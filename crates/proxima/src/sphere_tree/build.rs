@@ -12,8 +12,8 @@
 //!   of 1024 of them, and the radius from all;
 //! - (b) the merge of the children's spheres (inner nodes only).
 //!
-//! (a) wins at 99% of the nodes (nefertiti: its radius is 9% below the
-//! merge's on average); (b) is kept because it costs nothing and can win
+//! (a) wins at nearly every node (figures in docs/perf-log.md); (b) is
+//! kept because it costs nothing and can win
 //! where two children's spheres nest. (a) costs two passes over the node's
 //! vertices (gather, radius) plus a fixed cost, `O(n log n)` in all, and runs
 //! in parallel over nodes; (b) is one bottom-up sweep. The chosen sphere is

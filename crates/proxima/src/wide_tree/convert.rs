@@ -60,12 +60,10 @@ fn reach_volume(b: &Aabb, grow: f32) -> f32 {
 /// replaced by its two children: opening those first saves the most node
 /// visits. Nodes that become wide leaves ([`wide_leaf`]) are not opened.
 ///
-/// With `grow` a thousandth of the root box's diagonal, against the surface
-/// area (the measure for rays), over 20,000 queries per set: wide nodes
-/// visited per query 25.93 → 25.57 (dragon near), 72.89 → 70.34 (dragon
-/// uniform), 26.30 → 26.20 and 191.35 → 190.86 (ico1m), triangles tested
-/// the same or up to 0.4% fewer; 3.8% (dragon) and 1.1% (ico1m) fewer wide
-/// nodes; rays from outside and inside 0.1–0.6% fewer nodes.
+/// The volume grown by `grow` (a thousandth of the root box's diagonal) is
+/// preferred to the surface area, the measure for rays: it gave fewer wide
+/// nodes and fewer node visits, for point queries and for rays alike
+/// (counts in docs/perf-log.md).
 fn collapse<T>(
     tree: &AabbTree<T>,
     ranges: &[Range<u32>],
@@ -155,9 +153,9 @@ impl<'a> Packer<'a> {
         // and a wide leaf merged from several binary leaves no more than
         // they would: so one packet per binary leaf (half the nodes, the tree
         // being full) and one per four triangles. Pages reserved beyond those
-        // written are never touched. Counting them exactly instead, in a pass
-        // over the nodes: the collapse took 1.01x (dragon) and 1.06x (ico1m)
-        // as long (median of 15 alternating rounds, one thread).
+        // written are never touched, so the bound costs nothing, while
+        // counting the packets exactly would take a pass over the nodes
+        // (measured slower: docs/perf-log.md).
         let packets = triangles.map_or(0, |t| tree.node_count().div_ceil(2) + t.len() / 4);
         let packets = HugePageVec::with_capacity(packets);
         Self {

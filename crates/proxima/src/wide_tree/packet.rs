@@ -180,11 +180,9 @@ impl TrianglePacket {
         assert!((1..=4).contains(&triangles.len()) && indices.len() == triangles.len());
         let last = triangles.len() - 1;
         let t: [&Triangle; 4] = std::array::from_fn(|lane| &triangles[lane.min(last)]);
-        // The lanes are built in registers. Written to the packet first and
-        // loaded back as vectors, each load waited on four scalar stores
-        // (perf: a fifth of this function's samples on one load); against
-        // that, the whole collapse took 0.87–0.93x as long (one thread,
-        // median of 21 alternating rounds, two runs, dragon and ico1m).
+        // The lanes are built in registers: written to the packet first and
+        // loaded back as vectors, each load would wait on four scalar stores
+        // (figures in docs/perf-log.md).
         let lanes = |vertex: fn(&Triangle) -> Vec3| -> V3 {
             let v = t.map(vertex);
             V3 {
@@ -197,9 +195,9 @@ impl TrianglePacket {
         // The scalar routine's own test (`takes_f64_path`), on the same
         // values in the lanes: a lane is answered here exactly when the
         // scalar routine would take its fast path, whose arithmetic the
-        // lanes repeat. Lane by lane with the scalar function instead, the
-        // whole collapse took 1.05x (dragon) and 1.11x (ico1m) as long (one
-        // thread, median of 15 alternating rounds).
+        // lanes repeat. Four lanes at once, because lane by lane with the
+        // scalar function made the whole collapse measurably slower
+        // (docs/perf-log.md).
         let (ab, ac) = (b.sub(a), c.sub(a));
         let (ab2, ac2) = (ab.dot(ab), ac.dot(ac));
         let n = ab.cross(ac);

@@ -249,7 +249,7 @@ impl<T> Slices<'_, T> {
         let d = keys.to_array();
         self.prefetch_children(node, mask);
         // One child within reach: it is entered at once, with nothing to
-        // order or push (40% of the node visits of a near-surface query).
+        // order or push (a frequent case near the surface: docs/perf-log.md).
         if mask & (mask - 1) == 0 {
             let lane = mask.trailing_zeros() as usize;
             return Some(Pending {
