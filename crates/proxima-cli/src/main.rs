@@ -1,5 +1,6 @@
-//! `proxima`: closest-point queries, tree statistics, hash grids and benchmarks
-//! on meshes, from the command line.
+//! `proxima`: closest points, frustum queries, rays, signed distances, hash
+//! grids, voxelization, grid walks, tree statistics, benchmarks and the
+//! viewer on meshes, from the command line.
 //!
 //! Every failure on user input prints one line (`proxima: <file>:<line>: what`)
 //! and exits with status 1; usage errors exit with status 2.
@@ -29,7 +30,7 @@ enum Command {
     Closest(commands::closest::Args),
     /// The vertices, edges or faces a camera sees (overlapping its view frustum).
     Frustum(commands::frustum::Args),
-    /// Linear search against the AABB tree on the same queries.
+    /// Linear search against the trees on the same queries (closest points, signed distances or rays).
     Bench(commands::bench::Args),
     /// Hash grid statistics per primitive type (occupied cells, primitives per cell, build time).
     Grid(commands::grid::Args),
@@ -37,7 +38,7 @@ enum Command {
     Voxelize(commands::voxelize::Args),
     /// The cells a ray walks through (Amanatides & Woo), as CSV.
     Traverse(commands::traverse::Args),
-    /// The first face a ray hits, through a hash grid.
+    /// The first face a ray hits: the AABB tree (default) or a hash grid (`--method grid`); `--rays FILE` casts a file with the 8-wide ray tree.
     Raycast(commands::raycast::Args),
     /// Signed distances (negative inside) at points as CSV, on an N³ grid as .npy, or at training samples as .npz.
     Sdf(commands::sdf::Args),
