@@ -10,7 +10,7 @@
 //! and is stored there. A triangle spanning several cells may be tested more
 //! than once (no mailbox: the query stays read-only and allocation-free).
 
-use super::HashGrid;
+use super::{Cell, HashGrid};
 use crate::aabb::Aabb;
 use crate::error::GridError;
 use crate::math::Vec3;
@@ -109,7 +109,19 @@ impl<T: RayIntersect, S: BuildHasher> HashGrid<T, S> {
         // the origin may lie, by a rounding, in the cell behind an origin on
         // a cell boundary (the hit test itself still starts at t_min).
         let back = margin as f64 / direction.abs().max_element() as f64;
-        let walk = GridTraversal::in_layout_f64(layout, origin, direction, t0 - back, t1)?;
+        // Cells outside the occupied box are empty: the walk crosses only the
+        // box's cells and one more on each side (more than the f64 rounding
+        // of the clipping at any index the layout allows), not the margin's,
+        // which are billions where cells are small beside the coordinates.
+        let spare = |cell: Cell, by: i64| -> Cell {
+            std::array::from_fn(|a| (cell[a] + by).clamp(-layout.max_index(a), layout.max_index(a)))
+        };
+        let (lo, _) = layout.cell_bounds(spare(bounds.min, -1));
+        let (_, hi) = layout.cell_bounds(spare(bounds.max, 1));
+        let Some((w0, w1)) = ray_interval_f64(&Aabb::enclosing(lo, hi), origin, direction, t0 - back, t1) else {
+            return Ok(None);
+        };
+        let walk = GridTraversal::in_layout_f64(layout, origin, direction, w0, w1)?;
         // (primitive, hit) of smallest t so far, ties to the lowest index.
         let mut best: Option<(u32, TriangleHit)> = None;
         for step in walk {
