@@ -282,3 +282,53 @@ fn bench_measures_rays() {
         "{text}"
     );
 }
+
+/// A mesh whose faces all sit on one point has no area, so every ray misses
+/// it: `no hit` from near or far, with `--any`, `--json` and a `--rays`
+/// file, never "ray origin lies too far from the mesh". (Far means within
+/// 2^30 times the point's coordinates for a point away from 0, where the
+/// tree's box has the size of a few `f32` ulps.)
+#[test]
+fn point_sized_mesh_is_missed_not_refused() {
+    let dir = common::temp_dir("point_sized_mesh_is_missed_not_refused");
+    for (name, vertex, origins) in [
+        (
+            "origin.obj",
+            "0 0 0",
+            &["0,0,5", "0.5,0,1000", "0,0,1e9", "1,1,1e30"][..],
+        ),
+        ("offset.obj", "1 2 3", &["1,2,5", "1.5,2,1000", "1,2,1e9"][..]),
+    ] {
+        let mesh = dir.join(name);
+        std::fs::write(&mesh, format!("v {vertex}\n{}", "f 1 1 1\n".repeat(10_000))).unwrap();
+        let mesh = mesh.to_str().unwrap();
+        let mut rays = String::new();
+        for origin in origins {
+            let run = |extra: &[&str]| {
+                let out = proxima(&[&["raycast", mesh, "--origin", origin, "--dir", "0,0,-1"], extra].concat());
+                let err = String::from_utf8_lossy(&out.stderr);
+                assert!(out.status.success(), "{name} from {origin}: {err}");
+                assert!(err.is_empty(), "{err}");
+                stdout(&out)
+            };
+            assert_eq!(run(&[]), "no hit\n", "{name} from {origin}");
+            assert_eq!(run(&["--any"]), "no hit\n", "{name} from {origin}");
+            let json: serde_json::Value = serde_json::from_str(&run(&["--json"])).unwrap();
+            assert!(json["hit"].is_null(), "{json}");
+            // Rays files keep origins within ±2^62 (the points files' bound).
+            if !origin.contains("e30") {
+                rays += &format!("{} 0 0 -1\n", origin.replace(',', " "));
+            }
+        }
+        let count = rays.lines().count();
+        let file = dir.join(format!("{name}.rays"));
+        std::fs::write(&file, rays).unwrap();
+        let out = proxima(&["raycast", mesh, "--rays", file.to_str().unwrap()]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let expected: String = (0..count).map(|i| format!("{i},inf,-1\n")).collect();
+        assert_eq!(stdout(&out), format!("ray,t,face\n{expected}"));
+        let out = proxima(&["raycast", mesh, "--rays", file.to_str().unwrap(), "--any"]);
+        let expected: String = (0..count).map(|i| format!("{i},0\n")).collect();
+        assert_eq!(stdout(&out), format!("ray,hit\n{expected}"));
+    }
+}

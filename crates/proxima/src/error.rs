@@ -357,9 +357,14 @@ pub enum RayError {
     #[error("ray direction must be finite and non-zero")]
     Direction,
     /// A ray origin so far from the structure's bounds (more than 2^30 times
-    /// their diagonal) that even `f64` cannot place the ray near them finely
-    /// enough to tell their front from their back.
-    #[error("ray origin lies too far from the mesh (more than 2^30 times its size) for its hits to be told apart")]
+    /// the larger of their diagonal and their largest coordinate) that even
+    /// `f64` cannot place the ray near them finely enough to tell their front
+    /// from their back. Bounds of a single point (primitives of no area,
+    /// which no ray hits) never give it.
+    #[error(
+        "ray origin lies too far from the mesh (more than 2^30 times the larger of its size and its coordinates) for \
+         its hits to be told apart"
+    )]
     OriginTooFar,
     /// A ray parameter range that is NaN, starts at an infinity, or has `t_min > t_max`.
     #[error("ray range [{t_min}, {t_max}] is not a valid interval")]

@@ -806,3 +806,122 @@ fn ray_tree_batches_equal_single_rays() {
         }
     }
 }
+
+/// A mesh whose triangles all sit on one point has no area: every ray
+/// misses it, from near or from far, and none is refused as starting too far
+/// from a mesh of no size (tree, wide tree, ray tree, brute force, batches).
+/// The oracle is the point's lack of area; brute force agrees. The trees'
+/// boxes are widened by a few ulps of their coordinates, so a point away
+/// from 0 has a size for them: rays up to 2^30 times its coordinates away
+/// are answered (beyond, f64 cannot place a ray within f32's spacing there).
+#[test]
+fn point_sized_meshes_are_missed_from_anywhere() {
+    for point in [Vec3::ZERO, Vec3::new(1.0, 2.0, 3.0), Vec3::new(-1e6, 5e5, 1e3)] {
+        let set = PrimitiveSet::from_primitives(vec![Triangle::new(point, point, point); 1000]);
+        let linear = LinearSearch::new(set.clone());
+        let trees = trees(&set);
+        let mut rays = Vec::new();
+        let distances: &[f32] = if point == Vec3::ZERO {
+            &[0.0, 1.0, 1e4, 1e9, 1e15, 1e30, 3e38]
+        } else {
+            &[0.0, 1.0, 1e4, 1e9]
+        };
+        for &distance in distances {
+            for d in [-Vec3::Z, Vec3::new(0.3, -0.2, -1.0), Vec3::new(1e-30, 0.0, -1.0)] {
+                // Aimed straight at the point, and past it.
+                rays.push((point - d * distance, d));
+                rays.push((point - d * distance + Vec3::X, d));
+            }
+        }
+        for &(o, d) in &rays {
+            let what = format!("point {point}, ray ({o}, {d})");
+            assert_eq!(brute_first(&set, o, d, 0.0, f32::INFINITY), None, "{what}");
+            assert_eq!(linear.first_hit(o, d, 0.0, f32::INFINITY), Ok(None), "{what}: linear");
+            assert_eq!(linear.any_hit(o, d, 0.0, f32::INFINITY), Ok(false), "{what}: linear");
+            for t in &trees {
+                assert_eq!(t.tree().first_hit(o, d, 0.0, f32::INFINITY), Ok(None), "{what}: tree");
+                assert_eq!(t.tree().any_hit(o, d, 0.0, f32::INFINITY), Ok(false), "{what}: tree");
+                assert_eq!(
+                    t.first_hit(o, d, 0.0, f32::INFINITY),
+                    Ok(None),
+                    "{what}: wide and ray trees"
+                );
+                assert_eq!(
+                    t.any_hit(o, d, 0.0, f32::INFINITY),
+                    Ok(false),
+                    "{what}: wide and ray trees"
+                );
+                assert_eq!(t.ray.some_hit(o, d, 0.0, f32::INFINITY), Ok(None), "{what}: ray tree");
+            }
+        }
+        for t in &trees {
+            let misses = |answers: Vec<Result<Option<RayHit>, RayError>>| answers.iter().all(|a| *a == Ok(None));
+            assert!(
+                misses(t.ray.first_hit_batch(&rays, 0.0, f32::INFINITY)),
+                "point {point}: ray tree batch"
+            );
+            assert!(
+                misses(t.wide.first_hit_batch(&rays, 0.0, f32::INFINITY)),
+                "point {point}: wide batch"
+            );
+            let any = t.ray.any_hit_batch(&rays, 0.0, f32::INFINITY);
+            assert!(
+                any.iter().all(|a| *a == Ok(false)),
+                "point {point}: ray tree any-hit batch"
+            );
+        }
+    }
+}
+
+/// A small mesh far from 0 is resolved by `f32` only to the spacing of its
+/// coordinates: an origin farther than 2^30 of its diagonals but within 2^30
+/// of its coordinates is placed near it within that spacing and answered,
+/// at the face the same ray started near the mesh hits; beyond 2^30 times
+/// its coordinates it is refused.
+#[test]
+fn far_origins_are_measured_against_the_mesh_size_and_coordinates() {
+    let mesh = common::bumpy_sphere(3, 5);
+    let offset = Vec3::new(1e6, -2e6, 5e5);
+    let moved = Mesh::from_triangles(
+        mesh.positions().iter().map(|&p| p + offset).collect(),
+        &triangle_indices(&mesh),
+    )
+    .unwrap();
+    let set = moved.triangles();
+    let trees = trees(&set);
+    let linear = LinearSearch::new(set.clone());
+    let centre = moved.bounds().center();
+    // 2^40 (1.1e12) is beyond 2^30 diagonals (about 4e9) and within 2^30 times
+    // the coordinates (2.1e15).
+    let far = (1u64 << 40) as f32;
+    let mut rng = Rng::new(9);
+    let mut hits = 0;
+    for _ in 0..100 {
+        let axis = (rng.range(0.0, 3.0) as usize).min(2);
+        let mut d = Vec3::ZERO;
+        d[axis] = if rng.range(0.0, 1.0) < 0.5 { 1.0 } else { -1.0 };
+        let mut near = centre + Vec3::new(rng.range(-0.8, 0.8), rng.range(-0.8, 0.8), rng.range(-0.8, 0.8));
+        near[axis] = centre[axis] - 4.0 * d[axis];
+        let origin = near - d * far;
+        let want = brute_first(&set, near, d, 0.0, f32::INFINITY);
+        let got = [
+            linear.first_hit(origin, d, 0.0, f32::INFINITY).unwrap(),
+            trees[0].tree().first_hit(origin, d, 0.0, f32::INFINITY).unwrap(),
+            trees[1].first_hit(origin, d, 0.0, f32::INFINITY).unwrap(),
+        ];
+        for g in got {
+            assert_eq!(g.map(|h| h.source), want.map(|h| h.source), "near {near}, dir {d}");
+        }
+        hits += usize::from(want.is_some());
+    }
+    assert!(hits > 50, "{hits} of 100 rays hit the sphere");
+    let too_far = centre - Vec3::Z * 1e22;
+    assert_eq!(
+        trees[0].tree().first_hit(too_far, Vec3::Z, 0.0, f32::INFINITY),
+        Err(RayError::OriginTooFar)
+    );
+    assert_eq!(
+        linear.first_hit(too_far, Vec3::Z, 0.0, f32::INFINITY),
+        Err(RayError::OriginTooFar)
+    );
+}

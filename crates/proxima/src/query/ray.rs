@@ -55,9 +55,13 @@ impl FarRay {
     /// diagonals before entering it, as it is otherwise (and when it misses,
     /// or when its origin lies within that many diagonals of the box's
     /// centre, which every ray of a batch cast at a mesh usually does: then
-    /// no division is made);
-    /// `None` when the origin lies more than 2^30 diagonals from the box, where
-    /// the `f64` rounding of the move would exceed the box's `f32` resolution.
+    /// no division is made, and when the box is a single point);
+    /// `None` when the origin lies more than 2^30 times the box's size from
+    /// it, where the `f64` rounding of the move would exceed the box's `f32`
+    /// resolution. The size is the larger of the diagonal and the largest
+    /// coordinate: `f32` resolves a box far from 0 only to the spacing of its
+    /// coordinates, however small the box, and a move placed within that
+    /// spacing is as good as any `f32` origin.
     pub(crate) fn new(origin: Vec3, direction: Vec3, t_min: f32, t_max: f32, min: Vec3, max: Vec3) -> Option<Self> {
         let unmoved = Self {
             origin,
@@ -70,10 +74,16 @@ impl FarRay {
             direction.to_array().map(|x| x as f64),
         );
         let (lo, hi) = (min.to_array().map(|x| x as f64), max.to_array().map(|x| x as f64));
+        let diagonal2: f64 = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum();
+        // A box of no extent holds only primitives of no area (every vertex
+        // at its one point), which no ray hits from anywhere: there are no
+        // hits to tell apart, and the ray is cast as it is.
+        if diagonal2 == 0.0 {
+            return Some(unmoved);
+        }
         // An origin this near the box enters it, if at all, within
         // `FAR_RAY_DIAGONALS · back` (its entry point lies on the box): not
         // moved, and no division needed to know it.
-        let diagonal2: f64 = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum();
         let from_centre2: f64 = (0..3).map(|k| (o[k] - 0.5 * (lo[k] + hi[k])).powi(2)).sum();
         if from_centre2 <= diagonal2 * (FAR_RAY_DIAGONALS / 2.0).powi(2) {
             return Some(unmoved);
@@ -92,8 +102,9 @@ impl FarRay {
         if !(shift.is_finite() && shift > FAR_RAY_DIAGONALS * back && shift > t_min as f64) {
             return Some(unmoved);
         }
-        let reach = o.iter().chain(&lo).chain(&hi).fold(0.0f64, |m, x| m.max(x.abs()));
-        if reach > diagonal * (1u64 << 30) as f64 {
+        let scale = lo.iter().chain(&hi).fold(0.0f64, |m, x| m.max(x.abs()));
+        let reach = o.iter().fold(scale, |m, x| m.max(x.abs()));
+        if reach > diagonal.max(scale) * (1u64 << 30) as f64 {
             return None;
         }
         let moved = Vec3::from_array(std::array::from_fn(|k| (o[k] + shift * d[k]) as f32));
