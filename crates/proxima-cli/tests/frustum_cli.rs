@@ -249,3 +249,52 @@ fn bad_cameras_fail_with_one_line() {
     let out = proxima(&["frustum", &mesh, "--look-at", "0,0,5,0,0", "--near", "1", "--far", "9"]);
     assert!(stderr(&out).lines().next().unwrap().contains("expected 9 numbers"));
 }
+
+/// `--look-at` builds the camera in `f64`: a tiny `up` is a direction (the
+/// same faces as `up` = (1, 1, 0)), and a camera an `f32` matrix cannot hold
+/// is refused for what it is, in one line naming the values (all three used
+/// to get "needs finite vectors, eye != target, and up not parallel").
+#[test]
+fn look_at_cameras_name_what_f32_cannot_hold() {
+    let mesh = bunny();
+    let run = |camera: &str, near: &str, far: &str| {
+        proxima(&["frustum", &mesh, "--look-at", camera, "--near", near, "--far", far])
+    };
+    let tiny_up = run("0,0,5,0,0,0,1e-45,1e-45,0", "1", "10");
+    assert!(tiny_up.status.success(), "{}", stderr(&tiny_up));
+    let diagonal_up = run("0,0,5,0,0,0,1,1,0", "1", "10");
+    assert_eq!(stdout(&tiny_up), stdout(&diagonal_up));
+    assert!(
+        stdout(&tiny_up).contains(" faces in the frustum"),
+        "{}",
+        stdout(&tiny_up)
+    );
+    for (camera, near, far, needle) in [
+        (
+            "1e30,0,0,0,0,0,0,1,0",
+            "1",
+            "1e31",
+            "invalid camera: the projection of near = 1, far = 1e31 (far / near = 1e31), a field of view of 60 \
+             degrees and aspect 1 is beyond an f32 view-projection matrix: the far plane of the view-projection \
+             matrix has a zero normal",
+        ),
+        (
+            "1e30,0,0,0,0,0,0,1,0",
+            "1",
+            "1e7",
+            "invalid camera: the eye lies 1e30 from the origin, too far for an f32 view-projection matrix with near \
+             = 1 and far = 1e7: the view-projection matrix is singular",
+        ),
+        (
+            "3e38,3e38,3e38,0,0,0,0,1,0",
+            "1e37",
+            "3e38",
+            "invalid camera: the camera's eye distance along a view axis is -5.196152e38, beyond f32",
+        ),
+    ] {
+        let out = run(camera, near, far);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(1), "{camera}: {err}");
+        assert_eq!(err, format!("proxima: {needle}\n"));
+    }
+}

@@ -463,9 +463,74 @@ pub enum FrustumError {
         far: f32,
     },
     /// A camera with a non-finite vector, the eye on its target, or `up`
-    /// parallel to the view direction.
+    /// zero or parallel to the view direction.
     #[error("look-at camera needs finite vectors, eye != target, and up not parallel to the view direction")]
     View,
+    /// A look-at camera whose view-projection matrix (computed in `f64`) has
+    /// a value beyond `f32`.
+    #[error("the camera's {what} is {}, beyond f32", short(*value))]
+    Overflow {
+        /// Which value: the eye's distance along a view axis, a scale or
+        /// offset of the projection, or an entry of the product.
+        what: &'static str,
+        /// The value.
+        value: f64,
+    },
+    /// A look-at camera whose projection alone (the camera moved to the
+    /// origin) gives a view-projection matrix that bounds no frustum in
+    /// `f32`: a `far / near` beyond `f32`'s depth resolution (about 2^24:
+    /// the far plane rounds onto the near one), or an extreme field of view
+    /// or distance scale.
+    #[error(
+        "the projection of near = {}, far = {} (far / near = {}), a field of view of {fov_y_degrees} degrees and \
+         aspect {aspect} is beyond an f32 view-projection matrix: {error}",
+        short(*near as f64), short(*far as f64), short(*far as f64 / *near as f64)
+    )]
+    Projection {
+        /// The near distance.
+        near: f32,
+        /// The far distance.
+        far: f32,
+        /// The vertical field of view.
+        fov_y_degrees: f32,
+        /// The aspect ratio.
+        aspect: f32,
+        /// What the projection's matrix failed.
+        error: Box<FrustumError>,
+    },
+    /// A look-at camera whose projection holds at the origin, but whose eye
+    /// lies so far from the origin, compared with `near`, that its `f32`
+    /// view-projection matrix no longer bounds the frustum (the translation
+    /// swamps the near and far planes).
+    #[error(
+        "the eye lies {} from the origin, too far for an f32 view-projection matrix with near = {} and far = {}: \
+         {error}",
+        short(*distance), short(*near as f64), short(*far as f64)
+    )]
+    EyeTooFar {
+        /// The eye's distance from the origin.
+        distance: f64,
+        /// The near distance.
+        near: f32,
+        /// The far distance.
+        far: f32,
+        /// What the camera's matrix failed.
+        error: Box<FrustumError>,
+    },
+}
+
+/// `x` as a message shows it: `f32`'s shortest digits (`1e31`, not
+/// `9.999999848243207e30`), in exponent form outside `[1e-4, 1e7)`; seven
+/// digits beyond `f32`.
+fn short(x: f64) -> String {
+    let rounded = x as f32;
+    if !rounded.is_finite() {
+        format!("{x:.6e}")
+    } else if rounded == 0.0 || (1e-4..1e7).contains(&rounded.abs()) {
+        format!("{rounded}")
+    } else {
+        format!("{rounded:e}")
+    }
 }
 
 /// A ray the grid refuses, for the same reasons as the trees

@@ -692,3 +692,87 @@ fn tree_equals_brute_force_and_oracles_on_shared_meshes() {
         );
     }
 }
+
+/// A look-at camera is built in `f64`, so `f32` overflow or underflow of a
+/// squared length no longer passes for a bad view: an `up` of
+/// `(1e-45, 1e-45, 0)` or `(0, 3e38, 0)` is a direction like any other, and
+/// a target 1e-25 from the eye a view direction (all were `View` errors).
+/// What an `f32` matrix cannot hold is named instead: a value beyond `f32`,
+/// a `far / near` beyond its depth resolution, an eye too far from the
+/// origin for its near plane.
+#[test]
+fn look_at_cameras_are_built_in_f64() {
+    let (eye, target) = (Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO);
+    let look = |eye, target, up, near, far| Frustum::look_at(eye, target, up, 60.0, 1.0, near, far);
+    let diagonal_up = look(eye, target, Vec3::new(1.0, 1.0, 0.0), 1.0, 10.0).unwrap();
+    assert_eq!(
+        look(eye, target, Vec3::new(1e-45, 1e-45, 0.0), 1.0, 10.0),
+        Ok(diagonal_up)
+    );
+    let upright = look(eye, target, Vec3::Y, 1.0, 10.0).unwrap();
+    assert_eq!(
+        look(eye, target, Vec3::new(0.0, 3e38, 0.0), 1.0, 10.0),
+        Ok(upright.clone())
+    );
+    let close = Vec3::new(0.0, 0.0, 5.0 - 1e-6);
+    assert_eq!(look(eye, close, Vec3::Y, 1.0, 10.0), Ok(upright.clone()));
+    let tiny = look(Vec3::new(0.0, 0.0, 1e-25), Vec3::ZERO, Vec3::Y, 1.0, 10.0).unwrap();
+    // The clip-space oracle on the camera's own matrix: in view between
+    // near and far on the axis, not behind the eye nor beyond far.
+    for (f, z) in [(&upright, 5.0), (&tiny, 0.0)] {
+        let m = f.matrix();
+        for (p, inside) in [(z - 2.0, true), (z - 9.5, true), (z + 1.0, false), (z - 11.0, false)] {
+            let p = Vec3::new(0.1, -0.1, p);
+            assert_eq!(point_oracle(&m, p), inside, "{p}");
+            assert_eq!(f.contains_point(p), inside, "{p}");
+        }
+    }
+
+    let far_eye = Vec3::new(1e30, 0.0, 0.0);
+    let error = look(far_eye, Vec3::ZERO, Vec3::Y, 1.0, 1e31).unwrap_err();
+    assert!(
+        matches!(&error, FrustumError::Projection { error, .. } if **error == FrustumError::ZeroNormal { plane: "far" }),
+        "{error:?}"
+    );
+    assert!(
+        error.to_string().contains("near = 1, far = 1e31 (far / near = 1e31)"),
+        "{error}"
+    );
+    // The same depth range at the origin fails alike: the projection is to blame.
+    assert!(matches!(
+        look(eye, target, Vec3::Y, 1.0, 1e31),
+        Err(FrustumError::Projection { .. })
+    ));
+    let error = look(far_eye, Vec3::ZERO, Vec3::Y, 1.0, 1e7).unwrap_err();
+    assert!(matches!(error, FrustumError::EyeTooFar { .. }), "{error:?}");
+    assert!(
+        error.to_string().starts_with("the eye lies 1e30 from the origin"),
+        "{error}"
+    );
+    assert!(
+        look(eye, target, Vec3::Y, 1.0, 1e7).is_ok(),
+        "the same projection at the origin holds"
+    );
+    let error = look(Vec3::splat(3e38), Vec3::ZERO, Vec3::Y, 1e37, 3e38).unwrap_err();
+    assert!(
+        matches!(error, FrustumError::Overflow { what: "eye distance along a view axis", value } if value < -3.4e38),
+        "{error:?}"
+    );
+    let error = Frustum::look_at(eye, target, Vec3::Y, 60.0, 1e-40, 1.0, 10.0).unwrap_err();
+    assert!(
+        matches!(
+            error,
+            FrustumError::Overflow {
+                what: "horizontal scale cot(fov / 2) / aspect",
+                ..
+            }
+        ),
+        "{error:?}"
+    );
+    // Still refused as a view: parallel, zero and non-finite vectors.
+    assert_eq!(
+        look(eye, target, Vec3::new(0.0, 1e-45, 1.0), 1.0, 10.0),
+        Err(FrustumError::View)
+    );
+    assert_eq!(look(eye, eye, Vec3::Y, 1.0, 10.0), Err(FrustumError::View));
+}

@@ -31,13 +31,14 @@
 //!   1e-12, so it too only rejects what is certainly outside.
 
 mod cull;
+mod look_at;
 mod overlap;
 
 pub use cull::{Cull, PlaneMask};
 pub use overlap::FrustumOverlap;
 
 use crate::error::FrustumError;
-use crate::math::{DMat4, DVec4, Mat4, Vec3, camera};
+use crate::math::{DMat4, DVec4, Mat4, Vec3};
 
 /// Names of the six planes, in the order [`Frustum::planes`] gives them.
 pub const PLANE_NAMES: [&str; 6] = ["left", "right", "bottom", "top", "near", "far"];
@@ -70,7 +71,7 @@ pub struct Frustum {
 
 impl Frustum {
     /// The frustum of a view-projection matrix `m` (projection × view, as
-    /// [`camera`] builds it: `perspective(..) * look_at_mat4(..)`;
+    /// [`camera`](crate::math::camera) builds it: `perspective(..) * look_at_mat4(..)`;
     /// orthographic matrices work too).
     ///
     /// Fails on a matrix with a non-finite entry, a singular matrix, a plane
@@ -123,12 +124,20 @@ impl Frustum {
 
     /// The frustum of a perspective camera at `eye` looking at `target`:
     /// `perspective(fov_y, aspect, near, far) * look_at_mat4(eye, target, up)` (the
-    /// glam functions re-exported in [`camera`], formerly `Mat4::perspective_rh_gl`
-    /// and `Mat4::look_at_rh`).
+    /// glam functions re-exported in [`camera`](crate::math::camera), formerly `Mat4::perspective_rh_gl`
+    /// and `Mat4::look_at_rh`), evaluated in `f64` and rounded to `f32` once,
+    /// so that an eye far from its target (`1e30`) or a tiny `up`
+    /// (`1e-45`) is not lost to `f32` overflow or underflow on the way.
     ///
     /// `fov_y_degrees` must lie in (0, 180), `aspect` be positive, `0 < near <
-    /// far`, all finite; `eye` must differ from `target` and `up` must not be
-    /// parallel to the view direction.
+    /// far`, all finite; `eye` must differ from `target` and `up` must be
+    /// neither zero nor parallel to the view direction
+    /// ([`FrustumError::View`]). A matrix entry beyond `f32` is
+    /// [`FrustumError::Overflow`]; a matrix that no longer bounds the
+    /// frustum once rounded to `f32` is [`FrustumError::Projection`] (a
+    /// `far / near` beyond `f32`'s depth resolution, about 2^24) or
+    /// [`FrustumError::EyeTooFar`] (an eye far from the origin compared with
+    /// `near`).
     pub fn look_at(
         eye: Vec3,
         target: Vec3,
@@ -150,16 +159,16 @@ impl Frustum {
         if !(far.is_finite() && far > near) {
             return Err(FrustumError::Far { near, far });
         }
-        let direction = target - eye;
-        let side = direction.cross(up);
-        if !(eye.is_finite() && target.is_finite() && up.is_finite())
-            || direction == Vec3::ZERO
-            || side.length_squared() <= 1e-12 * direction.length_squared() * up.length_squared()
-        {
-            return Err(FrustumError::View);
+        look_at::Camera {
+            eye,
+            target,
+            up,
+            fov_y_degrees,
+            aspect,
+            near,
+            far,
         }
-        let projection = camera::perspective(fov_y_degrees.to_radians(), aspect, near, far);
-        Frustum::from_view_projection(projection * camera::look_at_mat4(eye, target, up))
+        .frustum()
     }
 
     /// The matrix this frustum was built from.
