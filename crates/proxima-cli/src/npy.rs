@@ -54,11 +54,25 @@ pub fn write(out: &mut impl Write, shape: &[usize], fortran_order: bool, values:
     Ok(())
 }
 
-/// Writes the arrays `(name, shape, values)` as a `.npz` archive (what
-/// `numpy.savez` makes): a zip of stored (uncompressed) entries `name.npy`,
-/// each in C order.
-pub fn write_npz<W: Write + io::Seek>(out: W, arrays: &[(&str, &[usize], &[f32])]) -> zip::result::ZipResult<W> {
-    let mut archive = zip::ZipWriter::new(out);
+/// The `.npz` archive (what `numpy.savez` makes) of the arrays `(name,
+/// shape, values)`: a zip of stored (uncompressed) entries `name.npy`, each
+/// in C order, made in memory for the caller to write.
+///
+/// The zip writer never sees the file: one that meets an I/O error (a full
+/// disk) is left unfinished, finalizes again when dropped and prints a Rust
+/// debug dump of the error on standard error, which `finish` cannot prevent
+/// once it has failed. In memory only allocation can fail, and the caller
+/// writes the bytes with an error of its own.
+pub fn npz(arrays: &[(&str, &[usize], &[f32])]) -> zip::result::ZipResult<Vec<u8>> {
+    // Each entry's bytes plus its local header and central directory record
+    // (name, zip64 fields) and the end records, generously.
+    let capacity = arrays
+        .iter()
+        .map(|&(name, shape, values)| file_len(shape, values.len()) + 2 * (name.len() as u64 + 128))
+        .sum::<u64>()
+        + 256;
+    let buffer = Vec::with_capacity(usize::try_from(capacity).unwrap_or(0));
+    let mut archive = zip::ZipWriter::new(io::Cursor::new(buffer));
     for &(name, shape, values) in arrays {
         let options = zip::write::SimpleFileOptions::default()
             .compression_method(zip::CompressionMethod::Stored)
@@ -67,7 +81,7 @@ pub fn write_npz<W: Write + io::Seek>(out: W, arrays: &[(&str, &[usize], &[f32])
         archive.start_file(format!("{name}.npy"), options)?;
         write(&mut archive, shape, false, values)?;
     }
-    archive.finish()
+    Ok(archive.finish()?.into_inner())
 }
 
 #[cfg(test)]
@@ -87,6 +101,26 @@ mod tests {
         assert!(h.starts_with("{'descr': '<f4', 'fortran_order': True, 'shape': (2, 3, 4), }"));
         let h = String::from_utf8(header(&[5], false)[10..].to_vec()).unwrap();
         assert!(h.contains("'shape': (5,)"), "{h}");
+    }
+
+    /// The archive is a zip of `name.npy` entries whose bytes are the
+    /// arrays' `.npy` files, read back with the zip crate's reader.
+    #[test]
+    fn npz_holds_each_array_as_its_npy_file() {
+        let points = [1.0, 2.0, 3.0, -4.0, 5.5, 6.0];
+        let sdf = [0.25, -0.5];
+        let bytes = npz(&[("points", &[2, 3], &points), ("sdf", &[2], &sdf)]).unwrap();
+        let mut archive = zip::ZipArchive::new(io::Cursor::new(bytes)).unwrap();
+        assert_eq!(archive.len(), 2);
+        for (name, shape, values) in [("points.npy", &[2, 3][..], &points[..]), ("sdf.npy", &[2], &sdf)] {
+            let mut expected = Vec::new();
+            write(&mut expected, shape, false, values).unwrap();
+            let mut entry = archive.by_name(name).unwrap();
+            assert_eq!(entry.compression(), zip::CompressionMethod::Stored);
+            let mut got = Vec::new();
+            io::Read::read_to_end(&mut entry, &mut got).unwrap();
+            assert_eq!(got, expected, "{name}");
+        }
     }
 
     #[test]

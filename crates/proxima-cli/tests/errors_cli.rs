@@ -887,6 +887,62 @@ fn sdf_sample_count_zero() {
     assert_one_line_error(&proxima(&["sdf", &mesh, "--sample", "10"]), 2, &["--out"]);
 }
 
+/// `--sample` writes a `.npz` archive and `--grid` one `.npy` array: an
+/// `--out` named for the other format is refused before the mesh is read
+/// (`.npy` used to be accepted for an archive); other names are taken as
+/// given, as `/dev/null` is.
+#[test]
+fn sdf_output_suffix_of_the_other_format() {
+    let mesh = triangle_file("sdf_output_suffix_of_the_other_format");
+    let (_dir, npy) = output_path("sdf_output_suffix_of_the_other_format_out", "s.npy");
+    let out = proxima(&["sdf", &mesh, "--sample", "10", "--out", npy.to_str().unwrap()]);
+    assert_one_line_error(
+        &out,
+        1,
+        &["s.npy: --sample writes a .npz archive (arrays points and sdf), not a .npy array: give --out FILE.npz"],
+    );
+    assert!(!npy.exists(), "nothing written");
+    let npz = npy.with_extension("NPZ");
+    let out = proxima(&["sdf", &mesh, "--grid", "4", "--out", npz.to_str().unwrap()]);
+    assert_one_line_error(
+        &out,
+        1,
+        &["s.NPZ: --grid writes one .npy array, not a .npz archive: give --out FILE.npy"],
+    );
+    assert!(!npz.exists(), "nothing written");
+    for args in [["--sample", "10"], ["--grid", "4"]] {
+        let out = proxima(&[&["sdf", &*mesh][..], &args, &["--out", "/dev/null"]].concat());
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+}
+
+/// Output to a full disk (`/dev/full`: every write fails with ENOSPC) is
+/// one line naming the file, for the `.npz` archive as for the `.npy` grid;
+/// the archive used to print the zip writer's debug dump
+/// (`ZipWriter::drop: failed to finalize archive: Io(Os { code: 28, … })`)
+/// glued to the message.
+#[test]
+fn sdf_output_to_a_full_disk() {
+    if !Path::new("/dev/full").exists() {
+        println!("note: no /dev/full on this system; skipped");
+        return;
+    }
+    let mesh = triangle_file("sdf_output_to_a_full_disk");
+    for args in [["--sample", "10"], ["--sample", "100000"], ["--grid", "4"]] {
+        let out = proxima(&[&["sdf", &*mesh][..], &args, &["--out", "/dev/full"]].concat());
+        assert_one_line_error(&out, 1, &[]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(
+            err, "proxima: /dev/full: No space left on device (os error 28)\n",
+            "{args:?}"
+        );
+    }
+}
+
 /// `bench --query rays` casts the BENCHMARKS rays at the faces: query
 /// points, another primitive type, or a mesh without faces are refused.
 #[test]

@@ -188,6 +188,13 @@ fn check_sizes(args: &Args) -> Result<()> {
         }
         let cells = (n as u128).pow(3);
         beyond_budget("--grid", n, "cells", cells, BYTES_PER_CELL)?;
+        // Any other name is taken as given (`/dev/stdout`, a pipe), as for --sample.
+        if let Some(path) = args.out.as_deref().filter(|path| extension_is(path, "npz")) {
+            bail!(
+                "{}: --grid writes one .npy array, not a .npz archive: give --out FILE.npy",
+                path.display()
+            );
+        }
         if args.out.is_none() {
             if args.json {
                 bail!("--grid with --json prints the summary on standard output: give --out FILE.npy for the values");
@@ -200,6 +207,12 @@ fn check_sizes(args: &Args) -> Result<()> {
     if let Some(n) = args.sample {
         if n == 0 {
             return Err(SdfError::Zero { option: "--sample" }.into());
+        }
+        if let Some(path) = args.out.as_deref().filter(|path| extension_is(path, "npy")) {
+            bail!(
+                "{}: --sample writes a .npz archive (arrays points and sdf), not a .npy array: give --out FILE.npz",
+                path.display()
+            );
         }
         beyond_budget("--sample", n, "samples", n as u128, BYTES_PER_SAMPLE)?;
     }
@@ -435,11 +448,10 @@ fn write_samples(field: &SignedDistanceField, n: usize, summary: &Summary) -> Re
         .collect();
     drop((near, uniform));
     let inside = sdf.iter().filter(|&&v| v < 0.0).count();
-    write_file(path, |out| {
-        npy::write_npz(out, &[("points", &[n, 3], &points), ("sdf", &[n], &sdf)])
-            .map(drop)
-            .map_err(std::io::Error::other)
-    })?;
+    let archive = npy::npz(&[("points", &[n, 3], &points), ("sdf", &[n], &sdf)])
+        .with_context(|| format!("{}: the .npz archive", path.display()))?;
+    drop((points, sdf));
+    write_file(path, |out| out.write_all(&archive))?;
     if args.json {
         let mut out = summary.json();
         out.insert("samples".into(), json!(n));
@@ -460,6 +472,11 @@ fn write_samples(field: &SignedDistanceField, n: usize, summary: &Summary) -> Re
         ));
     }
     Ok(())
+}
+
+/// `true` when `path` ends in `.ext` (any case).
+fn extension_is(path: &Path, ext: &str) -> bool {
+    path.extension().is_some_and(|e| e.eq_ignore_ascii_case(ext))
 }
 
 /// Creates `path` and writes it through a buffer; errors name the file.
