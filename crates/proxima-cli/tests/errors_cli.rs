@@ -532,6 +532,19 @@ fn bench_query_count_beyond_the_budget() {
     }
 }
 
+/// `--queries 0` is refused as the option it is, for every query kind; it
+/// used to be reported as a property of the mesh ("the mesh has no area",
+/// "the bounding box is a point", "no query points in the near set").
+#[test]
+fn bench_query_count_zero() {
+    let mesh = triangle_file("bench_query_count_zero");
+    for query in ["closest", "rays", "sdf"] {
+        let out = proxima(&["bench", &mesh, "--query", query, "--queries", "0"]);
+        assert_one_line_error(&out, 1, &["proxima: --queries must be at least 1"]);
+    }
+    assert!(proxima(&["bench", &mesh, "--queries", "1"]).status.success());
+}
+
 #[test]
 fn traverse_steps_beyond_the_limit() {
     let out = proxima(&[

@@ -325,6 +325,11 @@ pub fn print_table(records: &[Record]) -> std::io::Result<()> {
 /// Runs `proxima bench`.
 pub fn run(args: Args) -> anyhow::Result<()> {
     crate::common::thread_count(args.threads)?;
+    // Zero generated queries would leave every set empty and be reported as
+    // a property of the mesh (no area, a point-sized box), not of the option.
+    if args.points.is_none() && args.queries == 0 {
+        anyhow::bail!("--queries must be at least 1");
+    }
     if args.query == QueryKind::Sdf {
         if args.primitives.is_some_and(|kind| kind != PrimitiveKind::Faces) {
             anyhow::bail!("--query sdf measures signed distances to the faces; --primitives cannot change that");
