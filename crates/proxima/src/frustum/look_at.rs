@@ -1,12 +1,12 @@
 //! The view-projection matrix of a look-at camera, computed in `f64`.
 //!
 //! glam's `f32` camera functions square and multiply the camera's vectors in
-//! `f32`: an eye 1e30 from its target overflows the squared length
-//! (`1e60`), an `up` of `(1e-45, 1e-45, 0)` underflows it, and both were
-//! taken for a view direction parallel to `up`. In `f64` neither happens
-//! (every `f32` squared, and every product of two, is finite and non-zero
-//! there), so a camera is refused as a bad view only for what it is:
-//! non-finite, an eye on its target, `up` zero or parallel to the view.
+//! `f32`, where an eye 1e30 from its target overflows the squared length
+//! (`1e60`) and an `up` of `(1e-45, 1e-45, 0)` underflows it: either looks
+//! like a view direction parallel to `up`. In `f64` neither happens (every
+//! `f32` squared, and every product of two, is finite and non-zero there),
+//! so a camera is refused as a bad view only for what it is: non-finite, an
+//! eye on its target, `up` zero or parallel to the view.
 //!
 //! The matrix is rounded to `f32` once, at the end. A value beyond `f32`
 //! there is named ([`FrustumError::Overflow`]); a matrix that no longer
@@ -82,7 +82,7 @@ impl Camera {
         let up = up.try_normalize().ok_or(FrustumError::View)?;
         let side = forward.cross(up);
         let sine = side.length();
-        if !(sine > MIN_SINE) {
+        if sine <= MIN_SINE {
             return Err(FrustumError::View);
         }
         let side = side / sine;
