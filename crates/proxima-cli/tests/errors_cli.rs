@@ -545,6 +545,89 @@ fn bench_query_count_zero() {
     assert!(proxima(&["bench", &mesh, "--queries", "1"]).status.success());
 }
 
+/// A structure that searches like a linear scan (faces all on one point: a
+/// tie at every query, nothing to prune) gets the linear row's budget: its
+/// row answers the linear row's queries and says why, in the JSON
+/// (`capped`, `note`) and after the table; a row of 10,000 queries on a
+/// million such faces ran for many minutes. Rows on a mesh answer all their
+/// queries whatever the linear budget. The cap comes from counted tests, not
+/// time, so the counts below are exact.
+#[test]
+fn bench_rows_that_search_like_a_linear_scan_are_capped() {
+    let (_dir, point) = file_with("point.obj", format!("v 1 2 3\n{}", "f 1 1 1\n".repeat(5000)).as_bytes());
+    let budget = [("PROXIMA_BENCH_LINEAR_BUDGET", "200000")];
+    let args = [
+        "bench",
+        &point,
+        "--primitives",
+        "faces",
+        "--set",
+        "uniform",
+        "--queries",
+        "1000",
+        "--json",
+    ];
+    let out = proxima_env(&args, &budget);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    // 200000 tests on 5000 faces: 40 queries.
+    for r in json["results"].as_array().unwrap() {
+        let method = r["method"].as_str().unwrap();
+        for key in [
+            "primitives",
+            "build_seconds",
+            "queries",
+            "seconds",
+            "queries_per_second",
+        ] {
+            assert!(!r[key].is_null(), "{key} missing: {r}");
+        }
+        assert_eq!(r["agree"], true, "{r}");
+        let capped = method != "parry3d";
+        assert_eq!(r["queries"], if capped { 40 } else { 1000 }, "{r}");
+        assert_eq!(r["capped"], capped, "{r}");
+        match method {
+            "linear" | "parry3d" => assert!(r["note"].is_null(), "{r}"),
+            _ => {
+                let note = r["note"].as_str().unwrap();
+                assert!(
+                    note.contains("ran on the first 40 queries only, as linear search does")
+                        && note.contains("tested 5000 of the 5000 primitives each"),
+                    "{note}"
+                );
+            }
+        }
+    }
+    let text = proxima_env(&args[..args.len() - 1], &budget);
+    let text = String::from_utf8_lossy(&text.stdout);
+    assert!(
+        text.contains("(faces: tree ran on the first 40 queries only")
+            && text.contains("(faces: tree-wide and tree-batch ran on the first 40 queries only")
+            && text.contains("(faces: sphere-tree ran on the first 40 queries only"),
+        "{text}"
+    );
+    // A mesh's rows answer every query, though the linear row is capped.
+    let mesh = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/bunny-npm.obj");
+    let out = proxima_env(
+        &["bench", mesh, "--primitives", "faces", "--queries", "1000", "--json"],
+        &budget,
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for r in json["results"].as_array().unwrap() {
+        let linear = r["method"] == "linear";
+        assert_eq!(r["capped"], linear, "{r}");
+        assert_eq!(r["queries"].as_u64().unwrap() < 1000, linear, "{r}");
+        assert!(r["note"].is_null(), "{r}");
+    }
+    let out = proxima_env(&args, &[("PROXIMA_BENCH_LINEAR_BUDGET", "lots")]);
+    assert_one_line_error(
+        &out,
+        1,
+        &["PROXIMA_BENCH_LINEAR_BUDGET: 'lots' is not a positive whole number of primitive tests"],
+    );
+}
+
 #[test]
 fn traverse_steps_beyond_the_limit() {
     let out = proxima(&[

@@ -96,6 +96,11 @@ pub struct Record {
     /// structures of proxima, the binary tree's; for the peer, ours within
     /// its tolerance.
     pub agree: bool,
+    /// Why the row answered fewer queries than the set, when it did for a
+    /// reason of its own (the linear row's budget is said once, after the
+    /// table): a structure that searched like a linear scan, a peer that
+    /// spent its time budget.
+    pub note: Option<String>,
 }
 
 impl Record {
@@ -110,8 +115,78 @@ impl Record {
 /// answers (8 bytes each) and the batch answers (32 bytes).
 const BYTES_PER_QUERY: u64 = 96;
 
-/// Primitive tests the linear scan may spend, so big meshes still finish quickly.
-const LINEAR_BUDGET: usize = 100_000_000;
+/// Primitive tests the linear scan may spend, so big meshes still finish
+/// quickly ([`LINEAR_BUDGET_ENV`] sets it).
+const LINEAR_BUDGET: u64 = 100_000_000;
+
+/// The environment variable that sets the linear row's budget of primitive
+/// tests (a positive whole number), which also bounds the rows of
+/// structures that search like a linear scan.
+pub const LINEAR_BUDGET_ENV: &str = "PROXIMA_BENCH_LINEAR_BUDGET";
+
+/// The primitive tests the linear row may spend: [`LINEAR_BUDGET_ENV`] or
+/// [`LINEAR_BUDGET`].
+pub fn linear_budget() -> anyhow::Result<u64> {
+    match std::env::var_os(LINEAR_BUDGET_ENV) {
+        None => Ok(LINEAR_BUDGET),
+        Some(value) => {
+            let text = value.to_string_lossy();
+            text.trim()
+                .parse::<u64>()
+                .ok()
+                .filter(|&budget| budget > 0)
+                .ok_or_else(|| {
+                    anyhow::anyhow!("{LINEAR_BUDGET_ENV}: '{text}' is not a positive whole number of primitive tests")
+                })
+        }
+    }
+}
+
+/// The queries of a row that the linear row's budget allows on `primitives`
+/// primitives: at least 20 (when there are that many), at most all.
+pub fn linear_queries(budget: u64, primitives: usize, total: usize) -> usize {
+    usize::try_from(budget / primitives.max(1) as u64)
+        .unwrap_or(usize::MAX)
+        .max(20)
+        .min(total)
+}
+
+/// Queries whose work is counted before a structure's row is timed.
+const PROBE: usize = 20;
+
+/// The queries a structure's row answers: all, unless its first [`PROBE`]
+/// queries tested half the primitives or more each, as a linear scan does
+/// (faces all on one point are all at the same distance: a tie that leaves
+/// nothing to prune, so each query costs a scan of the mesh). Such a row
+/// answers what the linear row answers (`n_linear`), within the same budget
+/// of tests, and says so in its note. Counted work, not time: the same input
+/// caps the same rows.
+fn row_queries<S: NearestQuery<T>, T: MeshPrimitive>(
+    structure: &S,
+    method: &str,
+    points: &[Vec3],
+    n_linear: usize,
+) -> (usize, Option<String>) {
+    let primitives = structure.leaves().len() as u64;
+    if n_linear >= points.len() {
+        return (points.len(), None);
+    }
+    let probe = &points[..PROBE.min(points.len())];
+    let tested: u64 = probe
+        .iter()
+        .map(|&p| structure.closest_with_stats(p).1.primitives_tested)
+        .sum();
+    if 2 * tested < probe.len() as u64 * primitives {
+        return (points.len(), None);
+    }
+    let note = format!(
+        "{method} ran on the first {n_linear} queries only, as linear search does: its first {} queries tested {} \
+         of the {primitives} primitives each on average (equal distances leave it nothing to prune)",
+        probe.len(),
+        tested / probe.len() as u64
+    );
+    (n_linear, Some(note))
+}
 
 /// Benchmarks one primitive type: tree build, linear and tree queries, and
 /// for faces the peer library.
@@ -132,20 +207,21 @@ impl KindTask for BenchKind<'_> {
             config,
             progress,
         } = self;
-        bench_set(set, points, config, progress, |expected| match T::KIND {
-            PrimitiveKind::Faces => super::bench_peer::parry3d_faces(mesh, points, expected),
+        bench_set(set, points, config, progress, |expected, budget| match T::KIND {
+            PrimitiveKind::Faces => super::bench_peer::parry3d_faces(mesh, points, expected, budget),
             _ => None,
         })
     }
 }
 
 /// Benchmarks one primitive type: tree build, linear and tree queries.
+/// `peer` is given the binary tree's distances and a time budget.
 fn bench_set<T: MeshPrimitive>(
     set: PrimitiveSet<T>,
     points: &[Vec3],
     config: &BuildConfig,
     progress: bool,
-    peer: impl FnOnce(&[Option<f32>]) -> Option<Record>,
+    peer: impl FnOnce(&[Option<f32>], std::time::Duration) -> Option<Record>,
 ) -> anyhow::Result<Vec<Record>> {
     let kind = T::KIND;
     // The build alone is timed, not the copy of its input (nor parry3d's).
@@ -154,8 +230,7 @@ fn bench_set<T: MeshPrimitive>(
     let tree = AabbTree::build_set(input, config)?;
     let build_seconds = start.elapsed().as_secs_f64();
 
-    // At least 20 queries (when there are that many), at most all of them.
-    let n_linear = (LINEAR_BUDGET / set.len().max(1)).max(20).min(points.len());
+    let n_linear = linear_queries(linear_budget()?, set.len(), points.len());
     let set_for_spheres = set.clone();
     let set_for_wide = set.clone();
     let linear = LinearSearch::new(set);
@@ -172,9 +247,11 @@ fn bench_set<T: MeshPrimitive>(
     bar.finish_and_clear();
 
     // Per query, in input order: the binary tree, then the 4-wide tree
-    // (same answers, SIMD nodes), built by its own build.
+    // (same answers, SIMD nodes), built by its own build. Each answers the
+    // first `n_*` queries: all of them unless it searches like linear search.
+    let (n_tree, tree_note) = row_queries(&tree, "tree", points, n_linear);
     let (per_query, tree_seconds): (Vec<Option<f32>>, f64) = timed(|| {
-        points
+        points[..n_tree]
             .par_iter()
             .map(|&p| tree.closest(p).map(|h| h.distance))
             .collect()
@@ -182,57 +259,78 @@ fn bench_set<T: MeshPrimitive>(
     drop(tree);
     let (wide, wide_build_seconds) = timed(|| WideTree::build_set(set_for_wide, config));
     let wide = wide?;
+    let (n_wide, wide_note) = row_queries(&wide, "tree-wide and tree-batch", points, n_linear);
     let (per_query_wide, wide_seconds): (Vec<Option<f32>>, f64) = timed(|| {
-        points
+        points[..n_wide]
             .par_iter()
             .map(|&p| wide.closest(p).map(|h| h.distance))
             .collect()
     });
-    let (batch, batch_seconds) = timed(|| wide.closest_batch(points));
+    let (batch, batch_seconds) = timed(|| wide.closest_batch(&points[..n_wide]));
     drop(wide);
     // The sphere tree: the same hierarchy with spheres (its build includes
     // the AABB tree's, whose topology it takes).
     let (spheres, sphere_build_seconds) = timed(|| SphereTree::build_set(set_for_spheres, config));
     let spheres = spheres?;
+    let (n_spheres, spheres_note) = row_queries(&spheres, "sphere-tree", points, n_linear);
     let (per_query_spheres, sphere_seconds): (Vec<Option<f32>>, f64) = timed(|| {
-        points
+        points[..n_spheres]
             .par_iter()
             .map(|&p| spheres.closest(p).map(|h| h.distance))
             .collect()
     });
 
     // Each structure against the binary tree, and the tree against linear
-    // search, so a disagreement names the structure that differs.
-    let tree_agrees = expected.iter().zip(&per_query).all(|(a, b)| a == b);
-    let wide_agrees = per_query_wide == per_query;
-    let spheres_agree = per_query_spheres == per_query;
+    // search, on the queries both answered, so a disagreement names the
+    // structure that differs.
+    let same = |a: &[Option<f32>], b: &[Option<f32>]| a.iter().zip(b).all(|(a, b)| a == b);
+    let tree_agrees = same(&expected, &per_query);
+    let wide_agrees = same(&per_query_wide, &per_query);
+    let spheres_agree = same(&per_query_spheres, &per_query);
     let batch_agrees = batch.iter().zip(&per_query).all(|(a, b)| a.map(|h| h.distance) == *b);
-    let row = |method, build_seconds, queries, seconds, agree| Record {
+    let row = |method, build_seconds, queries, seconds, agree, note| Record {
         primitives: kind.name(),
         method,
         build_seconds,
         queries,
         seconds,
         agree,
+        note,
     };
-    let peer = peer(&per_query);
+    // The peer may take ten times our slowest row, and at least 10 s.
+    let slowest = [tree_seconds, wide_seconds, batch_seconds, sphere_seconds]
+        .into_iter()
+        .fold(0.0, f64::max);
+    let peer = peer(
+        &per_query,
+        std::time::Duration::from_secs_f64((10.0 * slowest).max(10.0)),
+    );
     Ok([
-        row("linear", 0.0, n_linear, linear_seconds, tree_agrees),
-        row("tree", build_seconds, points.len(), tree_seconds, tree_agrees),
-        row("tree-wide", wide_build_seconds, points.len(), wide_seconds, wide_agrees),
+        row("linear", 0.0, n_linear, linear_seconds, tree_agrees, None),
+        row("tree", build_seconds, n_tree, tree_seconds, tree_agrees, tree_note),
+        row(
+            "tree-wide",
+            wide_build_seconds,
+            n_wide,
+            wide_seconds,
+            wide_agrees,
+            wide_note.clone(),
+        ),
         row(
             "tree-batch",
             wide_build_seconds,
-            points.len(),
+            n_wide,
             batch_seconds,
             batch_agrees,
+            wide_note,
         ),
         row(
             "sphere-tree",
             sphere_build_seconds,
-            points.len(),
+            n_spheres,
             sphere_seconds,
             spheres_agree,
+            spheres_note,
         ),
     ]
     .into_iter()
@@ -287,6 +385,21 @@ pub fn measure(
         }
         Ok(records)
     })
+}
+
+/// Prints each row's note once (the wide tree's rows share theirs), in
+/// parentheses after the table, naming the primitive type.
+pub fn print_notes(records: &[Record]) -> std::io::Result<()> {
+    let mut printed: Vec<(&str, &str)> = Vec::new();
+    for r in records {
+        if let Some(note) = &r.note
+            && !printed.contains(&(r.primitives, note.as_str()))
+        {
+            printed.push((r.primitives, note));
+            crate::outln!("({}: {note})", r.primitives);
+        }
+    }
+    Ok(())
 }
 
 /// Prints the records as a table.
@@ -420,7 +533,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 json!({
                     "primitives": r.primitives, "method": r.method, "build_seconds": r.build_seconds,
                     "queries": r.queries, "seconds": r.seconds, "queries_per_second": r.queries_per_second(),
-                    "agree": r.agree,
+                    "agree": r.agree, "capped": r.queries < points.len(), "note": r.note,
                 })
             })
             .collect();
@@ -460,6 +573,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 r.queries
             );
         }
+        print_notes(&records)?;
     }
     // Our structures must agree exactly; the peer computes in its own f32
     // arithmetic, and its rounding at large coordinates is not our bug.

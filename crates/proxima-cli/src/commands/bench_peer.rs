@@ -4,31 +4,61 @@
 
 use super::bench::Record;
 use proxima::{Mesh, Vec3};
+use std::time::{Duration, Instant};
+
+/// Queries a peer answers between two looks at its time budget.
+const CHUNK: usize = 1024;
+
+/// `answer(i)` for `i` in `0..count`, in order, on the current pool, a
+/// chunk of [`CHUNK`] at a time until `budget` has passed: every chunk once
+/// the budget allows, at least the first. A peer's row is bounded so: its
+/// work cannot be counted as ours is, and on degenerate input a peer may
+/// search far longer per query than on a mesh.
+#[cfg_attr(not(feature = "parry3d"), allow(dead_code))]
+pub fn answer_within<R: Send>(count: usize, budget: Duration, answer: impl Fn(usize) -> R + Sync) -> Vec<R> {
+    use rayon::prelude::*;
+    let start = Instant::now();
+    let mut answers = Vec::with_capacity(count);
+    while answers.len() < count && (answers.is_empty() || start.elapsed() < budget) {
+        let chunk = answers.len()..(answers.len() + CHUNK).min(count);
+        let part: Vec<R> = chunk.into_par_iter().map(&answer).collect();
+        answers.extend(part);
+    }
+    answers
+}
+
+/// The note of a peer's row that answered `done` of `count` queries within `budget`.
+#[cfg_attr(not(feature = "parry3d"), allow(dead_code))]
+fn budget_note(done: usize, count: usize, budget: Duration) -> Option<String> {
+    (done < count).then(|| {
+        format!(
+            "parry3d ran on the first {done} of {count} queries only: it used up its time budget of {:.0} s (ten times \
+             proxima's slowest row, at least 10 s)",
+            budget.as_secs_f64()
+        )
+    })
+}
 
 /// parry3d's build and per-query closest-point time on the mesh's triangles
 /// (faces fanned as proxima fans them), answered in input order on the
-/// current pool. `agree` when every distance is within 1e-5 of the bounding
-/// box diagonal of `expected` (parry3d's closest point differs from ours by
-/// rounding only). `None` when parry3d refuses the mesh.
+/// current pool, for at most `budget` ([`answer_within`]). `agree` when
+/// every distance is within 1e-5 of the bounding box diagonal of `expected`
+/// (parry3d's closest point differs from ours by rounding only), on the
+/// queries both answered. `None` when parry3d refuses the mesh.
 #[cfg(feature = "parry3d")]
-pub fn parry3d_faces(mesh: &Mesh, points: &[Vec3], expected: &[Option<f32>]) -> Option<Record> {
+pub fn parry3d_faces(mesh: &Mesh, points: &[Vec3], expected: &[Option<f32>], budget: Duration) -> Option<Record> {
     use parry3d::math::Vector;
     use parry3d::query::PointQuery;
-    use rayon::prelude::*;
-    use std::time::Instant;
     let (vertices, indices) = parry3d_input(mesh);
     // The build alone is timed, not the making of its input (nor ours).
     let start = Instant::now();
     let trimesh = parry3d::shape::TriMesh::new(vertices, indices).ok()?;
     let build_seconds = start.elapsed().as_secs_f64();
     let start = Instant::now();
-    let distances: Vec<f32> = points
-        .par_iter()
-        .map(|p| {
-            let q = Vector::from_array(p.to_array());
-            (trimesh.project_local_point(q, false).point - q).length()
-        })
-        .collect();
+    let distances: Vec<f32> = answer_within(points.len(), budget, |i| {
+        let q = Vector::from_array(points[i].to_array());
+        (trimesh.project_local_point(q, false).point - q).length()
+    });
     let seconds = start.elapsed().as_secs_f64();
     let tolerance = 1e-5 * mesh.bounds().diagonal();
     let agree = distances
@@ -39,37 +69,40 @@ pub fn parry3d_faces(mesh: &Mesh, points: &[Vec3], expected: &[Option<f32>]) -> 
         primitives: "faces",
         method: "parry3d",
         build_seconds,
-        queries: points.len(),
+        queries: distances.len(),
         seconds,
         agree,
+        note: budget_note(distances.len(), points.len(), budget),
     })
 }
 
 /// parry3d's build and per-ray first-hit time (`cast_local_ray`, hollow
-/// triangles) on the mesh's triangles, in input order on the current pool.
-/// `agree` when every ray hits or misses as in `expected` (`t`, input
-/// index), at a `t` within 1e-5 of the bounding box diagonal. `None` when
-/// parry3d refuses the mesh.
+/// triangles) on the mesh's triangles, in input order on the current pool,
+/// for at most `budget` ([`answer_within`]). `agree` when every ray hits or
+/// misses as in `expected` (`t`, input index), at a `t` within 1e-5 of the
+/// bounding box diagonal, on the rays both cast. `None` when parry3d
+/// refuses the mesh.
 #[cfg(feature = "parry3d")]
-pub fn parry3d_rays(mesh: &Mesh, rays: &[(Vec3, Vec3)], expected: &[Option<(f32, u32)>]) -> Option<Record> {
+pub fn parry3d_rays(
+    mesh: &Mesh,
+    rays: &[(Vec3, Vec3)],
+    expected: &[Option<(f32, u32)>],
+    budget: Duration,
+) -> Option<Record> {
     use parry3d::query::{Ray, RayCast};
-    use rayon::prelude::*;
-    use std::time::Instant;
     let (vertices, indices) = parry3d_input(mesh);
     let start = Instant::now();
     let trimesh = parry3d::shape::TriMesh::new(vertices, indices).ok()?;
     let build_seconds = start.elapsed().as_secs_f64();
     let start = Instant::now();
-    let hits: Vec<Option<f32>> = rays
-        .par_iter()
-        .map(|(o, d)| {
-            let ray = Ray::new(
-                parry3d::math::Vector::from_array(o.to_array()),
-                parry3d::math::Vector::from_array(d.to_array()),
-            );
-            trimesh.cast_local_ray(&ray, f32::MAX, false)
-        })
-        .collect();
+    let hits: Vec<Option<f32>> = answer_within(rays.len(), budget, |i| {
+        let (o, d) = rays[i];
+        let ray = Ray::new(
+            parry3d::math::Vector::from_array(o.to_array()),
+            parry3d::math::Vector::from_array(d.to_array()),
+        );
+        trimesh.cast_local_ray(&ray, f32::MAX, false)
+    });
     let seconds = start.elapsed().as_secs_f64();
     let tolerance = 1e-5 * mesh.bounds().diagonal();
     let agree = hits.iter().zip(expected).all(|(h, e)| match (h, e) {
@@ -81,9 +114,10 @@ pub fn parry3d_rays(mesh: &Mesh, rays: &[(Vec3, Vec3)], expected: &[Option<(f32,
         primitives: "faces",
         method: "parry3d",
         build_seconds,
-        queries: rays.len(),
+        queries: hits.len(),
         seconds,
         agree,
+        note: budget_note(hits.len(), rays.len(), budget),
     })
 }
 
@@ -107,12 +141,40 @@ fn parry3d_input(mesh: &Mesh) -> (Vec<parry3d::math::Vector>, Vec<[u32; 3]>) {
 
 /// Without the `parry3d` feature there is no peer row.
 #[cfg(not(feature = "parry3d"))]
-pub fn parry3d_faces(_: &Mesh, _: &[Vec3], _: &[Option<f32>]) -> Option<Record> {
+pub fn parry3d_faces(_: &Mesh, _: &[Vec3], _: &[Option<f32>], _: Duration) -> Option<Record> {
     None
 }
 
 /// Without the `parry3d` feature there is no peer row.
 #[cfg(not(feature = "parry3d"))]
-pub fn parry3d_rays(_: &Mesh, _: &[(Vec3, Vec3)], _: &[Option<(f32, u32)>]) -> Option<Record> {
+pub fn parry3d_rays(_: &Mesh, _: &[(Vec3, Vec3)], _: &[Option<(f32, u32)>], _: Duration) -> Option<Record> {
     None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A spent budget still answers the first chunk; an ample one answers
+    /// every query; both in input order.
+    #[test]
+    fn peers_answer_in_order_within_their_budget() {
+        let count = 3 * CHUNK + 5;
+        assert_eq!(
+            answer_within(count, Duration::ZERO, |i| i),
+            (0..CHUNK).collect::<Vec<_>>()
+        );
+        assert_eq!(
+            answer_within(count, Duration::MAX, |i| i),
+            (0..count).collect::<Vec<_>>()
+        );
+        assert_eq!(answer_within(7, Duration::ZERO, |i| 2 * i), [0, 2, 4, 6, 8, 10, 12]);
+        assert!(answer_within(0, Duration::MAX, |i| i).is_empty());
+        assert_eq!(budget_note(7, 7, Duration::ZERO), None);
+        let note = budget_note(CHUNK, count, Duration::from_secs(12)).unwrap();
+        assert!(
+            note.starts_with("parry3d ran on the first 1024 of 3077 queries only"),
+            "{note}"
+        );
+    }
 }

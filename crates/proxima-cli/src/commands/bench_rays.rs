@@ -10,9 +10,6 @@ use rayon::prelude::*;
 use serde_json::json;
 use std::path::Path;
 
-/// Triangle tests the linear scan may spend, so big meshes still finish quickly.
-const LINEAR_BUDGET: usize = 100_000_000;
-
 /// What `bench --query rays` is given.
 pub struct Options<'a> {
     /// The mesh file.
@@ -61,6 +58,7 @@ pub fn run(options: &Options<'_>) -> anyhow::Result<()> {
                 json!({
                     "method": r.method, "build_seconds": r.build_seconds, "rays": r.queries,
                     "seconds": r.seconds, "rays_per_second": r.queries_per_second(), "agree": r.agree,
+                    "capped": r.queries < rays.len(), "note": r.note,
                 })
             })
             .collect();
@@ -78,6 +76,7 @@ pub fn run(options: &Options<'_>) -> anyhow::Result<()> {
             options.threads
         );
         print_table(&records)?;
+        super::bench::print_notes(&records)?;
         if let Some(peer) = records.iter().find(|r| r.method == "parry3d") {
             for r in records.iter().filter(|r| r.method.starts_with("ray-tree")) {
                 crate::outln!(
@@ -115,8 +114,10 @@ fn measure(mesh: &Mesh, rays: &[(Vec3, Vec3)], progress: bool) -> anyhow::Result
         queries,
         seconds,
         agree,
+        note: None,
     };
-    let n_linear = (LINEAR_BUDGET / mesh.triangle_count().max(1)).max(20).min(rays.len());
+    // The linear scan's budget of triangle tests, as for closest points.
+    let n_linear = super::bench::linear_queries(super::bench::linear_budget()?, mesh.triangle_count(), rays.len());
     let linear = LinearSearch::new(mesh.triangles());
     let progress_bar = bar(progress, n_linear, "faces linear");
     let (expected, linear_seconds) = timed(|| {
@@ -151,7 +152,12 @@ fn measure(mesh: &Mesh, rays: &[(Vec3, Vec3)], progress: bool) -> anyhow::Result
         row("ray-tree", tree_build, n, single_seconds, single_agrees),
         row("ray-tree-batch", tree_build, n, batch_seconds, batch == single),
     ];
-    records.extend(super::bench_peer::parry3d_rays(mesh, rays, &single));
+    // The peer may take ten times our slowest row, and at least 10 s.
+    let slowest = [wide_seconds, single_seconds, batch_seconds]
+        .into_iter()
+        .fold(0.0, f64::max);
+    let budget = std::time::Duration::from_secs_f64((10.0 * slowest).max(10.0));
+    records.extend(super::bench_peer::parry3d_rays(mesh, rays, &single, budget));
     Ok(records)
 }
 

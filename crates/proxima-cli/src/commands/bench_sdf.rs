@@ -229,6 +229,7 @@ fn measure_set(mesh: &Mesh, fields: &Fields, set: &str, points: &[Vec3], progres
         queries,
         seconds,
         agree,
+        note: None,
     };
     let n = points.len();
     let records = vec![
