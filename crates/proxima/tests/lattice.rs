@@ -498,7 +498,12 @@ fn vertices_a_fraction_of_a_step_off_the_planes() {
         0.0500000007 0.0500000007 0.0500000007\n\
         0.0500000007 0.0500000007 0.0499000000\n\
         3 0 1 2\n3 3 4 5\n";
-    let mesh = proxima::io::parse(off.as_bytes(), proxima::io::Format::Off, std::path::Path::new("tri.off")).unwrap();
+    let mesh = proxima::io::parse(
+        off.as_bytes(),
+        proxima::io::Format::Off,
+        std::path::Path::new("tri.off"),
+    )
+    .unwrap();
     let tris = mesh.triangles().primitives;
     let bounds = Aabb::from_points(tris.iter().flat_map(|t| t.vertices()));
     let vox = voxelize(&tris, &bounds, &VoxelConfig::new(32)).unwrap();
