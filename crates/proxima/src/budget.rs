@@ -15,9 +15,16 @@
 //!   bytes per entry and per cell measured below, and the build stops with an
 //!   error once the count would pass the budget: it never holds more.
 //!
-//! The default memory budget is 2 GiB, or three quarters of the memory the
-//! system reports available (`MemAvailable` in `/proc/meminfo`) when that is
-//! less ([`default_memory_budget`]).
+//! The default memory budget is 2 GiB, or three quarters of the memory this
+//! process can still obtain when that is less ([`default_memory_budget`]):
+//! the least of what the system reports available (`MemAvailable` in
+//! `/proc/meminfo`), the room left under the process's address-space limit
+//! (`RLIMIT_AS`, as `ulimit -v` sets it) and the room left under its cgroup's
+//! `memory.max` ([`process_available_memory`]).
+//!
+//! Loading a mesh is counted against the same budget
+//! ([`LOAD_BYTES_PER_VERTEX`], [`LOAD_BYTES_PER_TRIANGLE`], applied by
+//! [`crate::io`]).
 //!
 //! ```
 //! use proxima::budget::{DEFAULT_MEMORY_BUDGET, default_memory_budget};
@@ -58,6 +65,22 @@ pub const GRID_BYTES_PER_CELL: u64 = 128;
 /// concatenation (24 bytes each).
 pub const VOXEL_BYTES_PER_SPARSE_CELL: u64 = 128;
 
+/// Bytes a loaded mesh is counted per vertex against the memory budget
+/// ([`crate::io::LoadOptions::memory_budget`]): its position (12 bytes) and
+/// the tree a command builds over the vertices. Measured: 94 bytes per
+/// vertex at the peak of `proxima info` (and of `closest --primitives
+/// vertices`) on point clouds of 1 and 4 million vertices, by difference.
+pub const LOAD_BYTES_PER_VERTEX: u64 = 96;
+
+/// Bytes a loaded mesh is counted per triangle (a face of `n` vertices
+/// counts as `n - 2`) against the memory budget: its indices and face offset
+/// (16 bytes) and the trees a command builds over its faces and edges.
+/// Measured: 131 bytes per triangle at the peak of `proxima info` on meshes
+/// of 1 and 4 million triangles, by difference, the vertices' share taken
+/// off; `closest --primitives faces` and `raycast` hold 115–123, `sdf` about
+/// 234 (its winding-number nodes are not counted here).
+pub const LOAD_BYTES_PER_TRIANGLE: u64 = 136;
+
 /// Memory the system reports available (`MemAvailable` in `/proc/meminfo`),
 /// in bytes, or `None` where it is not known.
 pub fn available_memory() -> Option<u64> {
@@ -67,12 +90,81 @@ pub fn available_memory() -> Option<u64> {
     Some(kib.saturating_mul(1024))
 }
 
-/// [`DEFAULT_MEMORY_BUDGET`], or three quarters of [`available_memory`] when
-/// that is less (but at least [`MIN_DEFAULT_MEMORY_BUDGET`]). Read once per
-/// process.
+/// The room left under this process's address-space limit: the soft
+/// `RLIMIT_AS` (`Max address space` in `/proc/self/limits`) minus the address
+/// space mapped now (`VmSize` in `/proc/self/status`); `None` when there is
+/// no limit or it cannot be read. Allocations fail at this limit whatever the
+/// system has free, so a budget above it ends in an abort.
+pub fn address_space_room() -> Option<u64> {
+    let limits = std::fs::read_to_string("/proc/self/limits").ok()?;
+    let line = limits.lines().find(|l| l.starts_with("Max address space"))?;
+    // "Max address space   <soft>   <hard>   bytes": the soft limit is what applies.
+    let limit: u64 = line.split_whitespace().nth(3)?.parse().ok()?;
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let size = status.lines().find(|l| l.starts_with("VmSize:"))?;
+    let kib: u64 = size.split_whitespace().nth(1)?.parse().ok()?;
+    Some(limit.saturating_sub(kib.saturating_mul(1024)))
+}
+
+/// The room left under this process's cgroup memory limits: the least, over
+/// its cgroup and the cgroups above it, of `memory.max` minus
+/// `memory.current` (cgroup v2), or `memory.limit_in_bytes` minus
+/// `memory.usage_in_bytes` (cgroup v1); `None` when no limit is set or
+/// readable. A container's limit applies to the whole container, not to what
+/// the system has free.
+pub fn cgroup_memory_room() -> Option<u64> {
+    let groups = std::fs::read_to_string("/proc/self/cgroup").ok()?;
+    let mut room: Option<u64> = None;
+    let number = |path: &str| std::fs::read_to_string(path).ok()?.trim().parse::<u64>().ok();
+    for line in groups.lines() {
+        // "0::/path" (v2) or "4:memory:/path" (v1).
+        let mut parts = line.splitn(3, ':');
+        let (Some(_), Some(controllers), Some(path)) = (parts.next(), parts.next(), parts.next()) else {
+            continue;
+        };
+        let (base, max_file, current_file) = if controllers.is_empty() {
+            ("/sys/fs/cgroup", "memory.max", "memory.current")
+        } else if controllers.split(',').any(|c| c == "memory") {
+            (
+                "/sys/fs/cgroup/memory",
+                "memory.limit_in_bytes",
+                "memory.usage_in_bytes",
+            )
+        } else {
+            continue;
+        };
+        let mut dir = std::path::PathBuf::from(format!("{base}{}", path.trim_end_matches('/')));
+        loop {
+            let at = |file: &str| dir.join(file).to_string_lossy().into_owned();
+            // "max" (no limit) does not parse: skipped.
+            if let (Some(max), Some(current)) = (number(&at(max_file)), number(&at(current_file))) {
+                let here = max.saturating_sub(current);
+                room = Some(room.map_or(here, |r| r.min(here)));
+            }
+            if dir.as_os_str().len() <= base.len() || !dir.pop() {
+                break;
+            }
+        }
+    }
+    room
+}
+
+/// The memory this process can still obtain: the least of
+/// [`available_memory`], [`address_space_room`] and [`cgroup_memory_room`],
+/// `None` when none is known.
+pub fn process_available_memory() -> Option<u64> {
+    [available_memory(), address_space_room(), cgroup_memory_room()]
+        .into_iter()
+        .flatten()
+        .min()
+}
+
+/// [`DEFAULT_MEMORY_BUDGET`], or three quarters of
+/// [`process_available_memory`] when that is less (but at least
+/// [`MIN_DEFAULT_MEMORY_BUDGET`]). Read once per process.
 pub fn default_memory_budget() -> u64 {
     static BUDGET: OnceLock<u64> = OnceLock::new();
-    *BUDGET.get_or_init(|| match available_memory() {
+    *BUDGET.get_or_init(|| match process_available_memory() {
         Some(available) => (available / 4 * 3).clamp(MIN_DEFAULT_MEMORY_BUDGET, DEFAULT_MEMORY_BUDGET),
         None => DEFAULT_MEMORY_BUDGET,
     })
