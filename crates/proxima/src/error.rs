@@ -18,6 +18,17 @@ fn human64(bytes: &u64) -> String {
     human(&u128::from(*bytes))
 }
 
+/// A budget for a message, with the variable that sets it
+/// (`2.0 GiB (2147483648 bytes; PROXIMA_MEMORY_BUDGET sets it)`).
+fn budget_set_by_env(budget: &u64) -> String {
+    let short = crate::budget::human_bytes(u128::from(*budget));
+    if short.ends_with(" bytes") {
+        format!("{short} (PROXIMA_MEMORY_BUDGET sets it)")
+    } else {
+        format!("{short} ({budget} bytes; PROXIMA_MEMORY_BUDGET sets it)")
+    }
+}
+
 /// A mesh whose data breaks an invariant.
 ///
 /// ```
@@ -115,6 +126,25 @@ pub enum LoadErrorKind {
     /// Text that is not valid UTF-8 where UTF-8 is required (points files).
     #[error("invalid UTF-8")]
     InvalidUtf8,
+    /// What the file holds (counted while it is read, or from its header or
+    /// its glTF scene before anything is expanded) would pass the memory
+    /// budget ([`LoadOptions::memory_budget`](crate::io::LoadOptions)) once
+    /// loaded, at the bytes per vertex and per triangle of
+    /// [`crate::budget`]; reading stops there.
+    #[error(
+        "{what} need about {}, more than the memory budget of {}",
+        human(.bytes), budget_set_by_env(.budget)
+    )]
+    MemoryBudget {
+        /// What was counted, for the message (`at least 20000000 vertices
+        /// and 0 triangles, with their trees and the 160000000 bytes read,`).
+        what: String,
+        /// Bytes counted so far (a lower bound of the whole when reading
+        /// stopped early).
+        bytes: u128,
+        /// The budget, in bytes.
+        budget: u64,
+    },
 }
 
 /// A load failure, with the file and (for text formats) the 1-based line.

@@ -702,6 +702,38 @@ fn input_too_large() {
 }
 
 #[test]
+fn load_beyond_the_memory_budget() {
+    // One triangle: 32 bytes of input, 3 vertices and 1 triangle counted at
+    // the bytes of `proxima::budget`, against a budget of 200 bytes.
+    let path = Path::new("tri.obj");
+    let need =
+        TRIANGLE.len() as u64 + 3 * proxima::budget::LOAD_BYTES_PER_VERTEX + proxima::budget::LOAD_BYTES_PER_TRIANGLE;
+    let options = |memory_budget| LoadOptions {
+        memory_budget,
+        ..LoadOptions::default()
+    };
+    let e = proxima::io::parse_with(TRIANGLE, proxima::io::Format::Obj, path, &options(200)).unwrap_err();
+    // Counted as the text is read: stopped after its last line.
+    let text = format!(
+        "at least 3 vertices and 1 triangles, with their trees (96 and 136 bytes each) and the 32 bytes of input, \
+         need about {need} bytes, more than the memory budget of 200 bytes (PROXIMA_MEMORY_BUDGET sets it)"
+    );
+    assert_load_error(
+        &e,
+        path,
+        Some(5),
+        &text,
+        |k| matches!(k, LoadErrorKind::MemoryBudget { bytes, budget: 200, .. } if *bytes == u128::from(need)),
+    );
+    assert!(proxima::io::parse_with(TRIANGLE, proxima::io::Format::Obj, path, &options(need)).is_ok());
+    // The default budget is the library's (`default_memory_budget`).
+    assert_eq!(
+        LoadOptions::default().memory_budget,
+        proxima::budget::default_memory_budget()
+    );
+}
+
+#[test]
 fn obj_vertex_extra_numbers() {
     let path = Path::new("extra.obj");
     let parse = |text: &[u8]| proxima::io::parse(text, proxima::io::Format::Obj, path);

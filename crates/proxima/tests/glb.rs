@@ -458,17 +458,65 @@ fn malformed_files_are_typed_errors_naming_the_element() {
 }
 
 #[test]
-fn instancing_beyond_the_expansion_cap_is_refused_before_allocating() {
+fn instancing_beyond_the_budget_is_refused_before_allocating() {
     // A million byte-sized vertices (3 MB), shown by 100 nodes: 100M
-    // vertices (1.2 GB) asked for by a 3 MB file. The whole scene is counted
-    // before any vertex is read.
+    // vertices and 33M triangles (about 14 GB with their trees) asked for by
+    // a 3 MB file. The whole scene is counted before any vertex is read.
     let mut b = Builder::default();
     let count = 999_999;
     let position = b.accessor(&vec![0u8; 3 * count], 5121, "VEC3", count, json!({}));
     let nodes: Vec<Value> = (0..100).map(|_| json!({"mesh": 0})).collect();
     let document = json!({"nodes": nodes, "meshes": [{"primitives": [{"attributes": {"POSITION": position}}]}]});
-    let e = read(&b.file(document)).unwrap_err().to_string();
-    assert!(e.contains("instances add up to 99999900 vertices"), "{e}");
+    let e = read(&b.file(document)).unwrap_err();
+    assert!(matches!(e.kind, LoadErrorKind::MemoryBudget { .. }), "{e}");
+    assert!(
+        e.to_string()
+            .contains("100 mesh instances (99999900 vertices and 33333300 triangles, 100 primitives)"),
+        "{e}"
+    );
+    // Counts that 32-bit vertex numbers cannot hold are refused from the
+    // JSON alone, before the accessors (which announce far more than the
+    // file holds) are looked at.
+    let mut b = Builder::default();
+    let position = b.accessor(&[0u8; 3], 5121, "VEC3", 50_000_000, json!({}));
+    let nodes: Vec<Value> = (0..100).map(|_| json!({"mesh": 0})).collect();
+    let document = json!({"nodes": nodes, "meshes": [{"primitives": [{"attributes": {"POSITION": position}}]}]});
+    let e = read(&b.file(document)).unwrap_err();
+    assert!(matches!(e.kind, LoadErrorKind::Syntax(_)), "{e}");
+    assert!(
+        e.to_string()
+            .contains("more than 32-bit vertex numbers and face offsets can address"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_cycle_is_reported_with_or_without_a_scene() {
+    // nodes[0] and nodes[1] are each other's child; nodes[2] hangs under
+    // nodes[1]; nodes[3] is a root of its own. Without a scene no node of the
+    // cycle is a root: it used to be skipped ("the mesh is empty", or a mesh
+    // without the cycle's nodes).
+    let mut b = Builder::default();
+    let position = b.positions(&CUBE[..3]);
+    let meshes = json!([{"primitives": [{"attributes": {"POSITION": position}}]}]);
+    let nodes = json!([{"mesh": 0, "children": [1]}, {"children": [0, 2]}, {"mesh": 0}, {"mesh": 0}]);
+    let expected = "nodes[0] is reached twice: the node hierarchy is not a tree";
+    for document in [
+        json!({"nodes": nodes, "meshes": meshes}),
+        json!({"scene": 0, "scenes": [{"nodes": [0]}], "nodes": nodes, "meshes": meshes}),
+    ] {
+        let e = read(&b.file(document)).unwrap_err();
+        assert!(matches!(e.kind, LoadErrorKind::Syntax(_)), "{e}");
+        assert!(e.to_string().contains(expected), "{e}");
+    }
+    // Entered from below the cycle, the walk up finds it all the same.
+    let nodes = json!([{"children": [1]}, {"mesh": 0, "children": [2]}, {"children": [1]}]);
+    let e = read(&b.file(json!({"nodes": nodes, "meshes": meshes}))).unwrap_err();
+    assert!(e.to_string().contains("is reached twice"), "{e}");
+    // A scene that leaves the cycle out does not read it.
+    let nodes = json!([{"mesh": 0, "children": [1]}, {"children": [0]}, {"mesh": 0}]);
+    let document = json!({"scene": 0, "scenes": [{"nodes": [2]}], "nodes": nodes, "meshes": meshes});
+    assert_eq!(read(&b.file(document)).unwrap().face_count(), 1);
 }
 
 #[test]

@@ -195,3 +195,296 @@ fn tree_depth_is_bounded_on_adversarial_input() {
         }
     }
 }
+
+// ---------------------------------------------------------------- memory budget of loading ---
+
+use proxima::budget::{LOAD_BYTES_PER_TRIANGLE, LOAD_BYTES_PER_VERTEX, default_memory_budget};
+use proxima::io::{load_with, parse_with, read_with};
+use std::cell::Cell;
+use std::rc::Rc;
+
+/// A GLB file of the JSON text `json` and the binary chunk `bin`, padded.
+fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
+    let mut json = json.as_bytes().to_vec();
+    while !json.len().is_multiple_of(4) {
+        json.push(b' ');
+    }
+    let mut bin = bin.to_vec();
+    while !bin.len().is_multiple_of(4) {
+        bin.push(0);
+    }
+    let total = 12 + 8 + json.len() + 8 + bin.len();
+    let mut out = b"glTF".to_vec();
+    out.extend(2u32.to_le_bytes());
+    out.extend((total as u32).to_le_bytes());
+    out.extend((json.len() as u32).to_le_bytes());
+    out.extend(b"JSON");
+    out.extend(json);
+    out.extend((bin.len() as u32).to_le_bytes());
+    out.extend(b"BIN\0");
+    out.extend(bin);
+    out
+}
+
+/// One triangle's three positions, then `corners` byte indices (0, 1, 2,
+/// 0, 1, 2, …): a primitive of mode `mode` shown by `nodes` nodes, each
+/// moved along x. `extra` is inserted among the document's members.
+fn instanced_glb(corners: usize, nodes: usize, mode: u32, extra: &str) -> Vec<u8> {
+    let mut bin: Vec<u8> = [0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
+        .iter()
+        .flat_map(|x| x.to_le_bytes())
+        .collect();
+    bin.extend((0..corners).map(|i| (i % 3) as u8));
+    let nodes_json: Vec<String> = (0..nodes)
+        .map(|i| format!(r#"{{"mesh":0,"translation":[{i},0,0]}}"#))
+        .collect();
+    let json = format!(
+        r#"{{"asset":{{"version":"2.0"}},{extra}"buffers":[{{"byteLength":{}}}],
+        "bufferViews":[{{"buffer":0,"byteLength":36}},{{"buffer":0,"byteOffset":36,"byteLength":{corners}}}],
+        "accessors":[{{"bufferView":0,"componentType":5126,"type":"VEC3","count":3}},
+                     {{"bufferView":1,"componentType":5121,"type":"SCALAR","count":{corners}}}],
+        "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"indices":1,"mode":{mode}}}]}}],
+        "nodes":[{}]}}"#,
+        bin.len(),
+        nodes_json.join(",")
+    );
+    glb(&json, &bin)
+}
+
+/// The budget error's fields, or a panic naming what came instead.
+fn budget_error(result: Result<proxima::Mesh, proxima::LoadError>) -> (String, u128, u64, Option<usize>) {
+    let e = result.expect_err("over the budget");
+    match e.kind {
+        LoadErrorKind::MemoryBudget { what, bytes, budget } => (what, bytes, budget, e.line),
+        other => panic!("{other:?} instead of MemoryBudget"),
+    }
+}
+
+fn with_budget(memory_budget: u64) -> LoadOptions {
+    LoadOptions {
+        memory_budget,
+        ..LoadOptions::default()
+    }
+}
+
+#[test]
+fn glb_instances_are_counted_against_the_budget_before_expanding() {
+    // The issue's files: 960,000 byte indices shown by 100 nodes (a 964 KB
+    // file, 32 million triangles: `sdf` aborted at 4.1 GB), and a strip of
+    // 90,002 shown by 200 (98 KB, 18 million: `info` took 30 s and 2.2 GB).
+    // Refused from the accessors' counts, before a vertex is read.
+    for (corners, nodes, mode, triangles) in [(960_000, 100, 4, 32_000_000u64), (90_002, 200, 5, 18_000_000)] {
+        let file = instanced_glb(corners, nodes, mode, "");
+        let (what, bytes, budget, _) = budget_error(parse(&file, Format::Glb, "scene.glb".as_ref()));
+        assert_eq!(budget, default_memory_budget());
+        let counts = format!("({} vertices and {triangles} triangles, {nodes} primitives)", 3 * nodes);
+        assert!(what.contains(&counts), "{what}");
+        let least = file.len() as u128
+            + (3 * nodes) as u128 * u128::from(LOAD_BYTES_PER_VERTEX)
+            + u128::from(triangles) * u128::from(LOAD_BYTES_PER_TRIANGLE);
+        assert!(bytes >= least && bytes < least + (1 << 20), "{bytes} against {least}");
+    }
+    // Smaller, the same way: loaded within a budget that holds it, with one
+    // triangle per instance and index triple; refused below its counted bytes.
+    let file = instanced_glb(3000, 20, 4, "");
+    let mesh = parse_with(&file, Format::Glb, "scene.glb".as_ref(), &with_budget(64 << 20)).unwrap();
+    assert_eq!((mesh.vertex_count(), mesh.face_count()), (60, 20_000));
+    assert_eq!(mesh.positions()[3], Vec3::new(1.0, 0.0, 0.0)); // the second node's first vertex
+    let least = file.len() as u64 + 60 * LOAD_BYTES_PER_VERTEX + 20_000 * LOAD_BYTES_PER_TRIANGLE;
+    let (what, ..) = budget_error(parse_with(
+        &file,
+        Format::Glb,
+        "scene.glb".as_ref(),
+        &with_budget(least - 1),
+    ));
+    assert!(what.contains("60 vertices and 20000 triangles"), "{what}");
+}
+
+#[test]
+fn glb_json_members_not_read_are_skipped_and_the_rest_counted() {
+    // 5 million zeros (10 MB of JSON) in the document's `extras` member:
+    // skipped as they are parsed, so the file loads within a
+    // budget of its own size and 4 MiB (kept, the values would take 320 MB).
+    let zeros = format!("[{}0]", "0,".repeat(5_000_000));
+    let file = instanced_glb(3, 1, 4, &format!(r#""extras":{zeros},"#));
+    let budget = file.len() as u64 + (4 << 20);
+    let mesh = parse_with(&file, Format::Glb, "extras.glb".as_ref(), &with_budget(budget)).unwrap();
+    assert_eq!(mesh.face_count(), 1);
+    // The same zeros as a member the reader keeps (a scene's roots): counted
+    // as they are built, and refused at the budget.
+    let scene = format!(r#""scene":0,"scenes":[{{"nodes":{zeros}}}],"#);
+    let file = instanced_glb(3, 1, 4, &scene);
+    let (what, bytes, _, line) = budget_error(parse_with(
+        &file,
+        Format::Glb,
+        "kept.glb".as_ref(),
+        &with_budget(budget),
+    ));
+    assert!(what.contains("JSON values"), "{what}");
+    assert!(bytes > u128::from(budget) && line.is_none());
+}
+
+/// An endless reader of one repeated text, counting the bytes it hands out.
+struct Repeat {
+    text: &'static [u8],
+    pos: usize,
+    handed: Rc<Cell<u64>>,
+}
+
+impl std::io::Read for Repeat {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        for b in buf.iter_mut() {
+            *b = self.text[self.pos];
+            self.pos = (self.pos + 1) % self.text.len();
+        }
+        self.handed.set(self.handed.get() + buf.len() as u64);
+        Ok(buf.len())
+    }
+}
+
+fn repeat(text: &'static [u8]) -> (Repeat, Rc<Cell<u64>>) {
+    let handed = Rc::new(Cell::new(0));
+    let reader = Repeat {
+        text,
+        pos: 0,
+        handed: handed.clone(),
+    };
+    (reader, handed)
+}
+
+/// `at least V vertices and T triangles` of a budget message.
+fn counts(what: &str) -> (u64, u64) {
+    let words: Vec<&str> = what.split_whitespace().collect();
+    let at = |word: &str| {
+        let i = words.iter().position(|w| w.trim_end_matches(',') == word).unwrap();
+        words[i - 1].parse().unwrap()
+    };
+    (at("vertices"), at("triangles"))
+}
+
+#[test]
+fn text_is_counted_against_the_budget_as_it_is_read() {
+    let budget: u64 = 64 << 20;
+    // Vertices without end: stopped once the bytes read and the vertices
+    // counted (8 + 96 bytes a line) pass the budget, within a chunk (1 MiB).
+    let (reader, handed) = repeat(b"v 0 0 0\n");
+    let (what, bytes, b, line) = budget_error(read_with(reader, Format::Obj, "v.obj".as_ref(), &with_budget(budget)));
+    let (vertices, triangles) = counts(&what);
+    assert_eq!((b, triangles, line), (budget, 0, Some(vertices as usize + 1)));
+    assert!(bytes > u128::from(budget) && what.starts_with("at least"), "{what}");
+    let lines_in_budget = budget / (8 + LOAD_BYTES_PER_VERTEX);
+    assert!(vertices <= lines_in_budget + (1 << 17), "{vertices}");
+    assert!(handed.get() <= 8 * lines_in_budget + (2 << 20), "{}", handed.get());
+    // Faces of five corners count three triangles each.
+    let (reader, _) = repeat(b"v 0 0 0\nf 1 1 1 1 1\n");
+    let (what, ..) = budget_error(read_with(reader, Format::Obj, "f.obj".as_ref(), &with_budget(budget)));
+    let (vertices, triangles) = counts(&what);
+    assert!(triangles == 3 * vertices || triangles + 3 == 3 * vertices, "{what}");
+    // Comments hold nothing, but are held: stopped at the budget, never past it.
+    let (reader, handed) = repeat(b"# nothing to see here\n");
+    let (what, ..) = budget_error(read_with(reader, Format::Obj, "c.obj".as_ref(), &with_budget(budget)));
+    assert!(what.contains("bytes of input (so far)"), "{what}");
+    assert!(handed.get() <= budget, "{}", handed.get());
+    // Ascii STL facets, and OFF lines (counted as vertices).
+    let (reader, _) =
+        repeat(b"facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n");
+    let stl = [b"solid s\n".as_slice()].concat();
+    let reader = std::io::Read::chain(std::io::Cursor::new(stl), reader);
+    let (what, ..) = budget_error(read_with(reader, Format::Stl, "s.stl".as_ref(), &with_budget(budget)));
+    assert!(counts(&what).1 > budget / (60 + LOAD_BYTES_PER_TRIANGLE) / 2, "{what}");
+    let (reader, _) = repeat(b"0 0 0\n");
+    let off = std::io::Read::chain(std::io::Cursor::new(b"OFF\n".to_vec()), reader);
+    let (what, ..) = budget_error(read_with(off, Format::Off, "o.off".as_ref(), &with_budget(budget)));
+    assert!(counts(&what).0 > budget / (6 + LOAD_BYTES_PER_VERTEX) / 2, "{what}");
+}
+
+#[test]
+fn gzip_text_is_counted_as_it_is_inflated() {
+    // The issue's file, scaled to the budget: `v 0 0 0` lines that inflate
+    // to 16 MiB (3.2 GB aborted under a 6 GB address-space limit), as
+    // gzip members of 1 MiB each; a budget of 4 MiB stops it after about
+    // 40,000 lines (4 MiB / 104 bytes), the rest never inflated.
+    let mut encoder = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::best());
+    encoder.write_all(&b"v 0 0 0\n".repeat(1 << 17)).unwrap();
+    let member = encoder.finish().unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("zeros.obj.gz");
+    std::fs::write(&path, member.repeat(16)).unwrap();
+    let (what, _, _, line) = budget_error(load_with(&path, &with_budget(4 << 20)));
+    let (vertices, _) = counts(&what);
+    assert_eq!(line, Some(vertices as usize + 1));
+    assert!((4 << 20) / (8 + LOAD_BYTES_PER_VERTEX) < vertices, "{what}");
+    assert!(vertices < (4 << 20) / (8 + LOAD_BYTES_PER_VERTEX) + (1 << 17), "{what}");
+    // Under a budget that holds it, the same file loads.
+    let mesh = load_with(&path, &with_budget(1 << 30)).unwrap();
+    assert_eq!(mesh.vertex_count(), 16 << 17);
+}
+
+#[test]
+fn header_counts_are_checked_against_the_budget_before_the_data() {
+    // Binary PLY: 100,000 vertices and triangles, all there (2.5 MB), a
+    // budget of 8 MiB: refused at `end_header` (line 10), from the counts.
+    let n = 100_000u32;
+    let mut ply = format!(
+        "ply\nformat binary_little_endian 1.0\nelement vertex {n}\nproperty float x\nproperty float y\n\
+         property float z\nelement face {n}\nproperty list uchar int vertex_indices\ncomment end\nend_header\n"
+    )
+    .into_bytes();
+    for i in 0..n {
+        ply.extend([i as f32, 0.0, 0.0].iter().flat_map(|x| x.to_le_bytes()));
+    }
+    for i in 0..n {
+        ply.push(3);
+        ply.extend([i, (i + 1) % n, (i + 2) % n].iter().flat_map(|x| x.to_le_bytes()));
+    }
+    let (what, bytes, _, line) = budget_error(parse_with(&ply, Format::Ply, "p.ply".as_ref(), &with_budget(8 << 20)));
+    assert_eq!(line, Some(10));
+    assert!(what.contains("100000 vertices and 100000 triangles"), "{what}");
+    let counted = ply.len() as u128 + u128::from(n) * u128::from(LOAD_BYTES_PER_VERTEX + LOAD_BYTES_PER_TRIANGLE);
+    assert_eq!(bytes, counted);
+    let mesh = parse_with(&ply, Format::Ply, "p.ply".as_ref(), &with_budget(bytes as u64)).unwrap();
+    assert_eq!((mesh.vertex_count(), mesh.face_count()), (n as usize, n as usize));
+    // OFF: 3 vertices and 100,000 faces (the lines counted as they arrive
+    // at a vertex's bytes fit; the header's counts do not).
+    let mut off = format!("OFF\n3 {n} 0\n0 0 0\n1 0 0\n0 1 0\n").into_bytes();
+    off.extend(b"3 0 1 2\n".repeat(n as usize));
+    let budget = off.len() as u64 + 3 * LOAD_BYTES_PER_VERTEX + u64::from(n) * LOAD_BYTES_PER_TRIANGLE - 1;
+    let (_, _, _, line) = budget_error(parse_with(&off, Format::Off, "o.off".as_ref(), &with_budget(budget)));
+    assert_eq!(line, Some(2));
+    assert!(parse_with(&off, Format::Off, "o.off".as_ref(), &with_budget(budget + 1)).is_ok());
+    // Binary STL: 100,000 triangles (5 MB) in 8 MiB.
+    let mut stl = vec![0u8; 80];
+    stl.extend(n.to_le_bytes());
+    for i in 0..n {
+        stl.extend([0f32; 3].iter().flat_map(|x| x.to_le_bytes()));
+        stl.extend(
+            [i as f32, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]
+                .iter()
+                .flat_map(|x| x.to_le_bytes()),
+        );
+        stl.extend([0u8; 2]);
+    }
+    let (what, ..) = budget_error(parse_with(&stl, Format::Stl, "s.stl".as_ref(), &with_budget(8 << 20)));
+    assert!(what.contains("0 vertices and 100000 triangles"), "{what}");
+}
+
+#[test]
+fn a_mesh_loaded_always_fits_its_budget() {
+    // Counted while read, a face is a triangle at least: 1,000 faces of 12
+    // corners, each continued on a second line, are counted as 2,000
+    // triangles from their first lines. The mesh made is counted again,
+    // exactly: 10,000 triangles.
+    let mut obj = b"v 0 0 0\nv 1 0 0\nv 1 1 0\n".to_vec();
+    obj.extend(b"f 1 2 3 \\\n1 2 3 1 2 3 1 2 3\n".repeat(1000));
+    let exact = obj.len() as u64 + 3 * LOAD_BYTES_PER_VERTEX + 10_000 * LOAD_BYTES_PER_TRIANGLE;
+    let mesh = parse_with(&obj, Format::Obj, "poly.obj".as_ref(), &with_budget(exact)).unwrap();
+    assert_eq!(mesh.triangle_count(), 10_000);
+    let (what, bytes, _, _) = budget_error(parse_with(
+        &obj,
+        Format::Obj,
+        "poly.obj".as_ref(),
+        &with_budget(exact - 1),
+    ));
+    assert_eq!(bytes, u128::from(exact));
+    assert!(what.starts_with("3 vertices and 10000 triangles"), "{what}");
+}

@@ -3,7 +3,11 @@
 //!
 //! The container (a 12-byte header, a JSON chunk, an optional binary chunk) and
 //! the accessors are read here with every offset checked; the JSON itself is
-//! parsed by serde_json (depth-limited, so no input can exhaust the stack).
+//! parsed by serde_json (depth-limited, so no input can exhaust the stack),
+//! keeping only the members this reader uses: any other (`extras`, `asset`,
+//! materials, animations, …) is skipped as it is parsed (serde's
+//! `IgnoredAny`), whatever its size, and what is kept is counted against the
+//! memory budget as it is built.
 //!
 //! What is read: the scene that `scene` names (else the first; with no scene,
 //! the nodes that are no node's child; with no node, every mesh as it is);
@@ -18,16 +22,23 @@
 //! Refused, each with a message naming the JSON element: compressed geometry
 //! (`KHR_draco_mesh_compression`, `EXT_meshopt_compression`), sparse
 //! accessors, buffers outside the file (a `uri`), a node hierarchy that is not
-//! a tree, offsets or sizes past their buffer, indices past the vertices, and
-//! scenes whose instancing would expand the file more than
-//! [`MAX_EXPANSION`] times (checked before allocating).
+//! a tree (a cycle is found whether a scene names the roots or not), offsets
+//! or sizes past their buffer, and indices past the vertices. Scenes whose
+//! instances add up to more vertices and triangles than the memory budget
+//! holds (at the bytes per vertex and per triangle of [`crate::budget`],
+//! counted from the accessors before anything is expanded: a small primitive
+//! shown by many nodes is cheap to write and dear to read) are a
+//! [`LoadErrorKind::MemoryBudget`].
 
+use super::read::Budget;
 use super::text::{syntax, truncated};
-use crate::error::LoadError;
+use crate::error::{LoadError, LoadErrorKind};
 use crate::math::Vec3;
 use crate::mesh::Mesh;
 use glam::{DMat4, DQuat, DVec3};
+use serde::de::{DeserializeSeed, Deserializer, IgnoredAny, MapAccess, SeqAccess, Visitor};
 use serde_json::Value;
+use std::cell::Cell;
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -37,34 +48,221 @@ const MAGIC: u32 = 0x4654_6C67;
 const CHUNK_JSON: u32 = 0x4E4F_534A;
 const CHUNK_BIN: u32 = 0x004E_4942;
 
-/// The most vertices a file may produce per byte it holds (plus a fixed
-/// allowance): instancing repeats a mesh once per node, and a small file
-/// naming a large mesh many times would otherwise ask for any amount of
-/// memory. Real scenes stay far below (a plain mesh is about 0.1 vertex a
-/// byte).
-pub const MAX_EXPANSION: u64 = 16;
-const EXPANSION_ALLOWANCE: u64 = 1 << 24;
-
 /// The most primitives a scene may show, instances counted: each costs a
 /// little work even when empty, and a mesh of many primitives shown by many
 /// nodes would otherwise keep the reader busy for minutes.
 const MAX_PRIMITIVE_INSTANCES: u64 = 1 << 22;
 
-pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Mesh, LoadError> {
+/// The members of glTF objects this reader uses, at any depth; every other
+/// member is skipped unread.
+const KEPT_MEMBERS: &[&str] = &[
+    "scene",
+    "scenes",
+    "nodes",
+    "children",
+    "mesh",
+    "meshes",
+    "matrix",
+    "translation",
+    "rotation",
+    "scale",
+    "primitives",
+    "attributes",
+    "POSITION",
+    "indices",
+    "mode",
+    "extensions",
+    "extensionsRequired",
+    "KHR_draco_mesh_compression",
+    "accessors",
+    "bufferView",
+    "bufferViews",
+    "buffer",
+    "buffers",
+    "byteOffset",
+    "byteLength",
+    "byteStride",
+    "componentType",
+    "type",
+    "count",
+    "normalized",
+    "sparse",
+    "uri",
+];
+
+/// Bytes counted per JSON value kept: a `serde_json::Value` (32 bytes) and
+/// as much again for the growth of the array holding it.
+const JSON_BYTES_PER_VALUE: u64 = 64;
+/// Bytes counted per JSON object kept: the first node of its `BTreeMap`
+/// (eleven keys and values: about 630 bytes), allocated with its first member.
+const JSON_BYTES_PER_OBJECT: u64 = 640;
+
+pub(super) fn parse(bytes: &[u8], path: &Path, budget: Budget) -> Result<Mesh, LoadError> {
     let (json, bin) = chunks(bytes, path)?;
-    let root: Value = serde_json::from_slice(json).map_err(|e| syntax(path, None, format!("JSON chunk: {e}")))?;
+    let held = bytes.len() as u64;
+    let (root, json_bytes) = parse_json(json, held, budget, path)?;
     let document = Document { root: &root, bin, path };
     document.check_extensions()?;
     let instances = document.instances()?;
-    // Vertex numbers are u32: the cap never lets them pass it.
-    let max_vertices =
-        ((bytes.len() as u64).saturating_mul(MAX_EXPANSION) + EXPANSION_ALLOWANCE).min(u64::from(u32::MAX));
-    document.check_expansion(&instances, max_vertices)?;
-    let mut out = Triangles::default();
+    let [vertices, triangles] = document.check_instances(&instances, [held, json_bytes], budget)?;
+    let mut out = Output::with_capacity(vertices, triangles, path)?;
     for (mesh, transform) in instances {
         document.add_mesh(mesh, &transform, &mut out)?;
     }
-    Mesh::from_triangles(out.positions, &out.triangles).map_err(|e| LoadError::new(path, None, e))
+    Mesh::from_compact(out.positions, out.offsets, out.indices).map_err(|e| LoadError::new(path, None, e))
+}
+
+/// The JSON chunk as a `Value` holding only the [`KEPT_MEMBERS`], and the
+/// bytes counted for it; [`LoadErrorKind::MemoryBudget`] as soon as those
+/// bytes and the `held` ones pass the budget.
+fn parse_json(json: &[u8], held: u64, budget: Budget, path: &Path) -> Result<(Value, u64), LoadError> {
+    let counter = Counter {
+        spent: Cell::new(0),
+        values: Cell::new(0),
+        limit: budget.bytes.saturating_sub(held),
+    };
+    let mut deserializer = serde_json::Deserializer::from_slice(json);
+    let parsed = Pruned(&counter)
+        .deserialize(&mut deserializer)
+        .and_then(|value| deserializer.end().map(|()| value));
+    match parsed {
+        Ok(value) => Ok((value, counter.spent.get())),
+        Err(_) if counter.spent.get() > counter.limit => {
+            let bytes = u128::from(held) + u128::from(counter.spent.get());
+            let kind = LoadErrorKind::MemoryBudget {
+                what: format!(
+                    "at least {} JSON values of the members read (at {JSON_BYTES_PER_VALUE} bytes, objects \
+                     {JSON_BYTES_PER_OBJECT}), with the {held} bytes of the file,",
+                    counter.values.get()
+                ),
+                bytes,
+                budget: budget.bytes,
+            };
+            Err(LoadError::new(path, None, kind))
+        }
+        Err(e) => Err(syntax(path, None, format!("JSON chunk: {e}"))),
+    }
+}
+
+/// The bytes spent on the JSON values kept so far, and the most they may reach.
+struct Counter {
+    spent: Cell<u64>,
+    values: Cell<u64>,
+    limit: u64,
+}
+
+impl Counter {
+    fn spend<E: serde::de::Error>(&self, bytes: u64) -> Result<(), E> {
+        self.values.set(self.values.get() + 1);
+        self.spent.set(self.spent.get().saturating_add(bytes));
+        if self.spent.get() > self.limit {
+            return Err(E::custom("the memory budget is spent"));
+        }
+        Ok(())
+    }
+}
+
+/// Deserializes any JSON value into a `Value`, keeping in objects only the
+/// members named in [`KEPT_MEMBERS`] (the others are skipped as they are
+/// read, allocating nothing), and counting what it keeps.
+#[derive(Clone, Copy)]
+struct Pruned<'c>(&'c Counter);
+
+impl<'de> DeserializeSeed<'de> for Pruned<'_> {
+    type Value = Value;
+
+    fn deserialize<D: Deserializer<'de>>(self, deserializer: D) -> Result<Value, D::Error> {
+        deserializer.deserialize_any(self)
+    }
+}
+
+impl<'de> Visitor<'de> for Pruned<'_> {
+    type Value = Value;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("a JSON value")
+    }
+
+    fn visit_bool<E: serde::de::Error>(self, v: bool) -> Result<Value, E> {
+        self.0.spend(JSON_BYTES_PER_VALUE)?;
+        Ok(Value::Bool(v))
+    }
+
+    fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Value, E> {
+        self.0.spend(JSON_BYTES_PER_VALUE)?;
+        Ok(Value::from(v))
+    }
+
+    fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Value, E> {
+        self.0.spend(JSON_BYTES_PER_VALUE)?;
+        Ok(Value::from(v))
+    }
+
+    fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<Value, E> {
+        self.0.spend(JSON_BYTES_PER_VALUE)?;
+        // serde_json reads no non-finite number: `from_f64` never gives None here.
+        Ok(serde_json::Number::from_f64(v).map_or(Value::Null, Value::Number))
+    }
+
+    fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<Value, E> {
+        self.0.spend(JSON_BYTES_PER_VALUE + v.len() as u64)?;
+        Ok(Value::String(v.to_owned()))
+    }
+
+    fn visit_unit<E: serde::de::Error>(self) -> Result<Value, E> {
+        self.0.spend(JSON_BYTES_PER_VALUE)?;
+        Ok(Value::Null)
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Value, A::Error> {
+        self.0.spend(JSON_BYTES_PER_VALUE)?;
+        let mut items = Vec::new();
+        while let Some(item) = seq.next_element_seed(self)? {
+            items.push(item);
+        }
+        Ok(Value::Array(items))
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Value, A::Error> {
+        self.0.spend(JSON_BYTES_PER_OBJECT)?;
+        let mut members = serde_json::Map::new();
+        while let Some(key) = map.next_key_seed(MemberName)? {
+            match key {
+                Some(name) => {
+                    let value = map.next_value_seed(self)?;
+                    members.insert(name.to_owned(), value);
+                }
+                None => {
+                    map.next_value::<IgnoredAny>()?;
+                }
+            }
+        }
+        Ok(Value::Object(members))
+    }
+}
+
+/// A member name: the entry of [`KEPT_MEMBERS`] it equals, or `None` (to be
+/// skipped), read without allocating.
+struct MemberName;
+
+impl<'de> DeserializeSeed<'de> for MemberName {
+    type Value = Option<&'static str>;
+
+    fn deserialize<D: Deserializer<'de>>(self, deserializer: D) -> Result<Self::Value, D::Error> {
+        deserializer.deserialize_str(self)
+    }
+}
+
+impl<'de> Visitor<'de> for MemberName {
+    type Value = Option<&'static str>;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("a member name")
+    }
+
+    fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<Self::Value, E> {
+        Ok(KEPT_MEMBERS.iter().copied().find(|&k| k == v))
+    }
 }
 
 /// The JSON chunk and the binary chunk (empty when absent) of a GLB file.
@@ -129,11 +327,43 @@ fn chunks<'a>(bytes: &'a [u8], path: &Path) -> Result<(&'a [u8], &'a [u8]), Load
     Ok((json, bin.unwrap_or(&[])))
 }
 
-/// The triangles gathered so far.
-#[derive(Default)]
-struct Triangles {
+/// The mesh being gathered, in the layout of [`Mesh::from_compact`], its
+/// room reserved once from the counts.
+struct Output {
     positions: Vec<Vec3>,
-    triangles: Vec<[u32; 3]>,
+    offsets: Vec<u32>,
+    indices: Vec<u32>,
+}
+
+impl Output {
+    /// Room for `vertices` and `triangles` exactly, or an error (not an
+    /// abort) when the allocator refuses.
+    fn with_capacity(vertices: u64, triangles: u64, path: &Path) -> Result<Self, LoadError> {
+        let mut out = Output {
+            positions: Vec::new(),
+            offsets: Vec::new(),
+            indices: Vec::new(),
+        };
+        let refused = |_| {
+            let error = std::io::Error::new(
+                std::io::ErrorKind::OutOfMemory,
+                format!("cannot allocate a mesh of {vertices} vertices and {triangles} triangles"),
+            );
+            LoadError::new(path, None, error)
+        };
+        // Both below 2^32 (checked by the caller): they fit usize.
+        let (vertices, triangles) = (vertices as usize, triangles as usize);
+        out.positions.try_reserve_exact(vertices).map_err(refused)?;
+        out.offsets.try_reserve_exact(triangles + 1).map_err(refused)?;
+        out.indices.try_reserve_exact(3 * triangles).map_err(refused)?;
+        out.offsets.push(0);
+        Ok(out)
+    }
+
+    fn push_triangle(&mut self, triangle: [u32; 3]) {
+        self.indices.extend_from_slice(&triangle);
+        self.offsets.push(self.indices.len() as u32);
+    }
 }
 
 struct Document<'a> {
@@ -269,7 +499,11 @@ impl<'a> Document<'a> {
     fn instances(&self) -> Result<Vec<(u64, DMat4)>, LoadError> {
         let nodes = self.array(self.root, "nodes", "the document")?;
         let scenes = self.array(self.root, "scenes", "the document")?;
-        let roots: Vec<u64> = if !scenes.is_empty() || self.root.get("scene").is_some() {
+        let from_scene = !scenes.is_empty() || self.root.get("scene").is_some();
+        // With no scene, the roots are the nodes that are no node's child;
+        // `parent` keeps one parent of each child, to find a cycle's nodes.
+        let mut parent = vec![usize::MAX; if from_scene { 0 } else { nodes.len() }];
+        let roots: Vec<u64> = if from_scene {
             let index = self.integer(self.root, "scene", "the document")?.unwrap_or(0);
             let scene = self.item("scenes", index, "scene")?;
             let at = format!("scenes[{index}]");
@@ -282,22 +516,50 @@ impl<'a> Document<'a> {
             }
             roots
         } else if !nodes.is_empty() {
-            let mut is_child = vec![false; nodes.len()];
             for (n, node) in nodes.iter().enumerate() {
                 for child in self.array(node, "children", &format!("nodes[{n}]"))? {
-                    if let Some(c) = child.as_u64().and_then(|c| is_child.get_mut(c as usize)) {
-                        *c = true;
+                    if let Some(p) = child.as_u64().and_then(|c| parent.get_mut(c as usize)) {
+                        *p = n;
                     }
                 }
             }
-            (0..nodes.len() as u64).filter(|&n| !is_child[n as usize]).collect()
+            (0..nodes.len())
+                .filter(|&n| parent[n] == usize::MAX)
+                .map(|n| n as u64)
+                .collect()
         } else {
             let meshes = self.array(self.root, "meshes", "the document")?;
             return Ok((0..meshes.len() as u64).map(|m| (m, DMat4::IDENTITY)).collect());
         };
         let mut visited = vec![false; nodes.len()];
-        let mut stack: Vec<(u64, DMat4)> = roots.into_iter().rev().map(|n| (n, DMat4::IDENTITY)).collect();
         let mut out = Vec::new();
+        self.walk(roots, &mut visited, &mut out)?;
+        if let Some(unreached) = visited.iter().position(|&v| !v).filter(|_| !from_scene) {
+            // Every node that is no node's child is a root, and the children
+            // of the nodes walked were walked: this node and its parents lie
+            // under a cycle. Going up from it as many times as there are
+            // nodes lands on the cycle, which a walk from there reports as a
+            // scene's walk does.
+            let mut at = unreached;
+            for _ in 0..nodes.len() {
+                at = match parent.get(at) {
+                    Some(&p) if p != usize::MAX => p,
+                    _ => break,
+                };
+            }
+            self.walk(vec![at as u64], &mut visited, &mut out)?;
+        }
+        Ok(out)
+    }
+
+    /// Walks the hierarchy down from `roots`, adding the meshes met to `out`
+    /// with their world transforms; a node reached twice is an error.
+    fn walk(&self, roots: Vec<u64>, visited: &mut [bool], out: &mut Vec<(u64, DMat4)>) -> Result<(), LoadError> {
+        // The stack holds a node and the index of its parent's transform (16
+        // bytes, not a matrix per node waiting: roots and children lists come
+        // from the JSON, two bytes an entry); one transform per node walked.
+        let mut transforms = vec![DMat4::IDENTITY];
+        let mut stack: Vec<(u64, usize)> = roots.into_iter().rev().map(|n| (n, 0)).collect();
         while let Some((index, parent)) = stack.pop() {
             let node = self.item("nodes", index, "a scene or a node's children")?;
             let seen = &mut visited[index as usize];
@@ -308,19 +570,24 @@ impl<'a> Document<'a> {
             }
             *seen = true;
             let at = format!("nodes[{index}]");
-            let transform = parent * self.local_transform(node, &at)?;
+            let transform = transforms[parent] * self.local_transform(node, &at)?;
             if let Some(mesh) = self.integer(node, "mesh", &at)? {
                 out.push((mesh, transform));
             }
             let children = self.array(node, "children", &at)?;
+            if children.is_empty() {
+                continue;
+            }
+            transforms.push(transform);
+            let slot = transforms.len() - 1;
             for (i, child) in children.iter().enumerate().rev() {
                 let child = child
                     .as_u64()
                     .ok_or_else(|| self.error(format!("{at}.children[{i}] is not a node index")))?;
-                stack.push((child, transform));
+                stack.push((child, slot));
             }
         }
-        Ok(out)
+        Ok(())
     }
 
     fn local_transform(&self, node: &Value, at: &str) -> Result<DMat4, LoadError> {
@@ -346,12 +613,19 @@ impl<'a> Document<'a> {
         ))
     }
 
-    /// Fails when the scene's vertices, triangle corners or primitives
-    /// (accessor counts over every instance) pass the caps, before anything
-    /// is read: each mesh is counted once, then weighed by its instances.
-    fn check_expansion(&self, instances: &[(u64, DMat4)], max_vertices: u64) -> Result<(), LoadError> {
+    /// The vertices and triangles of the scene's instances (accessor counts
+    /// over every instance: each mesh is counted once, then weighed by its
+    /// instances), checked before anything is read against the 32-bit vertex
+    /// numbers, [`MAX_PRIMITIVE_INSTANCES`] and the memory budget, the bytes
+    /// `held` (the file, and the JSON values kept) included.
+    fn check_instances(
+        &self,
+        instances: &[(u64, DMat4)],
+        held: [u64; 2],
+        budget: Budget,
+    ) -> Result<[u64; 2], LoadError> {
         let mut per_mesh: HashMap<u64, [u64; 3]> = HashMap::new();
-        let mut total = [0u64; 3]; // vertices, corners, primitives
+        let mut total = [0u64; 3]; // vertices, triangles, primitives
         for &(mesh, _) in instances {
             let counts = match per_mesh.get(&mesh) {
                 Some(&counts) => counts,
@@ -365,20 +639,48 @@ impl<'a> Document<'a> {
                 *t = t.saturating_add(c);
             }
         }
-        let [vertices, corners, primitives] = total;
-        if vertices > max_vertices || corners > 3 * max_vertices || primitives > MAX_PRIMITIVE_INSTANCES {
+        let [vertices, triangles, primitives] = total;
+        let [file, json] = held;
+        let bytes = Budget::need(file + json, vertices, triangles);
+        let described = || {
+            format!(
+                "the scene's {} mesh instances ({vertices} vertices and {triangles} triangles, {primitives} primitives)",
+                instances.len()
+            )
+        };
+        // Vertex numbers and face offsets are u32.
+        if vertices > u64::from(u32::MAX) || triangles.saturating_mul(3) > u64::from(u32::MAX) {
             return Err(self.error(format!(
-                "the scene's instances add up to {vertices} vertices, {corners} triangle corners and {primitives} \
-                 primitives, more than {max_vertices}, {} or {MAX_PRIMITIVE_INSTANCES} ({MAX_EXPANSION} vertices per \
-                 byte of the file)",
-                3 * max_vertices
+                "{} are more than 32-bit vertex numbers and face offsets can address",
+                described()
             )));
         }
-        Ok(())
+        if primitives > MAX_PRIMITIVE_INSTANCES {
+            return Err(self.error(format!(
+                "{} show more than {MAX_PRIMITIVE_INSTANCES} primitives",
+                described()
+            )));
+        }
+        if bytes > u128::from(budget.bytes) {
+            let kind = LoadErrorKind::MemoryBudget {
+                what: format!(
+                    "{}, with their trees ({} and {} bytes each), the file ({file} bytes) and its JSON values ({json} \
+                     bytes),",
+                    described(),
+                    crate::budget::LOAD_BYTES_PER_VERTEX,
+                    crate::budget::LOAD_BYTES_PER_TRIANGLE
+                ),
+                bytes,
+                budget: budget.bytes,
+            };
+            return Err(LoadError::new(self.path, None, kind));
+        }
+        Ok([vertices, triangles])
     }
 
-    /// A mesh's POSITION count, corner count and primitive count, from the
-    /// accessors' `count` alone (their bounds are checked when read).
+    /// A mesh's vertices, triangles and primitives, from the accessors'
+    /// `count` alone (their bounds are checked when read): the primitives of
+    /// points and lines add none.
     fn mesh_counts(&self, mesh: u64) -> Result<[u64; 3], LoadError> {
         let value = self.item("meshes", mesh, "a node")?;
         let primitives = self.array(value, "primitives", &format!("meshes[{mesh}]"))?;
@@ -398,13 +700,19 @@ impl<'a> Document<'a> {
                 Some(indices) => count(Some(indices)),
                 None => positions,
             };
+            // A mode that is not 4, 5 or 6 adds nothing (or is an error when read).
+            let triangles = match primitive.get("mode").map_or(Some(4), Value::as_u64) {
+                Some(4) => corners / 3,
+                Some(5 | 6) => corners.saturating_sub(2),
+                _ => continue,
+            };
             counts[0] = counts[0].saturating_add(positions);
-            counts[1] = counts[1].saturating_add(corners);
+            counts[1] = counts[1].saturating_add(triangles);
         }
         Ok(counts)
     }
 
-    fn add_mesh(&self, mesh: u64, transform: &DMat4, out: &mut Triangles) -> Result<(), LoadError> {
+    fn add_mesh(&self, mesh: u64, transform: &DMat4, out: &mut Output) -> Result<(), LoadError> {
         let value = self.item("meshes", mesh, "a node")?;
         let at = format!("meshes[{mesh}]");
         for (p, primitive) in self.array(value, "primitives", &at)?.iter().enumerate() {
@@ -432,16 +740,16 @@ impl<'a> Document<'a> {
             if positions.components != 3 {
                 return Err(self.error(format!("accessors[{position}] (POSITION of {at}) is not a VEC3")));
             }
-            // Within u32 and the caps: check_expansion counted these very accessors.
-            let first = out.positions.len() as u64;
+            // Within u32 and the budget: check_instances counted these very
+            // accessors, and reserved their room.
+            let first = out.positions.len() as u32;
             let vertices = positions.count as u64;
-            out.positions.reserve(positions.count);
             for i in 0..positions.count {
                 let p = DVec3::new(positions.get(i, 0), positions.get(i, 1), positions.get(i, 2));
                 out.positions.push(transform.transform_point3(p).as_vec3());
             }
-            let corners: Vec<u32> = match self.integer(primitive, "indices", &at)? {
-                None => (0..positions.count as u32).collect(),
+            let indices = match self.integer(primitive, "indices", &at)? {
+                None => None,
                 Some(indices) => {
                     let elements = self.elements(indices, &format!("{at}.indices"))?;
                     if elements.components != 1
@@ -451,7 +759,8 @@ impl<'a> Document<'a> {
                             "accessors[{indices}] (indices of {at}) is not a SCALAR of unsigned bytes, shorts or ints"
                         )));
                     }
-                    let mut corners = Vec::with_capacity(elements.count);
+                    // Every index checked first, in order, so that the first
+                    // bad one is named whatever the mode.
                     for i in 0..elements.count {
                         let v = elements.get(i, 0) as u64;
                         if v >= vertices {
@@ -459,32 +768,37 @@ impl<'a> Document<'a> {
                                 "accessors[{indices}] (indices of {at}): index {i} is {v}, but the primitive has {vertices} vertices"
                             )));
                         }
-                        corners.push(v as u32);
                     }
-                    corners
+                    Some(elements)
                 }
             };
-            let offset = first as u32;
-            let corner = |i: usize| corners[i] + offset;
+            let corners = indices.as_ref().map_or(positions.count, |e| e.count);
+            // Read again where used, rather than gathered: no list of corners is held.
+            let corner = |i: usize| first + indices.as_ref().map_or(i as u32, |e| e.get(i, 0) as u32);
             match mode {
                 4 => {
-                    if !corners.len().is_multiple_of(3) {
-                        return Err(self.error(format!("{at}: {} indices do not make whole triangles", corners.len())));
+                    if !corners.is_multiple_of(3) {
+                        return Err(self.error(format!("{at}: {corners} indices do not make whole triangles")));
                     }
-                    out.triangles
-                        .extend((0..corners.len() / 3).map(|t| [corner(3 * t), corner(3 * t + 1), corner(3 * t + 2)]));
+                    for t in 0..corners / 3 {
+                        out.push_triangle([corner(3 * t), corner(3 * t + 1), corner(3 * t + 2)]);
+                    }
                 }
-                5 => out.triangles.extend((0..corners.len().saturating_sub(2)).map(|i| {
-                    // Every other triangle of a strip is reversed to keep one orientation.
-                    if i % 2 == 0 {
-                        [corner(i), corner(i + 1), corner(i + 2)]
-                    } else {
-                        [corner(i + 1), corner(i), corner(i + 2)]
+                5 => {
+                    for i in 0..corners.saturating_sub(2) {
+                        // Every other triangle of a strip is reversed to keep one orientation.
+                        out.push_triangle(if i % 2 == 0 {
+                            [corner(i), corner(i + 1), corner(i + 2)]
+                        } else {
+                            [corner(i + 1), corner(i), corner(i + 2)]
+                        });
                     }
-                })),
-                _ => out
-                    .triangles
-                    .extend((1..corners.len().saturating_sub(1)).map(|i| [corner(0), corner(i), corner(i + 1)])),
+                }
+                _ => {
+                    for i in 1..corners.saturating_sub(1) {
+                        out.push_triangle([corner(0), corner(i), corner(i + 1)]);
+                    }
+                }
             }
         }
         Ok(())

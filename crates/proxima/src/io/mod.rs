@@ -53,7 +53,8 @@
 //!   Compressed geometry (Draco, meshopt), sparse accessors and external
 //!   buffers are refused with a message naming the element. The container and
 //!   the accessors are read with every offset checked; the JSON chunk is
-//!   parsed by serde_json. Details in the `glb` module.
+//!   parsed by serde_json, keeping only the members the reader uses. Details
+//!   in the `glb` module.
 //!
 //! In every text format a line ends at `\n`, `\r\n` or a lone `\r` (old Mac
 //! files), and ascii PLY values must fit their declared type (`uchar 300` is
@@ -81,11 +82,25 @@
 //! [`load_with`] and [`read_with`] stream their input and stop at the limits
 //! of [`LoadOptions`]: total size ([`LoadErrorKind::InputTooLarge`],
 //! [`LoadErrorKind::DecompressedTooLarge`]; by default 4 GiB or half the
-//! available memory, whichever is less), and in text, a line longer than 1 MiB
+//! memory this process can obtain, whichever is less), and in text, a line longer than 1 MiB
 //! ([`LoadErrorKind::LineTooLong`]) or a NUL byte ([`LoadErrorKind::NotText`]),
 //! which end `/dev/zero` or `/dev/urandom` read as `.obj` after the first
 //! chunk. Text echoed in messages has its control characters escaped and is cut
 //! to 80 characters ([`escape_for_terminal`]).
+//!
+//! Loading also keeps to the memory budget ([`LoadOptions::memory_budget`],
+//! by default [`default_memory_budget`](crate::budget::default_memory_budget)):
+//! the bytes held plus the mesh they become, at
+//! [`LOAD_BYTES_PER_VERTEX`](crate::budget::LOAD_BYTES_PER_VERTEX) and
+//! [`LOAD_BYTES_PER_TRIANGLE`](crate::budget::LOAD_BYTES_PER_TRIANGLE) (the
+//! mesh and the trees a command builds over it), may not pass it
+//! ([`LoadErrorKind::MemoryBudget`]). Text is counted as it is read (OBJ `v`
+//! and `f` lines, OFF lines, ascii STL facets), so reading stops as soon as
+//! the counts pass the budget; PLY and OFF headers and the binary STL count
+//! are checked before their data is read, a GLB scene's instances before
+//! any of them is expanded, and a GLB's JSON values as they are built. The
+//! mesh made is counted once more, exactly (while reading, a face counts as
+//! one triangle at least), so a mesh returned always fits the budget.
 //!
 //! # Why hand-written parsers
 //!
@@ -106,7 +121,6 @@ mod read;
 mod stl;
 mod text;
 
-pub use glb::MAX_EXPANSION as GLB_MAX_EXPANSION;
 pub use points::{load_points, load_rays, parse_points, parse_rays};
 
 use crate::error::{LoadError, LoadErrorKind};
@@ -181,13 +195,17 @@ pub const DEFAULT_MAX_DECOMPRESSED_BYTES: u64 = 4 << 30;
 /// the longest line of a real mesh file (an OBJ face of a few thousand vertices).
 pub const DEFAULT_MAX_LINE_BYTES: usize = 1 << 20;
 
-/// The default input size limit: 4 GiB, or half the memory the system has
-/// available now (`MemAvailable`), whichever is less. A file is held whole
-/// while it is parsed and the mesh takes about as much again, so an input
-/// beyond half the available memory would fail later, in swap or by the
-/// out-of-memory killer, instead of with an error.
+/// The default input size limit: 4 GiB, or half the memory this process can
+/// obtain now, whichever is less: the least of what the system has available
+/// (`MemAvailable`), the room under the process's address-space limit
+/// (`RLIMIT_AS`) and under its cgroup's `memory.max`
+/// ([`process_available_memory`](crate::budget::process_available_memory)).
+/// A file is held whole while it is parsed and the mesh takes about as much
+/// again, so an input beyond half of that would fail later, in swap, by the
+/// out-of-memory killer or in an aborting allocation, instead of with an
+/// error. (The memory budget, [`LoadOptions::memory_budget`], applies besides.)
 pub fn default_max_input_bytes() -> u64 {
-    let half_available = read::memory_available().map_or(u64::MAX, |bytes| bytes / 2);
+    let half_available = crate::budget::process_available_memory().map_or(u64::MAX, |bytes| bytes / 2);
     DEFAULT_MAX_DECOMPRESSED_BYTES.min(half_available)
 }
 
@@ -198,6 +216,7 @@ pub fn default_max_input_bytes() -> u64 {
 /// let strict = LoadOptions { max_decompressed_bytes: 64 << 20, ..LoadOptions::default() };
 /// assert!(strict.max_decompressed_bytes <= 64 << 20);
 /// assert!(LoadOptions::default().max_input_bytes <= 4 << 30);
+/// assert_eq!(LoadOptions::default().memory_budget, proxima::budget::default_memory_budget());
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct LoadOptions {
@@ -214,6 +233,13 @@ pub struct LoadOptions {
     /// [`LoadErrorKind::LineTooLong`], as soon as it has been read that far.
     /// Default: [`DEFAULT_MAX_LINE_BYTES`].
     pub max_line_bytes: usize,
+    /// The bytes loading may count: the input held and the mesh it becomes,
+    /// at [`LOAD_BYTES_PER_VERTEX`](crate::budget::LOAD_BYTES_PER_VERTEX) and
+    /// [`LOAD_BYTES_PER_TRIANGLE`](crate::budget::LOAD_BYTES_PER_TRIANGLE)
+    /// (the mesh and the trees built over it). Past it, reading stops with
+    /// [`LoadErrorKind::MemoryBudget`]. Default:
+    /// [`default_memory_budget`](crate::budget::default_memory_budget).
+    pub memory_budget: u64,
 }
 
 /// The environment variable that lowers (or raises) the decompression cap of
@@ -227,8 +253,10 @@ pub const MAX_INPUT_ENV: &str = "PROXIMA_MAX_INPUT_BYTES";
 
 impl LoadOptions {
     /// The defaults, with the limits that [`MAX_DECOMPRESSED_ENV`] and
-    /// [`MAX_INPUT_ENV`] set (plain numbers of bytes); a one-line message
-    /// naming the variable when one is not a number.
+    /// [`MAX_INPUT_ENV`] set (plain numbers of bytes) and the budget that
+    /// [`MEMORY_BUDGET_ENV`](crate::budget::MEMORY_BUDGET_ENV) sets (a K, M
+    /// or G suffix allowed); a one-line message naming the variable when one
+    /// is not a number.
     pub fn from_env() -> Result<Self, String> {
         let mut options = Self::default();
         let bytes = |name: &str, default: u64| match std::env::var(name) {
@@ -240,7 +268,15 @@ impl LoadOptions {
         };
         options.max_decompressed_bytes = bytes(MAX_DECOMPRESSED_ENV, options.max_decompressed_bytes)?;
         options.max_input_bytes = bytes(MAX_INPUT_ENV, options.max_input_bytes)?;
+        options.memory_budget = crate::budget::memory_budget_from_env()?;
         Ok(options)
+    }
+
+    /// The memory budget, as the readers count it.
+    fn budget(&self) -> read::Budget {
+        read::Budget {
+            bytes: self.memory_budget,
+        }
     }
 }
 
@@ -251,6 +287,7 @@ impl Default for LoadOptions {
             max_decompressed_bytes: max,
             max_input_bytes: max,
             max_line_bytes: DEFAULT_MAX_LINE_BYTES,
+            memory_budget: crate::budget::default_memory_budget(),
         }
     }
 }
@@ -262,7 +299,8 @@ impl Default for LoadOptions {
 /// [`LoadErrorKind::Io`] when the file cannot be read or its gzip stream is
 /// corrupt, [`LoadErrorKind::DecompressedTooLarge`] for a gzip stream that
 /// expands beyond the limit, [`LoadErrorKind::InputTooLarge`] for a file
-/// beyond it, and the errors of [`read_with`] otherwise; every error names `path`.
+/// beyond it, [`LoadErrorKind::MemoryBudget`] for one holding more than the
+/// memory budget, and the errors of [`read_with`] otherwise; every error names `path`.
 ///
 /// ```no_run
 /// let mesh = proxima::io::load("dragon_vrip.ply.gz")?;
@@ -285,7 +323,7 @@ pub fn load_with(path: impl AsRef<Path>, options: &LoadOptions) -> Result<Mesh, 
     let bytes = if is_gzip_path(path) {
         let decoder = flate2::read::MultiGzDecoder::new(std::io::BufReader::new(file));
         let limit = read::Limit::Decompressed(options.max_decompressed_bytes);
-        read::read_bounded(decoder, limit, None, &mut guard, path)?
+        read::read_bounded(decoder, limit, None, &mut guard, options.budget(), path)?
     } else {
         // Devices and pipes report a size of 0: only a regular file's size is known.
         let size = metadata.is_file().then_some(metadata.len());
@@ -294,10 +332,11 @@ pub fn load_with(path: impl AsRef<Path>, options: &LoadOptions) -> Result<Mesh, 
             read::Limit::Input(options.max_input_bytes),
             size,
             &mut guard,
+            options.budget(),
             path,
         )?
     };
-    parse_checked(&bytes, format, path)
+    parse_checked(&bytes, format, path, options.budget())
 }
 
 /// Reads a mesh in `format` from `reader` (a file, a pipe, a decompressor, …)
@@ -324,8 +363,8 @@ pub fn read_with(
 ) -> Result<Mesh, LoadError> {
     let mut guard = read::TextGuard::new(format, options.max_line_bytes);
     let limit = read::Limit::Input(options.max_input_bytes);
-    let bytes = read::read_bounded(reader, limit, None, &mut guard, path_for_errors)?;
-    parse_checked(&bytes, format, path_for_errors)
+    let bytes = read::read_bounded(reader, limit, None, &mut guard, options.budget(), path_for_errors)?;
+    parse_checked(&bytes, format, path_for_errors, options.budget())
 }
 
 /// Decompresses every gzip member of `bytes`, failing with
@@ -376,22 +415,61 @@ pub fn gunzip(bytes: &[u8], max_bytes: u64) -> Result<Vec<u8>, LoadErrorKind> {
 /// # Ok::<(), proxima::LoadError>(())
 /// ```
 pub fn parse(bytes: &[u8], format: Format, path_for_errors: &Path) -> Result<Mesh, LoadError> {
+    parse_with(bytes, format, path_for_errors, &LoadOptions::default())
+}
+
+/// [`parse`] within the memory budget and the line length of `options`
+/// (its size limits concern reading, which the bytes have passed).
+///
+/// ```
+/// use proxima::io::{parse_with, Format, LoadOptions};
+/// use proxima::LoadErrorKind;
+/// let small = LoadOptions { memory_budget: 1000, ..LoadOptions::default() };
+/// let obj = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n".repeat(10);
+/// let e = parse_with(&obj, Format::Obj, "many.obj".as_ref(), &small).unwrap_err();
+/// assert!(matches!(e.kind, LoadErrorKind::MemoryBudget { budget: 1000, .. }));
+/// ```
+pub fn parse_with(
+    bytes: &[u8],
+    format: Format,
+    path_for_errors: &Path,
+    options: &LoadOptions,
+) -> Result<Mesh, LoadError> {
     // The same checks as a streamed file gets, so both give the same errors.
-    read::TextGuard::new(format, DEFAULT_MAX_LINE_BYTES).feed(bytes, path_for_errors)?;
-    parse_checked(bytes, format, path_for_errors)
+    let mut guard = read::TextGuard::new(format, options.max_line_bytes);
+    guard.feed(bytes, path_for_errors)?;
+    guard.check_budget(bytes.len() as u64, options.budget(), path_for_errors)?;
+    parse_checked(bytes, format, path_for_errors, options.budget())
 }
 
 /// [`parse`] of bytes the text checks have passed.
-fn parse_checked(bytes: &[u8], format: Format, path_for_errors: &Path) -> Result<Mesh, LoadError> {
+fn parse_checked(
+    bytes: &[u8],
+    format: Format,
+    path_for_errors: &Path,
+    budget: read::Budget,
+) -> Result<Mesh, LoadError> {
     // Text written by some Windows tools starts with a UTF-8 byte order mark.
     let text = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
-    match format {
+    let mesh = match format {
         Format::Obj => obj::parse(text, path_for_errors),
-        Format::Ply => ply::parse(bytes, path_for_errors),
-        Format::Stl => stl::parse(bytes, path_for_errors),
-        Format::Off => off::parse(text, path_for_errors),
-        Format::Glb => glb::parse(bytes, path_for_errors),
-    }
+        Format::Ply => ply::parse(bytes, path_for_errors, budget),
+        Format::Stl => stl::parse(bytes, path_for_errors, budget),
+        Format::Off => off::parse(text, path_for_errors, budget),
+        Format::Glb => glb::parse(bytes, path_for_errors, budget),
+    }?;
+    // The counts made while reading are lower bounds (a face counted as one
+    // triangle, an OBJ face continued on the next line): the mesh made is
+    // counted once more, exactly, so that a mesh returned always fits.
+    budget
+        .check(
+            bytes.len() as u64,
+            mesh.vertex_count() as u64,
+            mesh.triangle_count() as u64,
+            true,
+        )
+        .map_err(|kind| LoadError::new(path_for_errors, None, kind))?;
+    Ok(mesh)
 }
 
 /// `text` made safe to print on a terminal, cut to `max_chars` characters

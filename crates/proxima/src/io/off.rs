@@ -1,5 +1,6 @@
 //! Object File Format: header, counts, one vertex per line, one face per line.
 
+use super::read::Budget;
 use super::text::{
     Faces, Lines, check_finite, error_at, implausible, parse_f32, parse_int, parse_uint, show, strip_comment, syntax,
     tokens, truncated,
@@ -44,7 +45,7 @@ fn count(token: Option<&[u8]>, what: &str, line: usize, path: &Path) -> Result<u
         .ok_or_else(|| syntax(path, Some(line), format!("bad {what} count `{}`", show(token))))
 }
 
-pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Mesh, LoadError> {
+pub(super) fn parse(bytes: &[u8], path: &Path, budget: Budget) -> Result<Mesh, LoadError> {
     let mut lines = Lines::new(bytes, 1);
     let Some((mut line, mut text)) = next_content(&mut lines) else {
         return Err(truncated(
@@ -78,6 +79,10 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Mesh, LoadError> {
         );
         return Err(implausible(path, Some(line), message));
     }
+    // The memory budget, before the data is read: each face is at least a triangle.
+    budget
+        .check(bytes.len() as u64, vertex_count as u64, face_count as u64, false)
+        .map_err(|kind| error_at(path, Some(line), kind))?;
 
     if vertex_count > u32::MAX as usize {
         let error = MeshError::TooLarge {

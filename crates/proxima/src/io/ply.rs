@@ -1,5 +1,6 @@
 //! PLY (Polygon File Format), ascii and binary of both byte orders.
 
+use super::read::Budget;
 use super::text::{
     Faces, Lines, TokenStream, check_finite, error_at, implausible, parse_f32, parse_int, parse_uint, show, syntax,
     tokens, truncated,
@@ -118,9 +119,18 @@ struct Header<'a> {
     data: &'a [u8],
 }
 
-pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Mesh, LoadError> {
+pub(super) fn parse(bytes: &[u8], path: &Path, budget: Budget) -> Result<Mesh, LoadError> {
     let header = parse_header(bytes, path)?;
     let vertex_count = header.elements.get(header.vertex).map_or(0, |e| e.count);
+    // The memory budget, before the data is read: each face is at least a triangle.
+    let faces = header
+        .elements
+        .iter()
+        .find(|e| has_role(e, |r| r == Role::Indices))
+        .map_or(0, |e| e.count);
+    budget
+        .check(bytes.len() as u64, vertex_count, faces, false)
+        .map_err(|kind| error_at(path, Some(header.data_line - 1), kind))?;
     // `parse_header` checked that the counts fit the data (so fit in memory) and
     // that the vertex count fits 32-bit indices.
     let vertex_count = usize::try_from(vertex_count).unwrap_or(usize::MAX);

@@ -30,7 +30,17 @@ fn read_text(path: &Path, options: &LoadOptions) -> Result<Vec<u8>, LoadError> {
     let metadata = file.metadata().map_err(|e| LoadError::new(path, None, e))?;
     let size = metadata.is_file().then_some(metadata.len());
     let mut guard = TextGuard::text(options.max_line_bytes);
-    read_bounded(file, Limit::Input(options.max_input_bytes), size, &mut guard, path)
+    let budget = super::read::Budget {
+        bytes: options.memory_budget,
+    };
+    read_bounded(
+        file,
+        Limit::Input(options.max_input_bytes),
+        size,
+        &mut guard,
+        budget,
+        path,
+    )
 }
 
 /// Parses a rays file: one ray per line, `ox oy oz dx dy dz` separated by

@@ -1,9 +1,14 @@
 //! Reading an input stream into memory with bounded size, and the checks that
 //! make a text format fail fast on what is not text: a NUL byte, or a line
 //! longer than the limit (an endless stream such as `/dev/zero` has either).
+//! Text is also counted as it arrives (OBJ `v` and `f` lines, OFF lines,
+//! ascii STL facets) against the memory budget ([`Budget`]), so that a file
+//! holding more than the budget stops being read as soon as the counts pass
+//! it, not once it has all been inflated.
 
 use super::Format;
 use super::stl;
+use crate::budget::{LOAD_BYTES_PER_TRIANGLE, LOAD_BYTES_PER_VERTEX};
 use crate::error::{LoadError, LoadErrorKind};
 use std::io::Read;
 use std::path::Path;
@@ -30,9 +35,69 @@ enum Mode {
     Done,
 }
 
+/// What a text line adds to the counts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Count {
+    /// Nothing (points files; formats counted by their parsers).
+    Nothing,
+    /// OBJ: a `v` line is a vertex, an `f` line of `n` references `n - 2`
+    /// triangles.
+    Obj,
+    /// OFF: every line that is not blank or a comment is a vertex or a face,
+    /// counted as a vertex (the cheaper; the header's line or two with them).
+    Off,
+    /// Ascii STL: a `facet` line is a triangle.
+    Stl,
+}
+
+/// The memory budget of loading: the bytes held (the input read so far) and
+/// the mesh it becomes, counted at [`LOAD_BYTES_PER_VERTEX`] and
+/// [`LOAD_BYTES_PER_TRIANGLE`], may not pass `bytes`.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Budget {
+    pub(super) bytes: u64,
+}
+
+impl Budget {
+    /// The bytes counted for `input` bytes held and a mesh of `vertices`
+    /// vertices and `triangles` triangles.
+    pub(super) fn need(input: u64, vertices: u64, triangles: u64) -> u128 {
+        u128::from(input)
+            + u128::from(vertices) * u128::from(LOAD_BYTES_PER_VERTEX)
+            + u128::from(triangles) * u128::from(LOAD_BYTES_PER_TRIANGLE)
+    }
+
+    /// [`LoadErrorKind::MemoryBudget`] when the counts pass the budget;
+    /// `complete` when they are the whole file's, not those read so far.
+    pub(super) fn check(self, input: u64, vertices: u64, triangles: u64, complete: bool) -> Result<(), LoadErrorKind> {
+        let bytes = Self::need(input, vertices, triangles);
+        if bytes <= u128::from(self.bytes) {
+            return Ok(());
+        }
+        let what = if vertices == 0 && triangles == 0 {
+            format!("{input} bytes of input{}", if complete { "" } else { " (so far)" })
+        } else {
+            format!(
+                "{}{vertices} vertices and {triangles} triangles, with their trees ({LOAD_BYTES_PER_VERTEX} and \
+                 {LOAD_BYTES_PER_TRIANGLE} bytes each) and the {input} bytes of input,",
+                if complete { "" } else { "at least " }
+            )
+        };
+        Err(LoadErrorKind::MemoryBudget {
+            what,
+            bytes,
+            budget: self.bytes,
+        })
+    }
+}
+
 /// The text checks, fed the growing buffer of a file.
 pub(super) struct TextGuard {
     mode: Mode,
+    count: Count,
+    /// Vertices and triangles counted so far.
+    vertices: u64,
+    triangles: u64,
     max_line_bytes: usize,
     /// 1-based number of the line being read.
     line: usize,
@@ -50,17 +115,26 @@ impl TextGuard {
             Format::Stl => Mode::Stl,
             Format::Glb => Mode::Binary,
         };
-        Self::with_mode(mode, max_line_bytes)
+        let count = match format {
+            Format::Obj => Count::Obj,
+            Format::Off => Count::Off,
+            Format::Stl => Count::Stl,
+            Format::Ply | Format::Glb => Count::Nothing,
+        };
+        Self::with_mode(mode, count, max_line_bytes)
     }
 
     /// A guard for a text format that is not a mesh (points files).
     pub(super) fn text(max_line_bytes: usize) -> Self {
-        Self::with_mode(Mode::Text, max_line_bytes)
+        Self::with_mode(Mode::Text, Count::Nothing, max_line_bytes)
     }
 
-    fn with_mode(mode: Mode, max_line_bytes: usize) -> Self {
+    fn with_mode(mode: Mode, count: Count, max_line_bytes: usize) -> Self {
         Self {
             mode,
+            count,
+            vertices: 0,
+            triangles: 0,
             max_line_bytes,
             line: 1,
             line_start: 0,
@@ -72,6 +146,43 @@ impl TextGuard {
     /// triangles are all read: the parser ignores the bytes after them).
     pub(super) fn done(&self) -> bool {
         self.mode == Mode::Done
+    }
+
+    /// Fails when `held` bytes and the vertices and triangles counted so far
+    /// pass `budget`, naming the line reached in text.
+    pub(super) fn check_budget(&self, held: u64, budget: Budget, path: &Path) -> Result<(), LoadError> {
+        budget
+            .check(held, self.vertices, self.triangles, false)
+            .map_err(|kind| {
+                let text = matches!(self.mode, Mode::Text | Mode::Stl) && self.count != Count::Nothing;
+                LoadError::new(path, text.then_some(self.line), kind)
+            })
+    }
+
+    /// Counts what the complete line `line` adds to the mesh.
+    fn count_line(&mut self, line: &[u8]) {
+        let line = line.trim_ascii_start();
+        match self.count {
+            Count::Nothing => {}
+            Count::Obj => match line {
+                [b'v', b' ' | b'\t', ..] => self.vertices += 1,
+                [b'f', b' ' | b'\t', rest @ ..] => {
+                    let corners = rest.split(u8::is_ascii_whitespace).filter(|w| !w.is_empty()).count();
+                    self.triangles += (corners as u64).saturating_sub(2);
+                }
+                _ => {}
+            },
+            Count::Off => {
+                if !line.is_empty() && line[0] != b'#' {
+                    self.vertices += 1;
+                }
+            }
+            Count::Stl => {
+                if line.get(..5).is_some_and(|w| w.eq_ignore_ascii_case(b"facet")) {
+                    self.triangles += 1;
+                }
+            }
+        }
     }
 
     /// Checks `bytes[self.checked..]`, `bytes` being everything read so far.
@@ -110,6 +221,8 @@ impl TextGuard {
                 _ => {
                     if let Mode::PlyHeader { ascii } = self.mode {
                         self.mode = ply_header_line(&bytes[self.line_start..end], ascii);
+                    } else {
+                        self.count_line(&bytes[self.line_start..end]);
                     }
                     self.line += 1;
                     self.line_start = end + 1;
@@ -192,18 +305,25 @@ impl Limit {
 }
 
 /// Reads `reader` to its end into memory, at most `limit` bytes, running
-/// `guard` on each chunk so that bad text fails before the memory grows.
+/// `guard` on each chunk so that bad text fails before the memory grows, and
+/// counting the bytes held and what the guard counted against `budget`.
 /// `size_hint` (a regular file's size) sizes the buffer at once.
 pub(super) fn read_bounded(
     mut reader: impl Read,
     limit: Limit,
     size_hint: Option<u64>,
     guard: &mut TextGuard,
+    budget: Budget,
     path: &Path,
 ) -> Result<Vec<u8>, LoadError> {
     let max = limit.bytes();
     if size_hint.is_some_and(|size| size > max) {
         return Err(LoadError::new(path, None, limit.error()));
+    }
+    if let Some(size) = size_hint {
+        budget
+            .check(size, 0, 0, true)
+            .map_err(|kind| LoadError::new(path, None, kind))?;
     }
     // One byte past the limit tells "exactly at the limit" from "beyond it".
     let ceiling = max.saturating_add(1);
@@ -216,8 +336,15 @@ pub(super) fn read_bounded(
             return Err(LoadError::new(path, None, limit.error()));
         }
         if bytes.len() == bytes.capacity() {
-            // Doubling, but never past the ceiling: the buffer stays within the limit.
-            let grow = (bytes.capacity() as u64).max(64 << 10).min(ceiling - len);
+            // Doubling, but never past the ceiling nor the budget: the buffer
+            // is memory held too.
+            let capacity = bytes.capacity() as u64;
+            let counted = Budget::need(capacity, guard.vertices, guard.triangles);
+            let room = u64::try_from(u128::from(budget.bytes).saturating_sub(counted)).unwrap_or(u64::MAX);
+            let grow = capacity.max(64 << 10).min(ceiling - len).min(room);
+            if grow == 0 {
+                guard.check_budget(capacity + 1, budget, path)?;
+            }
             reserve(&mut bytes, grow, path)?;
         }
         // Reads no more than the free capacity, so `read_to_end` never reallocates.
@@ -228,6 +355,7 @@ pub(super) fn read_bounded(
             .read_to_end(&mut bytes)
             .map_err(|e| LoadError::new(path, None, e))?;
         guard.feed(&bytes, path)?;
+        guard.check_budget(bytes.len() as u64, budget, path)?;
         if read == 0 || guard.done() {
             break;
         }
@@ -246,13 +374,4 @@ fn reserve(bytes: &mut Vec<u8>, additional: u64, path: &Path) -> Result<(), Load
         );
         LoadError::new(path, None, error)
     })
-}
-
-/// The bytes the system could give this process now: `MemAvailable` of
-/// `/proc/meminfo` on Linux, `None` elsewhere or when it cannot be read.
-pub(super) fn memory_available() -> Option<u64> {
-    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    kib.checked_mul(1024)
 }

@@ -1,5 +1,6 @@
 //! STL, binary and ascii, with exactly-equal positions welded into shared vertices.
 
+use super::read::Budget;
 use super::text::{Faces, TokenStream, check_finite, error_at, parse_f32, show, syntax, truncated};
 use crate::error::{LoadError, MeshError};
 use crate::math::Vec3;
@@ -15,9 +16,9 @@ const TRIANGLE_BYTES: u64 = 50;
 /// How far to look for NUL bytes when telling binary from ascii.
 pub(super) const SNIFF_BYTES: usize = 4096;
 
-pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Mesh, LoadError> {
+pub(super) fn parse(bytes: &[u8], path: &Path, budget: Budget) -> Result<Mesh, LoadError> {
     if binary_size(bytes) == Some(bytes.len() as u64) {
-        return parse_binary(bytes, path);
+        return parse_binary(bytes, path, budget);
     }
     // Many binary files also start with `solid`; text never holds NUL bytes, while
     // binary data nearly always does (zero normals, attribute bytes, 0.0).
@@ -26,7 +27,7 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<Mesh, LoadError> {
     if looks_ascii {
         parse_ascii(bytes, path)
     } else {
-        parse_binary(bytes, path)
+        parse_binary(bytes, path, budget)
     }
 }
 
@@ -49,7 +50,7 @@ pub(super) fn may_be_ascii(bytes: &[u8]) -> bool {
 
 /// Binary STL: the size must hold the announced triangles; bytes after them are
 /// ignored.
-fn parse_binary(bytes: &[u8], path: &Path) -> Result<Mesh, LoadError> {
+fn parse_binary(bytes: &[u8], path: &Path, budget: Budget) -> Result<Mesh, LoadError> {
     let Some(count) = bytes
         .get(80..84)
         .and_then(|b| b.try_into().ok())
@@ -64,6 +65,11 @@ fn parse_binary(bytes: &[u8], path: &Path) -> Result<Mesh, LoadError> {
     // is reported before the truncation: a stream stops being read at its
     // first non-finite corner (see `first_non_finite`).
     let present = (count as usize).min(data.len() / TRIANGLE_BYTES as usize);
+    // The memory budget, before the triangles are read (how many vertices
+    // they weld into is not known yet: none are counted).
+    budget
+        .check(bytes.len() as u64, 0, present as u64, true)
+        .map_err(|kind| error_at(path, None, kind))?;
     let mut welder = Welder::with_capacity(present / 2 + 3);
     let mut faces = Faces::with_capacity(present, present * 3);
     for triangle in data.chunks_exact(TRIANGLE_BYTES as usize).take(present) {
