@@ -488,3 +488,47 @@ fn a_mesh_loaded_always_fits_its_budget() {
     assert_eq!(bytes, u128::from(exact));
     assert!(what.starts_with("3 vertices and 10000 triangles"), "{what}");
 }
+
+#[test]
+fn grids_are_counted_against_the_budget_before_storing() {
+    // A square of two triangles in cells of 1/500: about 250,000 cells, those
+    // of the diagonal shared, so the occupied cells are estimated by sampling.
+    let (a, b, c, d) = (Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y);
+    let square =
+        || PrimitiveSet::from_primitives(vec![proxima::Triangle::new(a, b, c), proxima::Triangle::new(a, c, d)]);
+    let config = GridConfig::cubic(1.0 / 500.0);
+    let grid = HashGrid::<proxima::Triangle>::build(square(), &config).unwrap();
+    let (entries, cells) = (grid.entry_count() as u64, grid.stats().occupied_cells as u64);
+    assert!(cells > 1 << 14 && entries > cells, "{entries} {cells}");
+    let need = entries * proxima::budget::GRID_BYTES_PER_ENTRY + cells * proxima::budget::GRID_BYTES_PER_CELL;
+    // Exactly its need: built (the count's estimate does not refuse it).
+    let fits = GridConfig {
+        memory_budget: need,
+        ..config
+    };
+    let again = HashGrid::<proxima::Triangle>::build(square(), &fits).unwrap();
+    assert_eq!(again.entry_count() as u64, entries);
+    // Less: refused, with the whole estimated from the share counted.
+    for budget in [need - 1, need / 2, need / 10] {
+        let config = GridConfig {
+            memory_budget: budget,
+            ..config
+        };
+        let e = HashGrid::<proxima::Triangle>::build(square(), &config).unwrap_err();
+        let GridError::MemoryBudget {
+            what,
+            count,
+            bytes,
+            budget: b,
+        } = e.clone()
+        else {
+            panic!("{e}")
+        };
+        assert_eq!((what, b), ("cell entries", budget));
+        let near = |x: u128, y: u64| (x as f64 - y as f64).abs() <= 0.15 * y as f64;
+        assert!(
+            near(count, entries) && near(bytes, need),
+            "{e}: {entries} entries, {need} bytes"
+        );
+    }
+}

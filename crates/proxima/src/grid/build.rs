@@ -10,12 +10,18 @@
 //!
 //! Memory: 4 bytes per pair for the replay array, 4 per pair of entries, and
 //! per occupied cell a map entry, its key and its start.
+//!
+//! Before step 1, when the primitives' cell ranges could hold more than the
+//! memory budget, the cells are first only counted ([`count_within_budget`]):
+//! the entries exactly and the occupied cells by a distinct-count sample, with
+//! nothing stored, so that a grid beyond the budget is refused at the cost of
+//! counting up to the budget, not of filling it.
 
-use super::{Cell, CellRange, GridConfig, GridInsert, HashGrid, InsertParams, Key};
+use super::{Cell, CellRange, GridConfig, GridInsert, HashGrid, InsertMethod, InsertParams, Key};
 use crate::budget::{GRID_BYTES_PER_CELL, GRID_BYTES_PER_ENTRY};
 use crate::error::GridError;
 use crate::primitive::PrimitiveSet;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::hash::BuildHasher;
 
 impl<T: GridInsert, S: BuildHasher + Default> HashGrid<T, S> {
@@ -57,6 +63,12 @@ impl<T: GridInsert, S: BuildHasher + Default> HashGrid<T, S> {
                 cells: total_work,
                 limit: config.max_cell_tests,
             });
+        }
+        // Every cell of every range an entry and an occupied cell: the most
+        // the grid can need. Beyond the budget, count before storing.
+        let most = total_work * (GRID_BYTES_PER_ENTRY + GRID_BYTES_PER_CELL) as u128;
+        if most > config.memory_budget as u128 {
+            count_within_budget(&primitives, &params, total_work, config)?;
         }
         let mut over_budget = false;
         let mut work_done = 0u128;
@@ -177,6 +189,115 @@ pub(super) fn work_estimate<T: GridInsert>(primitives: &[T], params: &InsertPara
     Ok(total)
 }
 
+/// Sampled cells held at most by [`DistinctSample`]: its estimate is off by
+/// about 1/sqrt(4096), 1.6% (one standard deviation), once it samples.
+const SAMPLE_CELLS: usize = 1 << 13;
+
+/// How much less than its estimate of the occupied cells
+/// [`count_within_budget`] assumes when it refuses: six standard deviations
+/// of the sample's error, so that a grid within the budget is not refused
+/// (and the build's own exact count stays the last word).
+const SAMPLE_MARGIN: f64 = 0.9;
+
+/// Counts the entries (exactly) and the occupied cells (by a distinct-count
+/// sample) of the grid the build would make, visiting the same cells with
+/// nothing stored, and fails with [`GridError::MemoryBudget`] as soon as
+/// those counted so far need more than the budget, at the bytes the build
+/// counts ([`GRID_BYTES_PER_ENTRY`], [`GRID_BYTES_PER_CELL`]). The count and
+/// the bytes reported estimate the whole from the share of the work done, as
+/// the build's do. Stops counting (and leaves the rest to the build) once the
+/// entries pass `config.max_entries`.
+fn count_within_budget<T: GridInsert>(
+    primitives: &[T],
+    params: &InsertParams<'_>,
+    total_work: u128,
+    config: &GridConfig,
+) -> Result<(), GridError> {
+    // The scan-line insertion finds the same cells as the classic one with fewer tests.
+    let params = InsertParams {
+        method: InsertMethod::Scanline,
+        ..*params
+    };
+    let mut entries = 0u64;
+    let mut cells = DistinctSample::default();
+    let mut work_done = 0u128;
+    for (index, p) in primitives.iter().enumerate() {
+        p.visit_cells(&params, |cell| {
+            entries += 1;
+            cells.insert(cell);
+        })
+        .map_err(|e| with_index(e, index))?;
+        work_done += range_count(p, &params);
+        let need =
+            |cells: f64| entries as u128 * GRID_BYTES_PER_ENTRY as u128 + (cells * GRID_BYTES_PER_CELL as f64) as u128;
+        let (estimate, low) = cells.estimate();
+        if need(low) > config.memory_budget as u128 {
+            let count = (entries as u128 * total_work / work_done.max(1)).max(entries as u128);
+            let per_entry = need(estimate).div_ceil(entries.max(1) as u128);
+            return Err(GridError::MemoryBudget {
+                what: "cell entries",
+                count,
+                bytes: count.saturating_mul(per_entry),
+                budget: config.memory_budget,
+            });
+        }
+        if entries > config.max_entries {
+            break;
+        }
+    }
+    Ok(())
+}
+
+/// A count of distinct cells in bounded memory (distinct sampling): a cell is
+/// kept when its hash lies in the lowest `2^-level` of the hash range, and
+/// the level rises (halving what is kept) whenever more than
+/// [`SAMPLE_CELLS`] are kept; the kept cells times `2^level` estimate the
+/// distinct cells seen, exactly while the level is 0.
+#[derive(Default)]
+struct DistinctSample {
+    level: u32,
+    kept: HashSet<u64>,
+}
+
+impl DistinctSample {
+    fn insert(&mut self, cell: Cell) {
+        let hash = cell_hash(cell);
+        if hash > u64::MAX >> self.level {
+            return;
+        }
+        self.kept.insert(hash);
+        if self.kept.len() > SAMPLE_CELLS {
+            self.level += 1;
+            let threshold = u64::MAX >> self.level;
+            self.kept.retain(|&h| h <= threshold);
+        }
+    }
+
+    /// The estimate of the distinct cells seen, and a low estimate (less the
+    /// margin once sampling).
+    fn estimate(&self) -> (f64, f64) {
+        let estimate = self.kept.len() as f64 * (1u64 << self.level) as f64;
+        let low = if self.level == 0 {
+            estimate
+        } else {
+            estimate * SAMPLE_MARGIN
+        };
+        (estimate, low)
+    }
+}
+
+/// A 64-bit hash of a cell whose bits are all well mixed (SplitMix64's
+/// finalizer over each index in turn), as distinct sampling requires.
+fn cell_hash(cell: Cell) -> u64 {
+    let mix = |mut z: u64| {
+        z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    };
+    cell.iter().fold(0, |h, &i| mix(h ^ i as u64))
+}
+
 /// The cells of `p`'s cell range (0 when it has none).
 fn range_count<T: GridInsert>(p: &T, params: &InsertParams<'_>) -> u128 {
     params.layout.cell_range(&p.bounds()).map_or(0, |r| r.count())
@@ -189,5 +310,39 @@ fn with_index(e: GridError, index: usize) -> GridError {
         GridError::OutOfRange => GridError::PrimitiveOutOfRange { index },
         GridError::PrimitiveTooLarge { cells, limit, .. } => GridError::PrimitiveTooLarge { index, cells, limit },
         other => other,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_distinct_sample_counts_within_its_margin() {
+        // Exact while it holds every cell; then within a few of its 1.6%
+        // standard deviations, whatever the repeats and the cells' layout.
+        let mut sample = DistinctSample::default();
+        for i in 0..SAMPLE_CELLS as i64 {
+            sample.insert([i, -i, 7]);
+            sample.insert([i, -i, 7]);
+        }
+        assert_eq!(sample.estimate(), (SAMPLE_CELLS as f64, SAMPLE_CELLS as f64));
+        for (n, layout) in [(100_000i64, 0), (1_000_000, 1), (3_000_000, 2)] {
+            let mut sample = DistinctSample::default();
+            for i in 0..n {
+                let cell = match layout {
+                    0 => [i, 0, 0],
+                    1 => [i % 1000, i / 1000, 0],
+                    _ => [i % 100, (i / 100) % 100, i / 10_000],
+                };
+                sample.insert(cell);
+                sample.insert(cell);
+            }
+            let (estimate, low) = sample.estimate();
+            let error = (estimate - n as f64).abs() / n as f64;
+            assert!(error < 0.05, "{n} cells estimated as {estimate}");
+            assert!(low < n as f64 && low == estimate * SAMPLE_MARGIN);
+            assert!(sample.kept.len() <= SAMPLE_CELLS);
+        }
     }
 }
