@@ -296,6 +296,137 @@ fn gzip_bomb() {
     assert_one_line_error(&out, 1, &["PROXIMA_MAX_DECOMPRESSED_BYTES", "lots"]);
 }
 
+#[test]
+fn load_beyond_the_memory_budget() {
+    // One triangle: 32 bytes, 3 vertices and a triangle counted at 96 and 136
+    // bytes, more than a budget of 200 bytes; the text is counted as it is
+    // read, so the line is the one reading stopped at.
+    let mesh = triangle_file("load_beyond_the_memory_budget");
+    let out = proxima_env(&["info", &mesh], &[("PROXIMA_MEMORY_BUDGET", "200")]);
+    assert_one_line_error(
+        &out,
+        1,
+        &[
+            "ok.obj:5: at least 3 vertices and 1 triangles, with their trees (96 and 136 bytes each) and the 32 \
+             bytes of input, need about 456 bytes, more than the memory budget of 200 bytes (PROXIMA_MEMORY_BUDGET \
+             sets it)",
+        ],
+    );
+    assert!(
+        proxima_env(&["info", &mesh], &[("PROXIMA_MEMORY_BUDGET", "456")])
+            .status
+            .success()
+    );
+}
+
+#[test]
+fn glb_instancing_beyond_the_memory_budget() {
+    // The issue's files: one primitive of 960,000 byte indices shown by 100
+    // nodes (964 KB: `sdf` aborted allocating 840 MB, at 4.1 GB), and a strip
+    // of 90,002 shown by 200 (98 KB: `info` ran 30 s at 2.2 GB). Under a
+    // 3 GiB address-space limit (the default budget stays 2 GiB), both are
+    // refused from the scene's counts before a vertex is read.
+    let dir = temp_dir("glb_instancing_beyond_the_memory_budget");
+    let cases = [
+        (
+            "tris.glb",
+            960_000,
+            100,
+            4,
+            "sdf",
+            "(300 vertices and 32000000 triangles, 100 primitives)",
+        ),
+        (
+            "strip.glb",
+            90_002,
+            200,
+            5,
+            "info",
+            "(600 vertices and 18000000 triangles, 200 primitives)",
+        ),
+    ];
+    for (name, corners, nodes, mode, command, counts) in cases {
+        let path = dir.join(name);
+        std::fs::write(&path, common::instanced_glb(corners, nodes, mode, "", "")).unwrap();
+        let path = path.display().to_string();
+        let mut args = vec![command, &path];
+        if command == "sdf" {
+            args.extend(["--point", "0,0,0"]);
+        }
+        let out = common::proxima_under_limit(3 << 20, &args, &[]);
+        assert_one_line_error(
+            &out,
+            1,
+            &[
+                &format!("{name}: the scene's {nodes} mesh instances {counts}"),
+                "more than the memory budget of 2.0 GiB",
+            ],
+        );
+    }
+}
+
+#[test]
+fn glb_cycle_without_a_scene() {
+    // nodes[0] and nodes[1] each other's child, no scene: no node is a root.
+    // It was "the mesh is empty"; it is the cycle, as with a scene.
+    let dir = temp_dir("glb_cycle_without_a_scene");
+    let positions: Vec<u8> = [0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
+        .iter()
+        .flat_map(|x| x.to_le_bytes())
+        .collect();
+    let json = r#"{"asset":{"version":"2.0"},"buffers":[{"byteLength":36}],"bufferViews":[{"buffer":0,"byteLength":36}],
+        "accessors":[{"bufferView":0,"componentType":5126,"type":"VEC3","count":3}],
+        "meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],
+        "nodes":[{"mesh":0,"children":[1]},{"children":[0]}]}"#;
+    let path = dir.join("cycle.glb");
+    std::fs::write(&path, common::glb(json, &positions)).unwrap();
+    let out = proxima(&["info", &path.display().to_string()]);
+    assert_one_line_error(
+        &out,
+        1,
+        &["cycle.glb: nodes[0] is reached twice: the node hierarchy is not a tree (a cycle, or a shared child)"],
+    );
+}
+
+#[test]
+fn gzip_text_beyond_the_memory_budget() {
+    // The issue's file, scaled: `v 0 0 0` lines inflating to 200 MiB (26
+    // million vertices; 3.2 GB aborted under a 6 GB address-space limit),
+    // read under a 1.5 GiB limit. The default budget follows that limit
+    // (three quarters of the room under it, about 1.1 GiB) and the lines are
+    // counted as they are inflated: reading stops after about 11 million.
+    let dir = temp_dir("gzip_text_beyond_the_memory_budget");
+    let mut encoder = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::best());
+    encoder.write_all(&b"v 0 0 0\n".repeat(1 << 17)).unwrap();
+    let member = encoder.finish().unwrap();
+    let path = dir.join("zeros.obj.gz");
+    std::fs::write(&path, member.repeat(200)).unwrap();
+    let limit: u64 = 1536 << 20;
+    let out = common::proxima_under_limit(limit >> 10, &["info", &path.display().to_string()], &[]);
+    assert_one_line_error(
+        &out,
+        1,
+        &[
+            "zeros.obj.gz:",
+            ": at least ",
+            " vertices and 0 triangles",
+            "memory budget of",
+        ],
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    let budget: u64 = err
+        .split("memory budget of ")
+        .nth(1)
+        .and_then(|rest| rest.split(['(', ' ']).nth(3))
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no budget in {err}"));
+    // Three quarters of the limit less what the process had mapped (well under 256 MiB).
+    assert!(
+        budget <= limit / 4 * 3 && budget >= (limit - (256 << 20)) / 4 * 3,
+        "{budget}: {err}"
+    );
+}
+
 // ------------------------------------------------------------ building ---
 
 #[test]
@@ -475,6 +606,28 @@ fn grid_cells_beyond_the_work_limit() {
         ],
     );
     assert!(proxima_env(&args, &[("PROXIMA_MAX_CELL_TESTS", "72")]).status.success());
+}
+
+#[test]
+fn grid_beyond_the_memory_budget_is_counted_before_storing() {
+    // A unit square in cells of 2e-4: about 2.5e7 cell entries (3.6 GB). Under a
+    // budget of 2 GiB but an address-space limit of 1 GiB, filling the grid
+    // up to its budget aborted; counting first refuses it having stored
+    // nothing.
+    let dir = temp_dir("grid_beyond_the_memory_budget_is_counted_before_storing");
+    let path = dir.join("square.obj");
+    std::fs::write(&path, b"v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n").unwrap();
+    let path = path.display().to_string();
+    let args = ["grid", &path, "--cell", "2e-4", "--primitives", "faces"];
+    let out = common::proxima_under_limit(1 << 20, &args, &[("PROXIMA_MEMORY_BUDGET", "2G")]);
+    assert_one_line_error(
+        &out,
+        1,
+        &[
+            "square.obj: --cell 0.0002: needs about",
+            "cell entries, more than the memory budget of 2.0 GiB",
+        ],
+    );
 }
 
 #[test]

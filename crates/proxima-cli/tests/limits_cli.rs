@@ -1,6 +1,8 @@
 //! Inputs that used to panic, abort or run away and now succeed within bounds
 //! (issue 21 §2); the ones that became errors are in `errors_cli.rs`.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
@@ -133,4 +135,19 @@ fn closest_streams_answers_in_input_order_across_chunks() {
         assert_eq!(whole.lines().count(), 1 + 1500 * 1000);
         assert!(whole == expected, "{method}: chunked output differs from the halves");
     }
+}
+
+#[test]
+fn glb_json_members_not_read_cost_nothing() {
+    // 30 million zeros (60 MB of JSON) in the document's `extras`: parsed
+    // into values they took over 1 GiB (a 300 MB array aborted allocating
+    // 8 GiB); skipped as they are read, the file loads under a 1 GiB
+    // address-space limit.
+    let dir = tempfile::tempdir().unwrap();
+    let zeros = format!(r#""extras":[{}0],"#, "0,".repeat(30_000_000));
+    let path = dir.path().join("extras.glb");
+    std::fs::write(&path, common::instanced_glb(3, 1, 4, &zeros, "")).unwrap();
+    let out = common::proxima_under_limit(1 << 20, &["info", &path.display().to_string()], &[]);
+    let text = stdout(&out);
+    assert!(text.contains("faces      1 "), "{text}");
 }
