@@ -17,7 +17,7 @@ use arbitrary::{Result, Unstructured};
 use proxima::GridError;
 use proxima::bvh::SplitMethod;
 use proxima::grid::{ClassicHash, FastHash, GridConfig, GridInsert, GridLayout, HashGrid, InsertMethod};
-use proxima::io::{Format, parse};
+use proxima::io::{Format, LoadOptions, parse_with};
 use proxima::prelude::*;
 use proxima::primitive::WatertightRay;
 use proxima::traversal::{GridTraversal, TraversalStep};
@@ -28,6 +28,10 @@ use std::path::Path;
 pub const MAX_INPUT: usize = 1 << 20;
 /// Decompression limit of the gzip target (the library's default is 4 GiB).
 pub const MAX_GUNZIP: u64 = 8 << 20;
+/// The memory budget of the loaders here (the library's default is up to
+/// 2 GiB): a GLB scene of a few instances of a large primitive, or a JSON
+/// chunk of many values, reaches it from a small input.
+pub const LOAD_BUDGET: u64 = 64 << 20;
 
 /// A fuzz target's body.
 pub type Body = fn(&[u8]);
@@ -48,7 +52,24 @@ pub const TARGETS: &[(&str, Body)] = &[
 
 fn load(data: &[u8], format: Format) {
     let data = &data[..data.len().min(MAX_INPUT)];
-    if let Ok(mesh) = parse(data, format, Path::new("fuzz-input")) {
+    let options = LoadOptions {
+        memory_budget: LOAD_BUDGET,
+        ..LoadOptions::default()
+    };
+    let loaded = parse_with(data, format, Path::new("fuzz-input"), &options);
+    if let Err(proxima::LoadError {
+        kind: proxima::LoadErrorKind::MemoryBudget { bytes, budget, .. },
+        ..
+    }) = &loaded
+    {
+        assert!(*bytes > u128::from(*budget) && *budget == LOAD_BUDGET);
+    }
+    if let Ok(mesh) = loaded {
+        // What a loader accepts fits the budget it was given.
+        let counted = data.len() as u128
+            + mesh.vertex_count() as u128 * u128::from(proxima::budget::LOAD_BYTES_PER_VERTEX)
+            + mesh.triangle_count() as u128 * u128::from(proxima::budget::LOAD_BYTES_PER_TRIANGLE);
+        assert!(counted <= u128::from(LOAD_BUDGET), "{counted} bytes counted");
         // Extraction must hold for whatever a loader accepts.
         let triangles = mesh.triangles();
         assert_eq!(triangles.len(), mesh.triangle_count());

@@ -9,6 +9,7 @@ mod bodies;
 mod common;
 
 use proxima::sample::Rng;
+use serde_json::{Value, json};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -129,6 +130,85 @@ fn mutate(input: &[u8], rng: &mut Rng) -> Vec<u8> {
     out
 }
 
+/// GLB inputs grown from the GLB seeds in the ways that cost a reader most
+/// for their size: a mesh shown by many more nodes (instancing), a large
+/// array in a member the reader skips (`extras`) or keeps (a node's
+/// `children`, a scene's `nodes`), and accessor counts raised (more
+/// triangles than the data holds).
+const GLB_CASES: usize = 400;
+
+/// One such mutation of a GLB `seed` (`None` when its JSON does not parse).
+fn mutate_glb(seed: &[u8], rng: &mut Rng) -> Option<Vec<u8>> {
+    let json_len = u32::from_le_bytes(seed.get(12..16)?.try_into().ok()?) as usize;
+    let json = seed.get(20..20 + json_len)?;
+    let rest = &seed[20 + json_len..];
+    let mut doc: Value = serde_json::from_slice(json).ok()?;
+    // Sizes spread over orders of magnitude, most of them small.
+    let size = 1usize << rng.below(15);
+    match rng.below(4) {
+        0 => {
+            // Instancing: many nodes showing one mesh, as roots or through a scene.
+            let meshes = doc["meshes"].as_array().map_or(1, Vec::len).max(1);
+            let mesh = rng.below(meshes);
+            let n = size;
+            let nodes = doc["nodes"].as_array().map_or(0, Vec::len);
+            let added: Vec<Value> = (0..n)
+                .map(|i| json!({"mesh": mesh, "translation": [i, 0, 0]}))
+                .collect();
+            if let Some(list) = doc["nodes"].as_array_mut() {
+                list.extend(added);
+            } else {
+                doc["nodes"] = Value::Array(added);
+            }
+            if rng.below(2) == 0 {
+                doc["scenes"] = json!([{"nodes": (nodes..nodes + n).collect::<Vec<_>>()}]);
+                doc["scene"] = json!(0);
+            } else if let Some(object) = doc.as_object_mut() {
+                object.remove("scenes");
+                object.remove("scene");
+            }
+        }
+        1 => {
+            // A large array the reader skips.
+            doc["extras"] = Value::Array(vec![json!(0); 16 * size]);
+        }
+        2 => {
+            // A large array the reader keeps.
+            let big = Value::Array(vec![json!(0); 16 * size]);
+            if rng.below(2) == 0 {
+                doc["nodes"] = json!([{"children": big}]);
+            } else {
+                doc["scenes"] = json!([{"nodes": big}]);
+            }
+        }
+        _ => {
+            // Accessor counts raised, and strips (a triangle per index).
+            let factor = size as u64;
+            for accessor in doc["accessors"].as_array_mut()?.iter_mut() {
+                if let Some(count) = accessor["count"].as_u64() {
+                    accessor["count"] = json!(count.saturating_mul(factor));
+                }
+            }
+            for mesh in doc["meshes"].as_array_mut()?.iter_mut() {
+                for primitive in mesh["primitives"].as_array_mut()?.iter_mut() {
+                    primitive["mode"] = json!(5);
+                }
+            }
+        }
+    }
+    let mut json = serde_json::to_vec(&doc).ok()?;
+    while !json.len().is_multiple_of(4) {
+        json.push(b' ');
+    }
+    let mut out = seed[..12].to_vec();
+    out[8..12].copy_from_slice(&((20 + json.len() + rest.len()) as u32).to_le_bytes());
+    out.extend((json.len() as u32).to_le_bytes());
+    out.extend(b"JSON");
+    out.extend(json);
+    out.extend(rest);
+    Some(out)
+}
+
 fn random_bytes(rng: &mut Rng) -> Vec<u8> {
     let len = rng.below(512);
     (0..len).map(|_| rng.next_u64() as u8).collect()
@@ -171,8 +251,37 @@ fn every_fuzz_target_survives_seeds_and_mutations() {
             };
             run_or_save(name, body, &input);
         }
+        let mut glb_cases = 0;
+        if name == "load_glb" {
+            // Outcomes: loaded, refused by the budget, other errors.
+            let mut outcomes = [0; 3];
+            let options = proxima::io::LoadOptions {
+                memory_budget: bodies::LOAD_BUDGET,
+                ..proxima::io::LoadOptions::default()
+            };
+            for _ in 0..GLB_CASES {
+                let seed = &seeds[rng.below(seeds.len())];
+                if let Some(input) = mutate_glb(seed, &mut rng) {
+                    run_or_save(name, body, &input);
+                    glb_cases += 1;
+                    outcomes[match proxima::io::parse_with(&input, proxima::io::Format::Glb, "m.glb".as_ref(), &options)
+                    {
+                        Ok(_) => 0,
+                        Err(e) if matches!(e.kind, proxima::LoadErrorKind::MemoryBudget { .. }) => 1,
+                        Err(_) => 2,
+                    }] += 1;
+                }
+            }
+            assert!(glb_cases > GLB_CASES / 2, "the GLB seeds' JSON parses");
+            // The mutations reach both sides of the budget.
+            assert!(
+                outcomes[0] > 0 && outcomes[1] > 0,
+                "loaded, over the budget, other: {outcomes:?}"
+            );
+            println!("load_glb mutations: loaded, over the budget, other errors: {outcomes:?}");
+        }
         println!(
-            "{name}: {} seeds + {CASES} random/mutated inputs in {:.2} s",
+            "{name}: {} seeds + {CASES} random/mutated inputs + {glb_cases} GLB mutations in {:.2} s",
             seeds.len(),
             start.elapsed().as_secs_f64()
         );
