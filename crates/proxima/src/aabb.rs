@@ -116,7 +116,8 @@ impl Aabb {
     /// use proxima::{Aabb, DVec3, Vec3};
     /// let third = 1.0 / 3.0;
     /// let b = Aabb::enclosing(DVec3::splat(third), DVec3::splat(1.0));
-    /// assert!((b.min.x as f64) < third && b.min.x == (third as f32).next_down().max(b.min.x));
+    /// // The largest f32 at most 1/3, and exactly 1 above.
+    /// assert!((b.min.x as f64) <= third && (b.min.x.next_up() as f64) > third);
     /// assert_eq!(b.max, Vec3::ONE);
     /// ```
     pub fn enclosing(min: DVec3, max: DVec3) -> Aabb {

@@ -67,7 +67,7 @@ pub use frustum::{Frustum, FrustumOverlap};
 pub use grid::{GridConfig, HashGrid, InsertMethod};
 pub use kind::{MeshPrimitive, PrimitiveKind};
 pub use linear::LinearSearch;
-pub use math::{Mat4, Vec3, Vec3A};
+pub use math::{DVec3, Mat4, Vec3, Vec3A};
 pub use mesh::Mesh;
 pub use primitive::{
     Bounded, BoundingPoints, BoxOverlap, ClosestPoint, ConvexPolygon, LineSegment, Point, PrimitiveSet, RayIntersect,

@@ -54,10 +54,13 @@ const FAST_MARGIN: f64 = 1.0 / (1u64 << 22) as f64;
 ///
 /// // Planes are exact: 3 · 0.1f32 is not an f32, and the plane is that real number.
 /// let tenth = GridLayout::cubic(0.1).unwrap();
-/// assert_eq!(tenth.boundary(0, 3), 3.0 * (0.1f32 as f64));
-/// let just_below = (3.0 * (0.1f32 as f64)) as f32; // rounds down, below the plane
-/// assert!((just_below as f64) < tenth.boundary(0, 3));
-/// assert_eq!(tenth.cell_of(Vec3::new(just_below, 0.0, 0.0)).unwrap()[0], 2);
+/// let plane = 3.0 * (0.1f32 as f64);
+/// assert_eq!(tenth.boundary(0, 3), plane);
+/// // The f32 values on either side of it fall in the cells on either side.
+/// let nearest = plane as f32;
+/// let (below, above) = if nearest as f64 > plane { (nearest.next_down(), nearest) } else { (nearest, nearest.next_up()) };
+/// assert_eq!(tenth.cell_of(Vec3::new(below, 0.0, 0.0)).unwrap()[0], 2);
+/// assert_eq!(tenth.cell_of(Vec3::new(above, 0.0, 0.0)).unwrap()[0], 3);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GridLayout {
