@@ -14,6 +14,8 @@
 
 mod common;
 
+use common::glb_writer::instanced_glb;
+
 use proxima::bvh::{MAX_DEPTH, SplitMethod};
 use proxima::grid::{GridConfig, HashGrid, VoxelConfig, voxelize};
 use proxima::io::{Format, LoadOptions, parse};
@@ -203,54 +205,6 @@ use proxima::io::{load_with, parse_with, read_with};
 use std::cell::Cell;
 use std::rc::Rc;
 
-/// A GLB file of the JSON text `json` and the binary chunk `bin`, padded.
-fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
-    let mut json = json.as_bytes().to_vec();
-    while !json.len().is_multiple_of(4) {
-        json.push(b' ');
-    }
-    let mut bin = bin.to_vec();
-    while !bin.len().is_multiple_of(4) {
-        bin.push(0);
-    }
-    let total = 12 + 8 + json.len() + 8 + bin.len();
-    let mut out = b"glTF".to_vec();
-    out.extend(2u32.to_le_bytes());
-    out.extend((total as u32).to_le_bytes());
-    out.extend((json.len() as u32).to_le_bytes());
-    out.extend(b"JSON");
-    out.extend(json);
-    out.extend((bin.len() as u32).to_le_bytes());
-    out.extend(b"BIN\0");
-    out.extend(bin);
-    out
-}
-
-/// One triangle's three positions, then `corners` byte indices (0, 1, 2,
-/// 0, 1, 2, …): a primitive of mode `mode` shown by `nodes` nodes, each
-/// moved along x. `extra` is inserted among the document's members.
-fn instanced_glb(corners: usize, nodes: usize, mode: u32, extra: &str) -> Vec<u8> {
-    let mut bin: Vec<u8> = [0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
-        .iter()
-        .flat_map(|x| x.to_le_bytes())
-        .collect();
-    bin.extend((0..corners).map(|i| (i % 3) as u8));
-    let nodes_json: Vec<String> = (0..nodes)
-        .map(|i| format!(r#"{{"mesh":0,"translation":[{i},0,0]}}"#))
-        .collect();
-    let json = format!(
-        r#"{{"asset":{{"version":"2.0"}},{extra}"buffers":[{{"byteLength":{}}}],
-        "bufferViews":[{{"buffer":0,"byteLength":36}},{{"buffer":0,"byteOffset":36,"byteLength":{corners}}}],
-        "accessors":[{{"bufferView":0,"componentType":5126,"type":"VEC3","count":3}},
-                     {{"bufferView":1,"componentType":5121,"type":"SCALAR","count":{corners}}}],
-        "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"indices":1,"mode":{mode}}}]}}],
-        "nodes":[{}]}}"#,
-        bin.len(),
-        nodes_json.join(",")
-    );
-    glb(&json, &bin)
-}
-
 /// The budget error's fields, or a panic naming what came instead.
 fn budget_error(result: Result<proxima::Mesh, proxima::LoadError>) -> (String, u128, u64, Option<usize>) {
     let e = result.expect_err("over the budget");
@@ -274,7 +228,7 @@ fn glb_instances_are_counted_against_the_budget_before_expanding() {
     // 90,002 shown by 200 (98 KB, 18 million: `info` took 30 s and 2.2 GB).
     // Refused from the accessors' counts, before a vertex is read.
     for (corners, nodes, mode, triangles) in [(960_000, 100, 4, 32_000_000u64), (90_002, 200, 5, 18_000_000)] {
-        let file = instanced_glb(corners, nodes, mode, "");
+        let file = instanced_glb(corners, nodes, mode, "", "");
         let (what, bytes, budget, _) = budget_error(parse(&file, Format::Glb, "scene.glb".as_ref()));
         assert_eq!(budget, default_memory_budget());
         let counts = format!("({} vertices and {triangles} triangles, {nodes} primitives)", 3 * nodes);
@@ -286,7 +240,7 @@ fn glb_instances_are_counted_against_the_budget_before_expanding() {
     }
     // Smaller, the same way: loaded within a budget that holds it, with one
     // triangle per instance and index triple; refused below its counted bytes.
-    let file = instanced_glb(3000, 20, 4, "");
+    let file = instanced_glb(3000, 20, 4, "", "");
     let mesh = parse_with(&file, Format::Glb, "scene.glb".as_ref(), &with_budget(64 << 20)).unwrap();
     assert_eq!((mesh.vertex_count(), mesh.face_count()), (60, 20_000));
     assert_eq!(mesh.positions()[3], Vec3::new(1.0, 0.0, 0.0)); // the second node's first vertex
@@ -306,14 +260,14 @@ fn glb_json_members_not_read_are_skipped_and_the_rest_counted() {
     // skipped as they are parsed, so the file loads within a
     // budget of its own size and 4 MiB (kept, the values would take 320 MB).
     let zeros = format!("[{}0]", "0,".repeat(5_000_000));
-    let file = instanced_glb(3, 1, 4, &format!(r#""extras":{zeros},"#));
+    let file = instanced_glb(3, 1, 4, &format!(r#""extras":{zeros},"#), "");
     let budget = file.len() as u64 + (4 << 20);
     let mesh = parse_with(&file, Format::Glb, "extras.glb".as_ref(), &with_budget(budget)).unwrap();
     assert_eq!(mesh.face_count(), 1);
     // The same zeros as a member the reader keeps (a scene's roots): counted
     // as they are built, and refused at the budget.
     let scene = format!(r#""scene":0,"scenes":[{{"nodes":{zeros}}}],"#);
-    let file = instanced_glb(3, 1, 4, &scene);
+    let file = instanced_glb(3, 1, 4, &scene, "");
     let (what, bytes, _, line) = budget_error(parse_with(
         &file,
         Format::Glb,

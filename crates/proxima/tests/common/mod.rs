@@ -4,6 +4,7 @@
 
 pub mod degenerate;
 pub mod exact;
+pub mod glb_writer;
 pub mod oracle;
 
 use proxima::sample::Rng;
