@@ -75,11 +75,41 @@ impl PrimitiveKind {
     /// assert_eq!(PrimitiveKind::Edges.run(&mesh, 0.0, Count), 3);
     /// ```
     pub fn run<F: KindTask>(self, mesh: &Mesh, planarity: f32, task: F) -> F::Output {
+        struct OnSet<'a, F> {
+            mesh: &'a Mesh,
+            planarity: f32,
+            task: F,
+        }
+        impl<F: KindTask> KindGeneric for OnSet<'_, F> {
+            type Output = F::Output;
+            fn call<T: MeshPrimitive>(self) -> F::Output {
+                self.task.run(T::extract(self.mesh, self.planarity))
+            }
+        }
+        self.dispatch(OnSet { mesh, planarity, task })
+    }
+
+    /// Calls `generic` with this kind's primitive type: the one place where
+    /// a kind chosen at run time becomes a type.
+    ///
+    /// ```
+    /// use proxima::kind::{KindGeneric, MeshPrimitive};
+    /// use proxima::PrimitiveKind;
+    /// struct Size;
+    /// impl KindGeneric for Size {
+    ///     type Output = usize;
+    ///     fn call<T: MeshPrimitive>(self) -> usize {
+    ///         std::mem::size_of::<T>()
+    ///     }
+    /// }
+    /// assert_eq!(PrimitiveKind::Vertices.dispatch(Size), 12);
+    /// ```
+    pub fn dispatch<G: KindGeneric>(self, generic: G) -> G::Output {
         match self {
-            Self::Vertices => task.run(mesh.vertices()),
-            Self::Edges => task.run(mesh.edges()),
-            Self::Faces => task.run(mesh.triangles()),
-            Self::Polygons => task.run(mesh.extract_polygons(planarity).set),
+            Self::Vertices => generic.call::<Point>(),
+            Self::Edges => generic.call::<LineSegment>(),
+            Self::Faces => generic.call::<Triangle>(),
+            Self::Polygons => generic.call::<ConvexPolygon>(),
         }
     }
 }
@@ -114,19 +144,115 @@ pub trait MeshPrimitive:
 {
     /// The kind of primitive this type is.
     const KIND: PrimitiveKind;
+
+    /// This kind's primitives of `mesh`, polygons taken with the relative
+    /// planarity tolerance `planarity` (the other kinds ignore it).
+    fn extract(mesh: &Mesh, planarity: f32) -> PrimitiveSet<Self>;
+
+    /// This type's value in `values`.
+    fn of_kind<F: KindFamily>(values: &PerKind<F>) -> &F::Of<Self>;
 }
 
 impl MeshPrimitive for Point {
     const KIND: PrimitiveKind = PrimitiveKind::Vertices;
+    fn extract(mesh: &Mesh, _: f32) -> PrimitiveSet<Self> {
+        mesh.vertices()
+    }
+    fn of_kind<F: KindFamily>(values: &PerKind<F>) -> &F::Of<Self> {
+        &values.vertices
+    }
 }
 impl MeshPrimitive for LineSegment {
     const KIND: PrimitiveKind = PrimitiveKind::Edges;
+    fn extract(mesh: &Mesh, _: f32) -> PrimitiveSet<Self> {
+        mesh.edges()
+    }
+    fn of_kind<F: KindFamily>(values: &PerKind<F>) -> &F::Of<Self> {
+        &values.edges
+    }
 }
 impl MeshPrimitive for Triangle {
     const KIND: PrimitiveKind = PrimitiveKind::Faces;
+    fn extract(mesh: &Mesh, _: f32) -> PrimitiveSet<Self> {
+        mesh.triangles()
+    }
+    fn of_kind<F: KindFamily>(values: &PerKind<F>) -> &F::Of<Self> {
+        &values.faces
+    }
 }
 impl MeshPrimitive for ConvexPolygon {
     const KIND: PrimitiveKind = PrimitiveKind::Polygons;
+    fn extract(mesh: &Mesh, planarity: f32) -> PrimitiveSet<Self> {
+        mesh.extract_polygons(planarity).set
+    }
+    fn of_kind<F: KindFamily>(values: &PerKind<F>) -> &F::Of<Self> {
+        &values.polygons
+    }
+}
+
+/// Work generic over the primitive type, called with the type of a kind
+/// chosen at run time by [`PrimitiveKind::dispatch`].
+pub trait KindGeneric {
+    /// What the work gives.
+    type Output;
+    /// Does the work for primitive type `T`.
+    fn call<T: MeshPrimitive>(self) -> Self::Output;
+}
+
+/// A value type for each primitive type: `Of<Point>`, `Of<Triangle>`, ...
+/// (for example a lazily built tree of that primitive), so that
+/// [`PerKind`] holds one typed value per kind without type erasure.
+pub trait KindFamily {
+    /// The value held for primitive type `T`.
+    type Of<T: MeshPrimitive>;
+}
+
+/// One value per primitive kind, each typed by its primitive:
+/// `F::Of<Point>` for vertices, `F::Of<Triangle>` for faces, and so on.
+///
+/// ```
+/// use proxima::kind::{KindFamily, MeshPrimitive, PerKind};
+/// use proxima::Triangle;
+/// struct Counts;
+/// impl KindFamily for Counts {
+///     type Of<T: MeshPrimitive> = usize;
+/// }
+/// let counts = PerKind::<Counts> { vertices: 4, edges: 6, faces: 4, polygons: 4 };
+/// assert_eq!(*counts.get::<Triangle>(), 4);
+/// ```
+pub struct PerKind<F: KindFamily> {
+    /// The value for [`PrimitiveKind::Vertices`].
+    pub vertices: F::Of<Point>,
+    /// The value for [`PrimitiveKind::Edges`].
+    pub edges: F::Of<LineSegment>,
+    /// The value for [`PrimitiveKind::Faces`].
+    pub faces: F::Of<Triangle>,
+    /// The value for [`PrimitiveKind::Polygons`].
+    pub polygons: F::Of<ConvexPolygon>,
+}
+
+impl<F: KindFamily> PerKind<F> {
+    /// The value for primitive type `T`.
+    pub fn get<T: MeshPrimitive>(&self) -> &F::Of<T> {
+        T::of_kind(self)
+    }
+}
+
+impl<F: KindFamily> Default for PerKind<F>
+where
+    F::Of<Point>: Default,
+    F::Of<LineSegment>: Default,
+    F::Of<Triangle>: Default,
+    F::Of<ConvexPolygon>: Default,
+{
+    fn default() -> Self {
+        Self {
+            vertices: Default::default(),
+            edges: Default::default(),
+            faces: Default::default(),
+            polygons: Default::default(),
+        }
+    }
 }
 
 /// Work written once for every primitive type, run by [`PrimitiveKind::run`].

@@ -21,6 +21,7 @@
 //! |---|---|
 //! | Input | [`io`] (OBJ, PLY, STL, OFF, GLB, gzip; limits), [`mesh`] ([`Mesh`]), [`kind`] ([`PrimitiveKind`]: vertices, edges, faces, polygons) |
 //! | Primitives | [`primitive`] ([`Point`], [`LineSegment`], [`Triangle`], [`ConvexPolygon`]; traits [`Bounded`], [`ClosestPoint`], [`BoxOverlap`], [`RayIntersect`]), [`frustum`] ([`Frustum`], [`FrustumOverlap`]), [`ray`] ([`Ray`]) |
+//! | Mesh index | [`index`] ([`MeshIndex`]: one mesh and every structure on it, built on first use; what the command line, viewer and Python package ask) |
 //! | Queries | [`sdf`] ([`SignedDistanceField`]: signed distance, winding numbers, inside tests, grids, samples), [`query`]: [`NearestQuery`], [`RayQuery`], [`FrustumQuery`], each written once over a structure's walk; answers [`ClosestHit`], [`RayHit`] |
 //! | Structures | [`bvh`] ([`AabbTree`]), [`wide_tree`] ([`WideTree`], 4-wide, SIMD leaves), [`ray_tree`] ([`RayTree`], 8-wide, for rays), [`sphere_tree`] ([`SphereTree`]), [`linear`] ([`LinearSearch`], brute force), [`grid`] ([`HashGrid`]), [`traversal`] ([`GridTraversal`]) |
 //! | Support | [`aabb`], [`sphere`], [`math`], [`memory`], [`budget`] (memory and work limits), [`error`] (typed errors), [`sample`] (seeded test and benchmark inputs) |
@@ -39,6 +40,7 @@ pub mod error;
 mod exact;
 pub mod frustum;
 pub mod grid;
+pub mod index;
 pub mod io;
 pub mod kind;
 pub mod linear;
@@ -65,6 +67,7 @@ pub use error::RayError;
 pub use error::{BuildError, LoadError, LoadErrorKind, MeshError, PolygonError, QueryError, SdfError};
 pub use frustum::{Frustum, FrustumOverlap};
 pub use grid::{GridConfig, HashGrid, InsertMethod};
+pub use index::{IndexConfig, IndexError, MeshIndex};
 pub use kind::{MeshPrimitive, PrimitiveKind};
 pub use linear::LinearSearch;
 pub use math::{DVec3, Mat4, Vec3, Vec3A};

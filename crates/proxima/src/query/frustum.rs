@@ -35,6 +35,13 @@ pub trait FrustumQuery<T: FrustumOverlap>: SpatialIndex<T> {
         self.frustum_walk(frustum, out, &mut ());
     }
 
+    /// The sources (mesh elements) of the primitives sharing a point with
+    /// `frustum`, increasing, each once: a face split in several triangles
+    /// counts once.
+    fn frustum_sources(&self, frustum: &Frustum) -> Vec<u32> {
+        self.leaves().sources_of_inputs(&self.frustum(frustum))
+    }
+
     /// [`frustum`](Self::frustum), also counting the nodes and primitives tested.
     fn frustum_with_stats(&self, frustum: &Frustum) -> (Vec<u32>, QueryStats) {
         let mut out = Vec::new();

@@ -170,3 +170,38 @@ pub fn distinct_sources(
     });
     answers
 }
+
+/// The answers of a chunk of queries of
+/// [`NearestQuery::k_nearest_sources_chunks`](super::NearestQuery::k_nearest_sources_chunks),
+/// in input order: one closest hit each (`k = 1`) or up to `k` hits each,
+/// nearest first.
+#[derive(Clone, Debug, PartialEq)]
+pub enum NearestAnswers {
+    /// The closest hit of each query (`None` only for an empty structure).
+    Closest(Vec<Option<ClosestHit>>),
+    /// The nearest hits of each query, nearest first.
+    KNearest(Vec<Vec<ClosestHit>>),
+}
+
+impl NearestAnswers {
+    /// The number of queries answered.
+    pub fn len(&self) -> usize {
+        match self {
+            Self::Closest(hits) => hits.len(),
+            Self::KNearest(hits) => hits.len(),
+        }
+    }
+
+    /// `true` when no query was answered.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The hits of query `i` of the chunk, nearest first.
+    pub fn hits(&self, i: usize) -> &[ClosestHit] {
+        match self {
+            Self::Closest(hits) => hits[i].as_slice(),
+            Self::KNearest(hits) => &hits[i],
+        }
+    }
+}

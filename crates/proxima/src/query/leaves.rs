@@ -91,4 +91,36 @@ impl<T> Leaves<T> {
             }
         }
     }
+
+    /// `true` when no two primitives share a source (vertices, edges, the
+    /// faces of a triangle mesh): the k nearest primitives are then the k
+    /// nearest sources. Found in one pass over the sources in input order,
+    /// which are increasing for every set a [`Mesh`](crate::Mesh) gives; a
+    /// set in another order is taken as sharing (the answers stay right,
+    /// [`NearestQuery::k_nearest_sources_batch`](super::NearestQuery::k_nearest_sources_batch)
+    /// only does more work).
+    pub fn one_part_each(&self) -> bool {
+        let mut by_input = vec![0u32; self.len()];
+        for (&input, &source) in self.indices.iter().zip(&self.sources) {
+            by_input[input as usize] = source;
+        }
+        by_input.windows(2).all(|pair| pair[0] < pair[1])
+    }
+
+    /// The sources of the primitives whose input indices are `inputs`,
+    /// increasing and without repeats (a face split in several parts is
+    /// listed once).
+    pub fn sources_of_inputs(&self, inputs: &[u32]) -> Vec<u32> {
+        let mut found = vec![false; self.len()];
+        for &input in inputs {
+            found[input as usize] = true;
+        }
+        let mut sources: Vec<u32> = (self.indices.iter().zip(&self.sources))
+            .filter(|&(&input, _)| found[input as usize])
+            .map(|(_, &source)| source)
+            .collect();
+        sources.sort_unstable();
+        sources.dedup();
+        sources
+    }
 }

@@ -35,7 +35,7 @@ mod visitor;
 
 pub use batch::BatchOptions;
 pub use frustum::FrustumQuery;
-pub use knn::{KnnScratch, distinct_sources};
+pub use knn::{KnnScratch, NearestAnswers, distinct_sources};
 pub use leaves::Leaves;
 pub use nearest::NearestQuery;
 pub use ray::{RayHit, RayQuery};

@@ -2,7 +2,7 @@
 //! structure's nearest-first walk.
 
 use super::batch::{BatchOptions, Seed, answer_batch, closest_in_chunks};
-use super::knn::{KBest, KnnScratch, drain_sorted};
+use super::knn::{KBest, KnnScratch, NearestAnswers, distinct_sources, drain_sorted};
 use super::{Best, ClosestHit, Counter, NearestVisitor, QueryStats, SpatialIndex};
 use crate::math::{Vec3, Vec3A};
 use crate::primitive::ClosestPoint;
@@ -121,7 +121,73 @@ pub trait NearestQuery<T: ClosestPoint>: SpatialIndex<T> {
             out
         })
     }
+
+    /// The `k` nearest *sources* (mesh elements) of every point, on all
+    /// cores: a face split into several parts (a fan of triangles) is listed
+    /// once, at its nearest part's distance (see [`distinct_sources`]);
+    /// where every source is one primitive, [`k_nearest_batch`](Self::k_nearest_batch)'s
+    /// answers.
+    ///
+    /// ```
+    /// use proxima::prelude::*;
+    /// // One quad, split in two triangles: one face.
+    /// let mesh = Mesh::from_faces(vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y], &[vec![0, 1, 2, 3]]).unwrap();
+    /// let tree = WideTree::build_set(mesh.triangles(), &Default::default()).unwrap();
+    /// let answers = tree.k_nearest_sources_batch(&[Vec3::new(0.5, 0.5, 1.0)], 2);
+    /// assert_eq!(answers[0].len(), 1);
+    /// assert_eq!(tree.k_nearest_batch(&[Vec3::new(0.5, 0.5, 1.0)], 2)[0].len(), 2);
+    /// ```
+    fn k_nearest_sources_batch(&self, points: &[Vec3], k: usize) -> Vec<Vec<ClosestHit>>
+    where
+        Self: Sync,
+    {
+        let answers = self.k_nearest_batch(points, k);
+        if self.leaves().one_part_each() {
+            return answers;
+        }
+        distinct_sources(answers, points, k, self.leaves().len(), &|p, k| self.k_nearest(p, k))
+    }
+
+    /// [`k_nearest_sources_batch`](Self::k_nearest_sources_batch) in chunks
+    /// of queries, in input order, so that memory holds one chunk's answers
+    /// (about 2^20 hits) whatever `k`: `each` gets every chunk's answers
+    /// and may stop the work with an error. With `k = 1` the chunks come
+    /// from [`closest_batch`](Self::closest_batch) (the same hits: one hit
+    /// has no repeated source, and ties go to the lowest input index
+    /// either way), which is faster than the k-nearest heap.
+    fn k_nearest_sources_chunks<E>(
+        &self,
+        points: &[Vec3],
+        k: usize,
+        mut each: impl FnMut(&NearestAnswers) -> Result<(), E>,
+    ) -> Result<(), E>
+    where
+        Self: Sync,
+    {
+        let parts = self.leaves().len();
+        let chunk = (NEAREST_CHUNK_HITS / k.min(parts).max(1)).max(1);
+        let one_part_each = k == 1 || self.leaves().one_part_each();
+        for points in points.chunks(chunk) {
+            let answers = if k == 1 {
+                NearestAnswers::Closest(self.closest_batch(points))
+            } else {
+                let mut answers = self.k_nearest_batch(points, k);
+                if !one_part_each {
+                    answers = distinct_sources(answers, points, k, parts, &|p, k| self.k_nearest(p, k));
+                }
+                NearestAnswers::KNearest(answers)
+            };
+            each(&answers)?;
+        }
+        Ok(())
+    }
 }
+
+/// Hits held at once by [`NearestQuery::k_nearest_sources_chunks`] (about
+/// 32 MiB). Bigger chunks answer `k = 1` a little faster: each query of a
+/// batch is seeded by its Morton-order neighbour's answer, nearer in a
+/// bigger batch.
+const NEAREST_CHUNK_HITS: usize = 1 << 20;
 
 /// The walk's best primitive within `max_distance` of `p`, if any.
 #[inline(always)]
