@@ -12,10 +12,8 @@
 mod arrays;
 mod closest;
 mod errors;
-mod lazy;
 mod mesh;
 mod rays;
-mod structures;
 mod threads;
 mod traverse;
 mod voxels;
@@ -35,10 +33,8 @@ fn load(py: Python<'_>, path: PathBuf) -> PyResult<PyMesh> {
         .map_err(errors::load_error)?;
     // As the command line refuses it: no query could be answered on it (an
     // empty OBJ parses; an empty PLY, OFF or STL is already malformed).
-    if mesh.vertex_count() == 0 {
-        let message = format!("{}: the mesh is empty (0 vertices, 0 faces)", path.display());
-        return Err(pyo3::exceptions::PyValueError::new_err(message));
-    }
+    proxima::index::check_not_empty(&mesh)
+        .map_err(|e| pyo3::exceptions::PyValueError::new_err(format!("{}: {e}", path.display())))?;
     Ok(PyMesh::wrap(mesh))
 }
 

@@ -1,14 +1,12 @@
 //! The Python `Mesh`: a mesh, the structures built on it, and every query.
 
 use crate::arrays::{self, Check, value_error};
-use crate::closest::{Closest, InFrustum, KNearest};
-use crate::structures::Structures;
-use crate::structures::TreeTask;
+use crate::closest;
 use crate::threads;
 use crate::voxels::VoxelGrid;
 use numpy::{PyArray1, PyArray2};
-use proxima::BuildError;
 use proxima::prelude::*;
+use proxima::index::{IndexError, MeshIndex};
 use proxima::sdf::{Sign, SignedDistanceField};
 use pyo3::IntoPyObjectExt;
 use pyo3::prelude::*;
@@ -25,8 +23,9 @@ use pyo3::types::PyList;
 /// [0]
 #[pyclass(module = "proxima", name = "Mesh", frozen)]
 pub struct PyMesh {
-    pub(crate) mesh: Mesh,
-    pub(crate) structures: Structures,
+    /// The mesh and the structures built on it so far (the library's index:
+    /// the command line and the viewer ask the same one).
+    pub(crate) index: MeshIndex,
 }
 
 /// The arrays `closest_points` returns.
@@ -46,47 +45,32 @@ impl PyMesh {
     /// A mesh with nothing built yet.
     pub fn wrap(mesh: Mesh) -> Self {
         Self {
-            mesh,
-            structures: Structures::default(),
+            index: MeshIndex::new(mesh),
         }
     }
 
-    /// Fails unless the mesh has primitives of `kind`.
-    fn require(&self, kind: PrimitiveKind) -> PyResult<()> {
-        if kind.available(&self.mesh) == 0 {
-            let what = if kind == PrimitiveKind::Vertices {
-                "vertices"
-            } else {
-                "faces"
-            };
-            return Err(value_error(
-                "primitives",
-                format!("the mesh has no {what}, so no {kind}"),
-            ));
-        }
-        Ok(())
+    /// The mesh.
+    fn mesh(&self) -> &Mesh {
+        self.index.mesh()
     }
 
-    /// `task` on the tree of `kind` (built on first use), without the GIL on
-    /// the pool `threads` names; nothing built and the task's empty answer
-    /// when `empty` (no query to answer).
-    fn on_tree<F: TreeTask + Send>(
+    /// `work` on the index for `kind`, without the GIL on the pool
+    /// `threads` names; nothing built and `empty` when there is no query
+    /// to answer. An [`IndexError`] becomes a `ValueError` naming
+    /// `primitives`.
+    fn on_index<T: Send>(
         &self,
         py: Python<'_>,
         kind: PrimitiveKind,
-        empty: bool,
+        empty: Option<T>,
         threads: Option<i64>,
-        task: F,
-    ) -> PyResult<F::Output>
-    where
-        F::Output: Default + Send,
-    {
-        if empty {
-            return Ok(F::Output::default());
+        work: impl FnOnce(&MeshIndex) -> Result<T, IndexError> + Send,
+    ) -> PyResult<T> {
+        if let Some(empty) = empty {
+            return Ok(empty);
         }
-        self.require(kind)?;
-        threads::run(py, threads, || self.structures.on_tree(&self.mesh, kind, task))?
-            .map_err(|e| value_error("primitives", e))
+        self.index.require(kind).map_err(|e| value_error("primitives", e))?;
+        threads::run(py, threads, || work(&self.index))?.map_err(|e| value_error("primitives", e))
     }
 
     /// `answer` on the field signed by `sign`, for `points` checked as
@@ -106,22 +90,13 @@ impl PyMesh {
         let points = arrays::points(points, "points", check)?;
         let points = points.as_slice();
         self.require_faces(what)?;
-        threads::run(py, threads, || {
-            let field = self.structures.field(&self.mesh, sign)?;
-            Ok::<_, BuildError>(answer(field, points))
-        })?
-        .map_err(|e| value_error(what, e))
+        threads::run(py, threads, || Ok::<_, IndexError>(answer(self.index.field(sign)?, points)))?
+            .map_err(|e| value_error(what, e))
     }
 
     /// Fails unless the mesh has faces (signed distances, rays).
     fn require_faces(&self, what: &str) -> PyResult<()> {
-        if self.mesh.triangle_count() == 0 {
-            return Err(value_error(
-                what,
-                "the mesh has no faces, so there is nothing to search",
-            ));
-        }
-        Ok(())
+        self.index.require(PrimitiveKind::Faces).map_err(|e| value_error(what, e))
     }
 }
 
@@ -218,7 +193,7 @@ impl PyMesh {
     /// The vertices, (V, 3) float32 (a copy).
     #[getter]
     fn vertices<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f32>>> {
-        let flat: Vec<f32> = self.mesh.positions().iter().flat_map(|p| p.to_array()).collect();
+        let flat: Vec<f32> = self.mesh().positions().iter().flat_map(|p| p.to_array()).collect();
         arrays::matrix(py, flat, 3)
     }
 
@@ -226,15 +201,15 @@ impl PyMesh {
     /// otherwise a list of F int64 arrays.
     #[getter]
     fn faces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let sizes: Vec<usize> = self.mesh.faces().map(<[u32]>::len).collect();
+        let sizes: Vec<usize> = self.mesh().faces().map(<[u32]>::len).collect();
         let uniform = sizes.windows(2).all(|w| w[0] == w[1]);
         if uniform {
             let k = sizes.first().copied().unwrap_or(3);
-            let flat: Vec<i64> = self.mesh.faces().flatten().map(|&v| v as i64).collect();
+            let flat: Vec<i64> = self.mesh().faces().flatten().map(|&v| v as i64).collect();
             return arrays::matrix(py, flat, k)?.into_bound_py_any(py);
         }
         let faces: Vec<Bound<'py, PyArray1<i64>>> = self
-            .mesh
+            .mesh()
             .faces()
             .map(|f| arrays::vector(py, f.iter().map(|&v| v as i64).collect()))
             .collect();
@@ -244,7 +219,7 @@ impl PyMesh {
     /// The bounding box, [[min x, min y, min z], [max x, max y, max z]].
     #[getter]
     fn bounds<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let b = self.mesh.bounds();
+        let b = self.mesh().bounds();
         let flat = [b.min, b.max]
             .iter()
             .flat_map(|v| v.to_array().map(f64::from))
@@ -253,14 +228,14 @@ impl PyMesh {
     }
 
     fn __len__(&self) -> usize {
-        self.mesh.face_count()
+        self.mesh().face_count()
     }
 
     fn __repr__(&self) -> String {
         format!(
             "Mesh(vertices={}, faces={})",
-            self.mesh.vertex_count(),
-            self.mesh.face_count()
+            self.mesh().vertex_count(),
+            self.mesh().face_count()
         )
     }
 
@@ -268,7 +243,7 @@ impl PyMesh {
     /// (``"vertices"``, ``"edges"``, ``"faces"``, ``"polygons"``,
     /// ``"winding"``, ``"pseudonormal"``, ``"rays"``).
     fn built_structures(&self) -> Vec<&'static str> {
-        self.structures.built()
+        self.index.built()
     }
 
     /// For each of ``points`` (N, 3), the closest point of the mesh's
@@ -285,7 +260,9 @@ impl PyMesh {
         let kind = kind(primitives)?;
         let points = arrays::points(points, "points", Check::QueryPoint)?;
         let points = points.as_slice();
-        let answers = self.on_tree(py, kind, points.is_empty(), threads, Closest { points })?;
+        let empty = points.is_empty().then(Vec::new);
+        let hits = self.on_index(py, kind, empty, threads, |index| index.closest(kind, points))?;
+        let answers = closest::arrays(&hits);
         Ok((
             arrays::matrix(py, answers.closest, 3)?,
             arrays::vector(py, answers.distance),
@@ -313,7 +290,15 @@ impl PyMesh {
         // The answers: 16 bytes per (point, rank), and the hits behind them.
         check_budget("k", k, points.len() as u128 * k as u128, 48)?;
         let k = k as usize;
-        let (distance, index) = self.on_tree(py, kind, points.is_empty(), threads, KNearest { points, k })?;
+        let empty = points.is_empty().then(Default::default);
+        let (distance, index) = self.on_index(py, kind, empty, threads, |index| {
+            let mut rows = closest::NearestRows::with_capacity(points.len(), k);
+            index.k_nearest_chunks::<IndexError>(kind, points, k, |answers| {
+                rows.extend(answers);
+                Ok(())
+            })?;
+            Ok(rows.into_arrays())
+        })?;
         Ok((arrays::matrix(py, distance, k)?, arrays::matrix(py, index, k)?))
     }
 
@@ -400,10 +385,7 @@ impl PyMesh {
         let (origins, directions) = (origins.as_slice(), directions.as_slice());
         self.require_faces("cast_rays")?;
         let (t, index) = threads::run(py, threads, || {
-            let tree = self
-                .structures
-                .rays(&self.mesh)
-                .map_err(|e| value_error("cast_rays", e))?;
+            let tree = self.index.ray_tree().map_err(|e| value_error("cast_rays", e))?;
             crate::rays::cast(tree, &crate::rays::rays(origins, directions), any_hit)
         })??;
         Ok((arrays::vector(py, t), arrays::vector(py, index)))
@@ -413,7 +395,7 @@ impl PyMesh {
     /// faces overlap.
     #[pyo3(signature = (resolution, threads = None))]
     fn voxelize(&self, py: Python<'_>, resolution: i64, threads: Option<i64>) -> PyResult<VoxelGrid> {
-        VoxelGrid::of_mesh(py, &self.mesh, resolution, threads)
+        VoxelGrid::of_mesh(py, self.mesh(), resolution, threads)
     }
 
     /// The source indices (increasing) of the ``primitives`` that share a
@@ -432,9 +414,9 @@ impl PyMesh {
         let matrix = Mat4::from_cols_slice(&m).transpose();
         let frustum = Frustum::from_view_projection(matrix).map_err(|e| value_error("view_projection", e))?;
         // A mesh without that kind of element sees nothing: not an error.
-        let nothing = kind.available(&self.mesh) == 0;
-        let found = self.on_tree(py, kind, nothing, None, InFrustum { frustum: &frustum })?;
-        Ok(arrays::vector(py, found))
+        let nothing = (kind.available(self.mesh()) == 0).then(Vec::new);
+        let found = self.on_index(py, kind, nothing, None, |index| index.frustum(kind, &frustum))?;
+        Ok(arrays::vector(py, found.into_iter().map(i64::from).collect()))
     }
 
     /// For benchmarks: the seconds that the library's batch of ``query``
@@ -468,18 +450,18 @@ impl PyMesh {
             start.elapsed().as_secs_f64()
         };
         threads::run(py, threads, || -> PyResult<f64> {
-            let built = |e: BuildError| value_error(query, e);
+            let built = |e: IndexError| value_error(query, e);
             match query {
                 "closest_points" => {
-                    let tree = self.structures.faces(&self.mesh).map_err(built)?;
+                    let tree = self.index.tree::<Triangle>().map_err(built)?;
                     Ok(timed(&|| drop(tree.closest_batch(points))))
                 }
                 "signed_distance" => {
-                    let field = self.structures.field(&self.mesh, Sign::WindingNumber).map_err(built)?;
+                    let field = self.index.field(Sign::WindingNumber).map_err(built)?;
                     Ok(timed(&|| drop(field.signed_distance_batch(points))))
                 }
                 "cast_rays" => {
-                    let tree = self.structures.rays(&self.mesh).map_err(built)?;
+                    let tree = self.index.ray_tree().map_err(built)?;
                     Ok(timed(&|| drop(tree.first_hit_batch(&rays, 0.0, f32::INFINITY))))
                 }
                 _ => Err(value_error(
@@ -508,7 +490,7 @@ impl PyMesh {
         }
         check_budget("n", n, n as u128, 12)?;
         self.require_faces("sample_near_surface")?;
-        let points = py.detach(|| proxima::sample::near_surface(&self.mesh, n, sigma as f32, seed));
+        let points = py.detach(|| proxima::sample::near_surface(self.mesh(), n, sigma as f32, seed));
         if points.len() != n {
             return Err(value_error("sample_near_surface", "the faces have no area"));
         }
@@ -522,7 +504,7 @@ impl PyMesh {
     #[pyo3(signature = (n, seed = 0))]
     fn sample_rays<'py>(&self, py: Python<'py>, n: usize, seed: u64) -> PyResult<RayArrays32<'py>> {
         check_budget("n", n, n as u128, 24)?;
-        let bounds = self.mesh.bounds();
+        let bounds = self.mesh().bounds();
         let rays = py.detach(|| proxima::sample::rays_at_box(&bounds, n, seed));
         if rays.len() != n {
             return Err(value_error("sample_rays", "the bounding box is empty or a point"));
@@ -537,10 +519,10 @@ impl PyMesh {
     #[pyo3(signature = (n, seed = 0))]
     fn sample_uniform<'py>(&self, py: Python<'py>, n: usize, seed: u64) -> PyResult<Bound<'py, PyArray2<f32>>> {
         check_budget("n", n, n as u128, 12)?;
-        if self.mesh.vertex_count() == 0 {
+        if self.mesh().vertex_count() == 0 {
             return Err(value_error("sample_uniform", "the mesh has no vertices"));
         }
-        let points = py.detach(|| proxima::sample::uniform_in_box(&self.mesh, n, seed));
+        let points = py.detach(|| proxima::sample::uniform_in_box(self.mesh(), n, seed));
         arrays::matrix(py, points.iter().flat_map(|p| p.to_array()).collect(), 3)
     }
 }
