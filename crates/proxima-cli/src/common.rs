@@ -1,6 +1,6 @@
 //! What several commands share: argument parsers, mesh loading, primitive choice.
 
-use anyhow::{Result, anyhow, bail};
+use anyhow::{Context, Result, anyhow, bail};
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use proxima::prelude::*;
 use std::path::{Path, PathBuf};
@@ -87,10 +87,7 @@ pub fn load_mesh(path: &Path) -> Result<Mesh> {
 /// Fails when the mesh has no vertices at all: there is nothing any command
 /// could work on.
 pub fn require_vertices(mesh: &Mesh, path: &Path) -> Result<()> {
-    if mesh.vertex_count() == 0 {
-        bail!("{}: the mesh is empty (0 vertices, 0 faces)", path.display());
-    }
-    Ok(())
+    proxima::index::check_not_empty(mesh).with_context(|| path.display().to_string())
 }
 
 /// Fails with the point's line (or `--point`) when a query point lies beyond
@@ -164,16 +161,7 @@ pub fn load_or_default(path: Option<&PathBuf>) -> Result<(Mesh, String)> {
 
 /// Fails when the mesh has no primitive of `kind` (no vertices, no edges, or no faces).
 pub fn require_primitives(mesh: &Mesh, kind: PrimitiveKind, path: &Path) -> Result<()> {
-    if kind.available(mesh) == 0 {
-        bail!(
-            "{}: the mesh has no {} to search ({} vertices, {} faces)",
-            path.display(),
-            kind.name(),
-            mesh.vertex_count(),
-            mesh.face_count()
-        );
-    }
-    Ok(())
+    proxima::index::check_primitives(mesh, kind).with_context(|| path.display().to_string())
 }
 
 /// Parses a relative planarity tolerance (finite, not negative).

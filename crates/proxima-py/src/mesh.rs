@@ -5,8 +5,8 @@ use crate::closest;
 use crate::threads;
 use crate::voxels::VoxelGrid;
 use numpy::{PyArray1, PyArray2};
-use proxima::prelude::*;
 use proxima::index::{IndexError, MeshIndex};
+use proxima::prelude::*;
 use proxima::sdf::{Sign, SignedDistanceField};
 use pyo3::IntoPyObjectExt;
 use pyo3::prelude::*;
@@ -90,13 +90,17 @@ impl PyMesh {
         let points = arrays::points(points, "points", check)?;
         let points = points.as_slice();
         self.require_faces(what)?;
-        threads::run(py, threads, || Ok::<_, IndexError>(answer(self.index.field(sign)?, points)))?
-            .map_err(|e| value_error(what, e))
+        threads::run(py, threads, || {
+            Ok::<_, IndexError>(answer(self.index.field(sign)?, points))
+        })?
+        .map_err(|e| value_error(what, e))
     }
 
     /// Fails unless the mesh has faces (signed distances, rays).
     fn require_faces(&self, what: &str) -> PyResult<()> {
-        self.index.require(PrimitiveKind::Faces).map_err(|e| value_error(what, e))
+        self.index
+            .require(PrimitiveKind::Faces)
+            .map_err(|e| value_error(what, e))
     }
 }
 

@@ -4,10 +4,10 @@
 use crate::model::Model;
 use crate::scene::{BoxSet, Overlay, colors};
 use proxima::grid::{Cell, FastHash, GridConfig, GridStats, HashGrid, InsertMethod};
+use proxima::kind::{KindFamily, KindGeneric, PerKind};
 use proxima::prelude::*;
 use proxima::primitive::polygon::DEFAULT_PLANARITY_TOLERANCE;
 use proxima::traversal::{GridTraversal, TraversalConfig};
-use std::any::Any;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -18,39 +18,47 @@ pub const MAX_ENTRIES: u64 = 1 << 23;
 /// At most this many cells under one primitive's bounding box.
 pub const MAX_CELLS_PER_PRIMITIVE: u64 = 1 << 20;
 
-/// A grid over one kind of primitive, with the primitive type erased.
-/// Grids use the fast hasher: on the dragon at cell size 0.001 (107k
-/// occupied cells) the classic hash takes about 9 s to build, this 0.5 s.
-trait OccupiedCells: Send + Sync {
-    /// `true` when `cell` holds at least one primitive.
-    fn is_occupied(&self, cell: &Cell) -> bool;
-    /// For reaching the grid over faces (the only one with a ray query).
-    fn as_any(&self) -> &dyn Any;
+/// A grid per primitive type, of which one is built. Grids use the fast
+/// hasher: on the dragon at cell size 0.001 (107k occupied cells) the
+/// classic hash takes many times longer to build.
+struct Grids;
+
+impl KindFamily for Grids {
+    type Of<T: MeshPrimitive> = Option<HashGrid<T, FastHash>>;
 }
 
-impl<T: MeshPrimitive> OccupiedCells for HashGrid<T, FastHash> {
-    fn is_occupied(&self, cell: &Cell) -> bool {
-        !self.cell(cell).is_empty()
-    }
-
-    fn as_any(&self) -> &dyn Any {
-        self
-    }
+/// Builds the grid over one kind into `grids`: its statistics and its
+/// occupied cells.
+struct BuildGrid<'a> {
+    mesh: &'a Mesh,
+    config: &'a GridConfig,
+    grids: &'a mut PerKind<Grids>,
 }
 
-/// Builds a grid over one kind, for [`PrimitiveKind::run`]: the grid, its
-/// statistics and its occupied cells.
-struct BuildGrid<'a>(&'a GridConfig);
+impl KindGeneric for BuildGrid<'_> {
+    type Output = Result<(GridStats, Vec<Cell>), String>;
 
-impl KindTask for BuildGrid<'_> {
-    type Output = Result<(Box<dyn OccupiedCells>, GridStats, Vec<Cell>), String>;
-
-    fn run<T: MeshPrimitive>(self, set: PrimitiveSet<T>) -> Self::Output {
-        let grid = HashGrid::<T, FastHash>::build(set, self.0).map_err(|e| e.to_string())?;
+    fn call<T: MeshPrimitive>(self) -> Self::Output {
+        let set = T::extract(self.mesh, DEFAULT_PLANARITY_TOLERANCE);
+        let grid = HashGrid::<T, FastHash>::build(set, self.config).map_err(|e| e.to_string())?;
         let cells = grid.occupied().map(|(c, _)| c).collect();
         let stats = grid.stats();
-        let grid: Box<dyn OccupiedCells> = Box::new(grid);
-        Ok((grid, stats, cells))
+        *self.grids.get_mut::<T>() = Some(grid);
+        Ok((stats, cells))
+    }
+}
+
+/// Whether a cell of the grid over one kind holds a primitive.
+struct Occupied<'a>(&'a PerKind<Grids>, &'a Cell);
+
+impl KindGeneric for Occupied<'_> {
+    type Output = bool;
+
+    fn call<T: MeshPrimitive>(self) -> bool {
+        self.0
+            .get::<T>()
+            .as_ref()
+            .is_some_and(|grid| !grid.cell(self.1).is_empty())
     }
 }
 
@@ -66,7 +74,7 @@ pub struct CellGrid {
     pub stats: GridStats,
     /// Seconds the build took.
     pub build_seconds: f64,
-    grid: Box<dyn OccupiedCells>,
+    grids: PerKind<Grids>,
 }
 
 impl CellGrid {
@@ -81,7 +89,13 @@ impl CellGrid {
         };
         let layout = config.layout().map_err(|e| e.to_string())?;
         let start = Instant::now();
-        let (grid, stats, cells) = kind.run(&model.mesh, DEFAULT_PLANARITY_TOLERANCE, BuildGrid(&config))?;
+        let mut grids = PerKind::default();
+        let build = BuildGrid {
+            mesh: &model.mesh,
+            config: &config,
+            grids: &mut grids,
+        };
+        let (stats, cells) = kind.dispatch(build)?;
         let boxes = Arc::new(BoxSet::new(cells.iter().map(|&c| layout.cell_box(c))));
         Ok(CellGrid {
             kind,
@@ -89,7 +103,7 @@ impl CellGrid {
             boxes,
             stats,
             build_seconds: start.elapsed().as_secs_f64(),
-            grid,
+            grids,
         })
     }
 
@@ -100,12 +114,12 @@ impl CellGrid {
 
     /// `true` when `cell` holds at least one primitive.
     pub fn is_occupied(&self, cell: &Cell) -> bool {
-        self.grid.is_occupied(cell)
+        self.kind.dispatch(Occupied(&self.grids, cell))
     }
 
     /// The first face hit by the ray (only for a grid over faces; the grid has no ray query over polygons).
     pub fn first_hit(&self, origin: Vec3, direction: Vec3) -> Option<Vec3> {
-        let faces = self.grid.as_any().downcast_ref::<HashGrid<Triangle, FastHash>>()?;
+        let faces = self.grids.faces.as_ref()?;
         let hit = faces.first_hit(origin, direction, 0.0, f32::INFINITY).ok().flatten()?;
         Some(hit.point)
     }

@@ -4,14 +4,15 @@
 //! thread; no GL, no egui.
 //!
 //! The per-kind work is written once, generic over the primitive type
-//! ([`KindModel`]), and reached through the object-safe [`KindQueries`]: one
-//! virtual call per UI action, none per primitive.
+//! ([`KindModel`]), held typed per kind in the library's [`PerKind`], and
+//! reached by a kind chosen at run time through the object-safe
+//! [`KindQueries`]: one virtual call per UI action, none per primitive.
 
 use crate::scene::{self, MeshBuffers, Overlay, Shape, colors};
+use proxima::kind::{KindFamily, KindGeneric, PerKind};
 use proxima::prelude::*;
 use proxima::primitive::polygon::DEFAULT_PLANARITY_TOLERANCE;
 use proxima::{Sphere, TreeStats};
-use std::any::Any;
 use std::path::PathBuf;
 use std::sync::{Arc, OnceLock};
 use std::time::Instant;
@@ -73,8 +74,14 @@ trait KindQueries: Send + Sync {
     fn source(&self, input: u32) -> Option<u32>;
     /// The geometry of build input `input`.
     fn input_shape(&self, input: u32) -> Option<Shape>;
-    /// For reaching the concrete tree where only one type will do (picking).
-    fn as_any(&self) -> &dyn Any;
+}
+
+/// The viewer's structures for each primitive type (`None` when the mesh
+/// gives no primitive of that kind).
+struct Models;
+
+impl KindFamily for Models {
+    type Of<T: MeshPrimitive> = Option<KindModel<T>>;
 }
 
 /// Trees and brute-force searches over one kind of primitive.
@@ -89,24 +96,39 @@ struct KindModel<T> {
     spheres: OnceLock<Option<SphereTree<T>>>,
 }
 
-/// Builds a kind's [`KindModel`] with its build time, for [`PrimitiveKind::run`].
-struct BuildKind;
+/// Builds a kind's [`KindModel`] into `kinds`, returning its build time.
+struct BuildKind<'a> {
+    mesh: &'a Mesh,
+    kinds: &'a mut PerKind<Models>,
+}
 
-impl KindTask for BuildKind {
-    type Output = Result<(Box<dyn KindQueries>, f64), String>;
+impl KindGeneric for BuildKind<'_> {
+    type Output = Result<f64, String>;
 
-    fn run<T: MeshPrimitive>(self, set: PrimitiveSet<T>) -> Self::Output {
+    fn call<T: MeshPrimitive>(self) -> Self::Output {
+        let set = T::extract(self.mesh, DEFAULT_PLANARITY_TOLERANCE);
         let start = Instant::now();
         let tree = AabbTree::build_set(set.clone(), &BuildConfig::default()).map_err(|e| e.to_string())?;
         let seconds = start.elapsed().as_secs_f64();
-        let model = KindModel {
+        *self.kinds.get_mut::<T>() = Some(KindModel {
             sources: set.sources.clone(),
             spheres: OnceLock::new(),
             stats: tree.stats(),
             tree,
             linear: LinearSearch::new(set),
-        };
-        Ok((Box::new(model), seconds))
+        });
+        Ok(seconds)
+    }
+}
+
+/// The structures of one kind as [`KindQueries`], for [`PrimitiveKind::dispatch`].
+struct AsQueries<'a>(&'a PerKind<Models>);
+
+impl<'a> KindGeneric for AsQueries<'a> {
+    type Output = Option<&'a dyn KindQueries>;
+
+    fn call<T: MeshPrimitive>(self) -> Self::Output {
+        self.0.get::<T>().as_ref().map(|model| model as &dyn KindQueries)
     }
 }
 
@@ -170,29 +192,18 @@ impl<T: MeshPrimitive> KindQueries for KindModel<T> {
     fn input_shape(&self, input: u32) -> Option<Shape> {
         self.linear.primitives().get(input as usize).map(shape_of)
     }
-
-    fn as_any(&self) -> &dyn Any {
-        self
-    }
 }
 
-/// The geometry of one primitive, for highlighting. `MeshPrimitive` has no
-/// drawing hook, so the four types are told apart here, once.
+/// The geometry of one primitive, for highlighting: its hull points (a
+/// point's one, a segment's two, a triangle's or convex polygon's corners
+/// in order), drawn as the shape of its kind.
 fn shape_of<T: MeshPrimitive>(primitive: &T) -> Shape {
-    let any: &dyn Any = primitive;
-    if let Some(p) = any.downcast_ref::<Point>() {
-        Shape::Point(p.0)
-    } else if let Some(e) = any.downcast_ref::<LineSegment>() {
-        Shape::Segment(e.a, e.b)
-    } else if let Some(t) = any.downcast_ref::<Triangle>() {
-        Shape::Polygon(vec![t.a, t.b, t.c])
-    } else if let Some(polygon) = any.downcast_ref::<ConvexPolygon>() {
-        Shape::Polygon(polygon.vertices().to_vec())
-    } else {
-        // A primitive type added later: its hull points, as a polygon.
-        let mut points = Vec::new();
-        primitive.push_bounding_points(&mut points);
-        Shape::Polygon(points)
+    let mut points = Vec::new();
+    primitive.push_bounding_points(&mut points);
+    match (T::KIND, points.as_slice()) {
+        (PrimitiveKind::Vertices, &[p]) => Shape::Point(p),
+        (PrimitiveKind::Edges, &[a, b]) => Shape::Segment(a, b),
+        _ => Shape::Polygon(points),
     }
 }
 
@@ -215,7 +226,7 @@ pub struct Model {
     pub timings: Timings,
     /// Per kind (indexed by `PrimitiveKind as usize`); `None` when the mesh
     /// gives no primitive of that kind.
-    kinds: [Option<Box<dyn KindQueries>>; 4],
+    kinds: PerKind<Models>,
 }
 
 /// The answer to one closest-point question, by tree and by brute force.
@@ -291,13 +302,15 @@ impl Model {
             buffers: start.elapsed().as_secs_f64(),
             build: [0.0; 4],
         };
-        let mut kinds: [Option<Box<dyn KindQueries>>; 4] = Default::default();
+        let mut kinds = PerKind::<Models>::default();
         for (i, kind) in PrimitiveKind::ALL.into_iter().enumerate() {
             report(&format!("tree over {}", kind.name()), 0.45 + 0.15 * i as f32);
             if kind.available(&mesh) > 0 {
-                let (model, seconds) = kind.run(&mesh, DEFAULT_PLANARITY_TOLERANCE, BuildKind)?;
-                kinds[kind as usize] = Some(model);
-                timings.build[kind as usize] = seconds;
+                let build = BuildKind {
+                    mesh: &mesh,
+                    kinds: &mut kinds,
+                };
+                timings.build[kind as usize] = kind.dispatch(build)?;
             }
         }
         report("done", 1.0);
@@ -315,7 +328,7 @@ impl Model {
 
     /// The structures over `kind`, if the mesh gives primitives of it.
     fn kind(&self, kind: PrimitiveKind) -> Option<&dyn KindQueries> {
-        self.kinds[kind as usize].as_deref()
+        kind.dispatch(AsQueries(&self.kinds))
     }
 
     /// `true` when primitives of `kind` exist (a point cloud has no faces, a
@@ -339,10 +352,17 @@ impl Model {
         self.timings.build[kind as usize]
     }
 
-    /// The tree over faces (for picking), if the mesh has faces.
-    pub fn face_tree(&self) -> Option<&AabbTree<Triangle>> {
-        let faces = self.kind(PrimitiveKind::Faces)?.as_any();
-        faces.downcast_ref::<KindModel<Triangle>>().map(|f| &f.tree)
+    /// The first face the ray `origin + t · direction` (t ≥ 0) meets, by
+    /// the library's ray query on the faces' tree; `None` for a miss, a
+    /// mesh without faces or a ray the library refuses.
+    pub fn pick(&self, origin: Vec3, direction: Vec3) -> Option<scene::Pick> {
+        let faces = self.kinds.faces.as_ref()?;
+        scene::pick(&faces.tree, faces.linear.primitives(), origin, direction)
+    }
+
+    /// `true` when the mesh has faces to pick.
+    pub fn can_pick(&self) -> bool {
+        self.kinds.faces.is_some()
     }
 
     /// Spheres of the sphere tree's nodes of `kind` at exactly `depth` (root
@@ -547,6 +567,24 @@ mod tests {
     }
 
     #[test]
+    fn picking_asks_the_faces_tree_and_names_the_face() {
+        let mesh = crate::scene::tests::cube_mesh();
+        let m = Model::load(
+            ModelSource::Mesh {
+                mesh,
+                name: "cube".into(),
+            },
+            &|_| {},
+        )
+        .unwrap();
+        assert!(m.can_pick());
+        let hit = m.pick(Vec3::new(0.25, 0.5, 5.0), -Vec3::Z).unwrap();
+        assert_eq!((hit.face, hit.t, hit.normal), (1, 4.0, Vec3::Z));
+        assert!(m.pick(Vec3::new(3.0, 3.0, 3.0), Vec3::Z).is_none());
+        assert!(m.pick(Vec3::ZERO, Vec3::ZERO).is_none());
+    }
+
+    #[test]
     fn a_point_cloud_has_no_faces_to_query() {
         let mesh = Mesh::from_compact(vec![Vec3::ZERO, Vec3::X], vec![0], vec![]).unwrap();
         let m = Model::load(
@@ -558,7 +596,7 @@ mod tests {
         )
         .unwrap();
         assert!(!m.has(PrimitiveKind::Faces) && m.has(PrimitiveKind::Vertices));
-        assert!(m.face_tree().is_none());
+        assert!(!m.can_pick() && m.pick(Vec3::new(0.5, 0.0, 1.0), -Vec3::Z).is_none());
         assert!(m.query(PrimitiveKind::Faces, Vec3::ONE, 2, true).tree.is_none());
         assert_eq!(
             m.query(PrimitiveKind::Vertices, Vec3::ONE, 1, true)

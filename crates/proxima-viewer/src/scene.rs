@@ -6,8 +6,7 @@
 //! without a window.
 
 use proxima::math::{Mat4, Vec3};
-use proxima::primitive::WatertightRay;
-use proxima::{Aabb, AabbTree, Mesh, Triangle};
+use proxima::{Aabb, AabbTree, Mesh, RayQuery, Triangle};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -412,47 +411,29 @@ impl Pick {
     }
 }
 
-/// The first face of `tree` that the ray `origin + t · direction` (t ≥ 0)
-/// meets, by a walk of the tree (nearer boxes are not sorted; boxes beyond
-/// the best hit so far are skipped).
-pub fn pick(tree: &AabbTree<Triangle>, origin: Vec3, direction: Vec3) -> Option<Pick> {
-    let ray = WatertightRay::new(origin, direction)?;
-    tree.root()?;
-    let inv = direction.recip();
-    let mut best: Option<(f32, usize)> = None;
-    let mut stack = vec![0usize];
-    while let Some(index) = stack.pop() {
-        let node = tree.node(index);
-        let t_max = best.map_or(f32::INFINITY, |b| b.0);
-        if node.bounds().ray_interval(origin, inv, 0.0, t_max).is_none() {
-            continue;
-        }
-        if node.is_leaf() {
-            for slot in node.primitive_range() {
-                let t_max = best.map_or(f32::INFINITY, |b| b.0);
-                if let Some(hit) = ray.intersect(&tree.primitives()[slot], 0.0, t_max)
-                    && best.is_none_or(|b| hit.t < b.0)
-                {
-                    best = Some((hit.t, slot));
-                }
-            }
-        } else {
-            let [a, b] = node.children();
-            stack.push(a as usize);
-            stack.push(b as usize);
-        }
-    }
-    let (t, slot) = best?;
-    let triangle = &tree.primitives()[slot];
+/// The first face of `structure` that the ray `origin + t · direction`
+/// (t ≥ 0) meets, by the library's [`RayQuery::first_hit`] (its ray
+/// checks and its tie rule: the lowest input index at equal `t`), with the
+/// normal of the face's triangle (`triangles` in build-input order) turned
+/// towards the ray's origin. `None` for a miss or a ray the library
+/// refuses (zero or non-finite direction, non-finite origin).
+pub fn pick<S: RayQuery<Triangle>>(
+    structure: &S,
+    triangles: &[Triangle],
+    origin: Vec3,
+    direction: Vec3,
+) -> Option<Pick> {
+    let hit = structure.first_hit(origin, direction, 0.0, f32::INFINITY).ok()??;
+    let triangle = triangles.get(hit.primitive as usize)?;
     let mut normal = triangle.scaled_normal().normalize_or(-direction);
     if normal.dot(direction) > 0.0 {
         normal = -normal;
     }
     Some(Pick {
-        point: origin + t * direction,
+        point: origin + hit.t * direction,
         normal,
-        t,
-        face: tree.source(slot),
+        t: hit.t,
+        face: hit.source,
     })
 }
 
@@ -568,6 +549,7 @@ impl DrawFrame {
 pub(crate) mod tests {
     use super::*;
     use proxima::BuildConfig;
+    use proxima::primitive::WatertightRay;
 
     /// A unit cube of six quads (shared with the model's tests).
     pub(crate) fn cube_mesh() -> Mesh {
@@ -703,18 +685,19 @@ pub(crate) mod tests {
     fn picking_finds_the_front_face_with_an_outward_normal() {
         let mesh = cube_mesh();
         let tree = AabbTree::build_set(mesh.triangles(), &BuildConfig::default()).unwrap();
-        let hit = pick(&tree, Vec3::new(0.25, 0.5, 5.0), -Vec3::Z).unwrap();
+        let triangles = mesh.triangles().primitives;
+        let hit = pick(&tree, &triangles, Vec3::new(0.25, 0.5, 5.0), -Vec3::Z).unwrap();
         assert_eq!(hit.point, Vec3::new(0.25, 0.5, 1.0));
         assert_eq!(hit.normal, Vec3::Z);
         assert_eq!(hit.t, 4.0);
         assert_eq!(hit.face, 1);
         assert_eq!(hit.offset(0.5), Vec3::new(0.25, 0.5, 1.5));
         // From inside, the face in front, normal facing back to the origin.
-        let inside = pick(&tree, Vec3::splat(0.5), Vec3::X).unwrap();
+        let inside = pick(&tree, &triangles, Vec3::splat(0.5), Vec3::X).unwrap();
         assert_eq!((inside.point.x, inside.normal), (1.0, -Vec3::X));
-        assert!(pick(&tree, Vec3::new(3.0, 3.0, 3.0), Vec3::Z).is_none());
-        assert!(pick(&tree, Vec3::ZERO, Vec3::ZERO).is_none());
-        assert!(pick(&tree, Vec3::new(f32::NAN, 0.0, 0.0), Vec3::Z).is_none());
+        assert!(pick(&tree, &triangles, Vec3::new(3.0, 3.0, 3.0), Vec3::Z).is_none());
+        assert!(pick(&tree, &triangles, Vec3::ZERO, Vec3::ZERO).is_none());
+        assert!(pick(&tree, &triangles, Vec3::new(f32::NAN, 0.0, 0.0), Vec3::Z).is_none());
     }
 
     #[test]
@@ -733,7 +716,7 @@ pub(crate) mod tests {
                 .filter_map(|t| ray.intersect(t, 0.0, f32::INFINITY))
                 .map(|h| h.t)
                 .fold(f32::INFINITY, f32::min);
-            let hit = pick(&tree, origin, direction).unwrap();
+            let hit = pick(&tree, &set.primitives, origin, direction).unwrap();
             assert_eq!(hit.t, brute);
         }
     }

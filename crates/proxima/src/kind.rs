@@ -151,6 +151,9 @@ pub trait MeshPrimitive:
 
     /// This type's value in `values`.
     fn of_kind<F: KindFamily>(values: &PerKind<F>) -> &F::Of<Self>;
+
+    /// This type's value in `values`, to change it.
+    fn of_kind_mut<F: KindFamily>(values: &mut PerKind<F>) -> &mut F::Of<Self>;
 }
 
 impl MeshPrimitive for Point {
@@ -161,6 +164,9 @@ impl MeshPrimitive for Point {
     fn of_kind<F: KindFamily>(values: &PerKind<F>) -> &F::Of<Self> {
         &values.vertices
     }
+    fn of_kind_mut<F: KindFamily>(values: &mut PerKind<F>) -> &mut F::Of<Self> {
+        &mut values.vertices
+    }
 }
 impl MeshPrimitive for LineSegment {
     const KIND: PrimitiveKind = PrimitiveKind::Edges;
@@ -169,6 +175,9 @@ impl MeshPrimitive for LineSegment {
     }
     fn of_kind<F: KindFamily>(values: &PerKind<F>) -> &F::Of<Self> {
         &values.edges
+    }
+    fn of_kind_mut<F: KindFamily>(values: &mut PerKind<F>) -> &mut F::Of<Self> {
+        &mut values.edges
     }
 }
 impl MeshPrimitive for Triangle {
@@ -179,6 +188,9 @@ impl MeshPrimitive for Triangle {
     fn of_kind<F: KindFamily>(values: &PerKind<F>) -> &F::Of<Self> {
         &values.faces
     }
+    fn of_kind_mut<F: KindFamily>(values: &mut PerKind<F>) -> &mut F::Of<Self> {
+        &mut values.faces
+    }
 }
 impl MeshPrimitive for ConvexPolygon {
     const KIND: PrimitiveKind = PrimitiveKind::Polygons;
@@ -187,6 +199,9 @@ impl MeshPrimitive for ConvexPolygon {
     }
     fn of_kind<F: KindFamily>(values: &PerKind<F>) -> &F::Of<Self> {
         &values.polygons
+    }
+    fn of_kind_mut<F: KindFamily>(values: &mut PerKind<F>) -> &mut F::Of<Self> {
+        &mut values.polygons
     }
 }
 
@@ -235,6 +250,11 @@ impl<F: KindFamily> PerKind<F> {
     /// The value for primitive type `T`.
     pub fn get<T: MeshPrimitive>(&self) -> &F::Of<T> {
         T::of_kind(self)
+    }
+
+    /// The value for primitive type `T`, to change it.
+    pub fn get_mut<T: MeshPrimitive>(&mut self) -> &mut F::Of<T> {
+        T::of_kind_mut(self)
     }
 }
 

@@ -1,11 +1,12 @@
 //! `proxima closest MESH --primitives P (--point X,Y,Z | --points FILE) [-k K] [--method tree|linear]`.
 
 use crate::common::{
-    Split, kind_parser, load_mesh, parse_planarity, parse_vec3, query_points, require_primitives, run_kind,
+    Split, kind_parser, load_mesh, note_polygons, parse_planarity, parse_vec3, query_points, require_primitives,
+    run_kind,
 };
-use anyhow::Context;
+use proxima::index::{IndexConfig, MeshIndex};
 use proxima::prelude::*;
-use proxima::query::distinct_sources;
+use proxima::query::NearestAnswers;
 use rayon::prelude::*;
 use std::io::{BufWriter, StdoutLock, Write};
 use std::path::PathBuf;
@@ -58,12 +59,34 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     require_primitives(&mesh, args.primitives, &args.mesh)?;
     let mut rows = Rows::new();
     writeln!(rows.out, "query,rank,primitive,cx,cy,cz,distance")?;
-    let task = Answer {
-        points: &points,
-        args: &args,
-        rows: &mut rows,
-    };
-    run_kind(&mesh, args.primitives, &args.mesh, args.planarity, task)?;
+    let (kind, k) = (args.primitives, args.k);
+    match args.method {
+        Method::Tree => {
+            note_polygons(&mesh, kind, &args.mesh, args.planarity);
+            let config = IndexConfig {
+                build: args.split.config(),
+                planarity: args.planarity,
+            };
+            let index = MeshIndex::with_config(mesh, config);
+            let path = args.mesh.display();
+            index
+                .k_nearest_chunks(kind, &points, k, |answers| -> anyhow::Result<()> {
+                    Ok(rows.write(answers)?)
+                })
+                .map_err(|e| e.context(path.to_string()))?;
+        }
+        Method::Linear => run_kind(
+            &mesh,
+            kind,
+            &args.mesh,
+            args.planarity,
+            Linear {
+                points: &points,
+                k,
+                rows: &mut rows,
+            },
+        )?,
+    }
     rows.out.flush()?;
     Ok(())
 }
@@ -83,26 +106,27 @@ impl Rows {
         }
     }
 
-    /// Writes the answers of the next queries, `hits` giving each one's
-    /// hits, nearest first.
+    /// Writes the answers of the next queries, each one's hits nearest
+    /// first.
     ///
     /// The rows are formatted in parallel, in blocks of about [`BLOCK_HITS`]
-    /// hits, and written in order: formatting took about 30% of the CPU
-    /// time of `-k 8` (dragon, 1M points), all of it on one thread while
-    /// the others waited. At most 64 blocks' text is held at once.
-    fn write<A: Sync>(&mut self, answers: &[A], hits: impl Fn(&A) -> &[ClosestHit] + Sync) -> std::io::Result<()> {
-        let most = answers.iter().map(|a| hits(a).len()).max().unwrap_or(0);
+    /// hits, and written in order (formatting all on one thread kept the
+    /// others waiting). At most 64 blocks' text is held at once.
+    fn write(&mut self, answers: &NearestAnswers) -> std::io::Result<()> {
+        let most = (0..answers.len()).map(|i| answers.hits(i).len()).max().unwrap_or(0);
         let block = (BLOCK_HITS / most.max(1)).max(1);
-        for window in answers.chunks(64 * block) {
+        for window in (0..answers.len()).step_by(64 * block) {
+            let end = (window + 64 * block).min(answers.len());
             let first = self.first;
-            let texts: Vec<Vec<u8>> = window
-                .par_chunks(block)
-                .enumerate()
-                .map(|(n, answers)| {
+            let texts: Vec<Vec<u8>> = (window..end)
+                .step_by(block)
+                .collect::<Vec<_>>()
+                .into_par_iter()
+                .map(|start| {
                     let mut text = Vec::with_capacity(80 * BLOCK_HITS); // rows of up to about 80 bytes
-                    for (offset, answer) in answers.iter().enumerate() {
-                        let query = first + n * block + offset;
-                        for (rank, hit) in hits(answer).iter().enumerate() {
+                    for i in start..(start + block).min(end) {
+                        let query = first + i - window;
+                        for (rank, hit) in answers.hits(i).iter().enumerate() {
                             writeln!(
                                 text,
                                 "{query},{rank},{},{},{},{},{}",
@@ -117,7 +141,7 @@ impl Rows {
             for text in &texts {
                 self.out.write_all(text)?;
             }
-            self.first += window.len();
+            self.first += end - window;
         }
         Ok(())
     }
@@ -126,71 +150,21 @@ impl Rows {
 /// Hits per block of rows formatted at once by [`Rows::write`].
 const BLOCK_HITS: usize = 4096;
 
-/// Answers the queries on one kind of primitive and writes them, chunk by
-/// chunk in input order, so that memory holds one chunk's answers: at most
-/// [`CHUNK_HITS`] hits, whatever `-k`.
-struct Answer<'a> {
+/// Brute force on one kind of primitive: the same chunked answers as the
+/// tree's ([`NearestQuery::k_nearest_sources_chunks`] is written once for
+/// every structure), written as they come.
+struct Linear<'a> {
     points: &'a [Vec3],
-    args: &'a Args,
+    k: usize,
     rows: &'a mut Rows,
 }
 
-impl KindTask for Answer<'_> {
+impl KindTask for Linear<'_> {
     type Output = anyhow::Result<()>;
 
     fn run<T: MeshPrimitive>(self, set: PrimitiveSet<T>) -> anyhow::Result<()> {
-        let Self { points, args, rows } = self;
-        let k = args.k;
-        // Each source one part (vertices, edges, triangles): the k nearest
-        // parts are the k nearest sources already.
-        let one_part_each = set.sources.windows(2).all(|pair| pair[0] < pair[1]);
-        match args.method {
-            Method::Tree => {
-                // The wide tree built by its own build (leaves sized for its
-                // collapse), rather than a binary tree converted: the same
-                // tree, and the same answers as the binary one, faster.
-                let tree =
-                    WideTree::build_set(set, &args.split.config()).with_context(|| args.mesh.display().to_string())?;
-                for chunk in points.chunks(chunk_len(k, tree.len())) {
-                    if k == 1 {
-                        // The closest-point batch, seeded by each previous
-                        // answer, rather than the k-nearest heap: the same
-                        // hit (ties to the lowest input index), faster; one
-                        // hit has no repeated source to remove.
-                        rows.write(&tree.closest_batch(chunk), Option::as_slice)?;
-                    } else {
-                        let mut answers = tree.k_nearest_batch(chunk, k);
-                        if !one_part_each {
-                            answers = distinct_sources(answers, chunk, k, tree.len(), &|p, k| tree.k_nearest(p, k));
-                        }
-                        rows.write(&answers, Vec::as_slice)?;
-                    }
-                }
-            }
-            Method::Linear => {
-                let len = set.len();
-                let scan = LinearSearch::new(set);
-                for chunk in points.chunks(chunk_len(k, len)) {
-                    let mut answers = chunk.iter().map(|&p| scan.k_nearest(p, k)).collect();
-                    if !one_part_each {
-                        answers = distinct_sources(answers, chunk, k, len, &|p, k| scan.k_nearest(p, k));
-                    }
-                    rows.write(&answers, Vec::as_slice)?;
-                }
-            }
-        }
+        let Self { points, k, rows } = self;
+        LinearSearch::new(set).k_nearest_sources_chunks(points, k, |answers| rows.write(answers))?;
         Ok(())
     }
-}
-
-/// Answers held in memory at once: 2^20 hits (about 32 MiB).
-const CHUNK_HITS: usize = 1 << 20;
-
-/// Queries answered per chunk: at most [`CHUNK_HITS`] hits of
-/// `min(k, primitives)` each (at least one query). Against chunks of at most
-/// 65,536 queries, `-k 1` took 0.89x the CPU time on the dragon with 1M
-/// points (the closest-point batch seeds each query with its Morton-order
-/// neighbour's answer, nearer in a bigger batch).
-fn chunk_len(k: usize, primitives: usize) -> usize {
-    (CHUNK_HITS / k.min(primitives).max(1)).max(1)
 }

@@ -224,7 +224,6 @@ fn search<T: MeshPrimitive>(
     config: &BuildConfig,
 ) -> Result<Outcome> {
     let total = set.len();
-    let sources_of = set.sources.clone();
     let needs_tree = args.method == Method::Tree || args.bench;
     let start = Instant::now();
     let tree = needs_tree
@@ -254,11 +253,8 @@ fn search<T: MeshPrimitive>(
         _ => None,
     };
     let stats = stats.or_else(|| tree.as_ref().map(|t| t.frustum_with_stats(frustum).1));
-    let mut sources: Vec<u32> = found.iter().map(|&i| sources_of[i as usize]).collect();
-    sources.sort_unstable();
-    sources.dedup();
     Ok(Outcome {
-        sources,
+        sources: linear.leaves().sources_of_inputs(&found),
         primitives: found.len(),
         stats,
         timing,

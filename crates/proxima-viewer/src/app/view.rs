@@ -5,7 +5,7 @@
 use super::ViewerApp;
 use crate::camera::{OrbitCamera, Viewport};
 use crate::frame::{FrameInputs, compose_frame};
-use crate::scene::{self, colors};
+use crate::scene::colors;
 use eframe::egui::{self, Color32};
 use eframe::egui_glow;
 use std::sync::Arc;
@@ -139,12 +139,12 @@ impl ViewerApp {
         let Some(model) = &self.model else {
             return;
         };
-        let Some(tree) = model.face_tree() else {
+        if !model.can_pick() {
             self.derived.pick_message = Some("picking needs faces; this mesh has none".into());
             return;
-        };
+        }
         let (origin, direction) = self.camera.ray_through(pixel, &self.viewport);
-        match scene::pick(tree, origin, direction) {
+        match model.pick(origin, direction) {
             Some(hit) => {
                 let offset = self.settings.pick_offset * model.bounds.diagonal();
                 self.settings.query = hit.offset(offset);

@@ -92,6 +92,19 @@ pub fn check_not_empty(mesh: &Mesh) -> Result<(), IndexError> {
     Ok(())
 }
 
+/// Fails with [`IndexError::NoPrimitives`] unless `mesh` has primitives of
+/// `kind`.
+pub fn check_primitives(mesh: &Mesh, kind: PrimitiveKind) -> Result<(), IndexError> {
+    if kind.available(mesh) == 0 {
+        return Err(IndexError::NoPrimitives {
+            kind,
+            vertices: mesh.vertex_count(),
+            faces: mesh.face_count(),
+        });
+    }
+    Ok(())
+}
+
 impl MeshIndex {
     /// An index over `mesh` with the default configuration; nothing built.
     pub fn new(mesh: Mesh) -> Self {
@@ -123,14 +136,7 @@ impl MeshIndex {
     /// Fails with [`IndexError::NoPrimitives`] unless the mesh has
     /// primitives of `kind`.
     pub fn require(&self, kind: PrimitiveKind) -> Result<(), IndexError> {
-        if kind.available(&self.mesh) == 0 {
-            return Err(IndexError::NoPrimitives {
-                kind,
-                vertices: self.mesh.vertex_count(),
-                faces: self.mesh.face_count(),
-            });
-        }
-        Ok(())
+        check_primitives(&self.mesh, kind)
     }
 
     /// The tree over primitives of type `T`, built if needed, shareable.
