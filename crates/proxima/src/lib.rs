@@ -27,9 +27,10 @@
 //! | Support | [`aabb`], [`sphere`], [`math`], [`memory`], [`budget`] (memory and work limits), [`error`] (typed errors), [`sample`] (seeded test and benchmark inputs) |
 //!
 //! `use proxima::prelude::*;` brings the structures, primitives and query traits.
-// No unsafe code, except in two modules (wide_tree/avx2.rs, ray_tree/avx2.rs)
-// that call AVX2 functions once the CPU has been seen to have AVX2; each
-// allows it for itself.
+// No unsafe code, except in the two AVX2 modules (simd/avx2.rs: the token
+// and the triangle packet kernels; ray_tree/avx2.rs: the ray tree's node
+// test) that call AVX2 functions once the CPU has been seen to have AVX2;
+// each allows it for itself.
 #![deny(unsafe_code)]
 #![deny(missing_docs)]
 
@@ -54,6 +55,7 @@ pub mod ray;
 pub mod ray_tree;
 pub mod sample;
 pub mod sdf;
+mod simd;
 pub mod sphere;
 pub mod sphere_tree;
 pub mod traversal;

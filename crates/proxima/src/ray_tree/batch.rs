@@ -27,7 +27,7 @@ use crate::query::{
     AnyHit, FarRay, FirstHit, Leaves, RayHit, RayQuery, RayVisitor, hit_answer, morton_order, prepare_structure_ray,
     sort_points, unpermute,
 };
-use crate::wide_tree::Avx2;
+use crate::simd::Avx2;
 use rayon::prelude::*;
 
 /// Walks a thread keeps going at once (4 and 16 were slower: docs/rays.md).
@@ -350,7 +350,7 @@ struct ChunkTask<'a, 'r, S> {
 }
 
 #[cfg(target_arch = "x86_64")]
-impl<'a, S: Search<'a>> crate::wide_tree::Avx2Task for ChunkTask<'a, '_, S> {
+impl<'a, S: Search<'a>> crate::simd::Avx2Task for ChunkTask<'a, '_, S> {
     type Output = Vec<Result<S::Found, RayError>>;
     #[inline(always)]
     fn call(self, avx2: Avx2) -> Self::Output {

@@ -6,8 +6,7 @@ use crate::bvh::AabbTree;
 use crate::memory::HugePageVec;
 use crate::primitive::{Bounded, Triangle};
 use crate::query::SpatialIndex;
-use crate::wide_tree::Avx2;
-use crate::wide_tree::packet::TrianglePacket;
+use crate::simd::{Avx2, TrianglePacket};
 use crate::wide_tree::{open_largest, subtree_ranges};
 use std::ops::Range;
 

@@ -51,8 +51,7 @@ use crate::memory::HugePageArray;
 use crate::mesh::Mesh;
 use crate::primitive::{PrimitiveSet, Triangle};
 use crate::query::{Leaves, SpatialIndex};
-use crate::wide_tree::Avx2;
-use crate::wide_tree::packet::TrianglePacket;
+use crate::simd::{Avx2, TrianglePacket};
 
 /// Marks a leaf lane in [`RayNode::children`]: the bits below [`PAIR`] are
 /// the index of its first packet.
@@ -175,7 +174,7 @@ impl RayTree {
     /// Collapses a binary tree into 8-wide nodes; its leaves of more than
     /// four triangles become nodes of packets. Linear in the number of nodes.
     pub fn from_tree(tree: AabbTree<Triangle>) -> Self {
-        collapse::collapse(tree, crate::wide_tree::detect_avx2())
+        collapse::collapse(tree, crate::simd::detect_avx2())
     }
 
     /// The leaf-order triangles, their input indices and sources.
@@ -238,7 +237,7 @@ impl RayTree {
     /// Turns the AVX2 node test off, or back on where the CPU has it (on by
     /// default), to compare the two: the answers are identical.
     pub fn set_avx2(&mut self, enabled: bool) {
-        self.avx2 = if enabled { crate::wide_tree::detect_avx2() } else { None };
+        self.avx2 = if enabled { crate::simd::detect_avx2() } else { None };
     }
 }
 
@@ -294,7 +293,7 @@ mod tests {
     /// degenerate, tiny and huge ones among them).
     #[test]
     fn avx2_lanes_equal_portable_lanes() {
-        let Some(avx2) = crate::wide_tree::detect_avx2() else {
+        let Some(avx2) = crate::simd::detect_avx2() else {
             eprintln!("note: this CPU has no AVX2; the 256-bit path is not used here and not tested");
             return;
         };
@@ -323,7 +322,7 @@ mod tests {
             assert_eq!(t.map(f32::to_bits), t8.map(f32::to_bits), "ray ({o}, {d})");
             crossed += mask.count_ones();
         }
-        let triangles = crate::wide_tree::packet::tests::triangles(&mut rng, 8000);
+        let triangles = crate::simd::triangles(&mut rng, 8000);
         for (k, chunk) in triangles.chunks(8).enumerate() {
             let lo = TrianglePacket::new(&chunk[..4], &[0, 1, 2, 3], 0);
             let n = 1 + k % 4;

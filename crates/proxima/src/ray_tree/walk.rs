@@ -20,10 +20,7 @@ use crate::math::Vec3;
 use crate::memory::prefetch;
 use crate::primitive::{Triangle, TriangleHit, WatertightRay};
 use crate::query::{Counter, RayQuery, RayVisitor};
-use crate::wide_tree::Avx2;
-use crate::wide_tree::packet::TrianglePacket;
-use crate::wide_tree::ray::{offer_lanes, offer_packet};
-use crate::wide_tree::walk::prefetch_packet;
+use crate::simd::{Avx2, TrianglePacket, offer_lanes, offer_packet, prefetch_packet};
 use std::ops::ControlFlow;
 
 /// Trees less deep than this walk with a stack of [`SMALL_STACK`] entries
@@ -101,7 +98,7 @@ impl Lanes for Portable {
 impl Lanes for Avx2 {
     #[inline(always)]
     fn entries(self, slabs: &NodeSlabs, node: &RayNode, t_lo: f32, t_hi: f32) -> ([f32; WIDTH], u32) {
-        self.node_entries(slabs, node, t_lo, t_hi)
+        super::avx2::node_entries(self, slabs, node, t_lo, t_hi)
     }
 
     #[inline(always)]
@@ -314,7 +311,7 @@ struct Avx2Walk<'a, 'b, V, C> {
 }
 
 #[cfg(target_arch = "x86_64")]
-impl<V: RayVisitor<Triangle>, C: Counter> crate::wide_tree::Avx2Task for Avx2Walk<'_, '_, V, C> {
+impl<V: RayVisitor<Triangle>, C: Counter> crate::simd::Avx2Task for Avx2Walk<'_, '_, V, C> {
     type Output = ();
     #[inline(always)]
     fn call(mut self, avx2: Avx2) {

@@ -35,7 +35,7 @@ use crate::math::{DMat3, DVec3, Vec3, Vec3A};
 use crate::memory::{HugePageArray, prefetch};
 use crate::query::SpatialIndex;
 #[cfg(target_arch = "x86_64")]
-use crate::wide_tree::{Avx2, Avx2Task};
+use crate::simd::{Avx2, Avx2Task};
 use crate::wide_tree::{WideChild, WideTree};
 use std::ops::Range;
 use wide::f32x4;

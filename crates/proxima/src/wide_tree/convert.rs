@@ -1,8 +1,6 @@
 //! Collapsing a binary [`AabbTree`] into a [`WideTree`].
 
-use super::packet::{TrianglePacket, WidePrimitive};
-use super::walk::{Avx2, detect_avx2};
-use super::{WideNode, WideTree};
+use super::{WideNode, WidePrimitive, WideTree};
 use crate::aabb::Aabb;
 use crate::bvh::{AabbTree, BuildConfig};
 use crate::error::BuildError;
@@ -10,6 +8,7 @@ use crate::math::Vec3;
 use crate::memory::{HugePageArray, HugePageVec, prefetch};
 use crate::primitive::{Bounded, PrimitiveSet, Triangle};
 use crate::query::SpatialIndex;
+use crate::simd::{Avx2, TrianglePacket, detect_avx2};
 use std::ops::Range;
 
 /// The range of leaf-order slots below each binary node (a subtree covers

@@ -29,21 +29,14 @@
 //! is in `convert.rs`, the triangle packets in `packet.rs`, their AVX2 test
 //! in `avx2.rs` (the crate's only `unsafe` code).
 
-#[cfg(target_arch = "x86_64")]
-mod avx2;
-#[cfg(target_arch = "x86_64")]
-pub(crate) use avx2::{Avx2, Avx2Task};
 pub(crate) use convert::{open_largest, subtree_ranges};
-#[cfg(not(target_arch = "x86_64"))]
-pub(crate) use walk::Avx2;
-pub(crate) use walk::detect_avx2;
 mod convert;
 mod nearest;
-pub(crate) mod packet;
-pub(crate) mod ray;
-pub(crate) mod walk;
+mod primitive;
+mod ray;
+mod walk;
 
-pub use packet::WidePrimitive;
+pub use primitive::WidePrimitive;
 
 use crate::aabb::Aabb;
 use crate::bvh::AabbTree;
@@ -51,7 +44,7 @@ use crate::frustum::{Frustum, FrustumOverlap};
 use crate::math::Vec3;
 use crate::memory::HugePageArray;
 use crate::query::{Counter, FrustumQuery, Leaves, SpatialIndex};
-use packet::TrianglePacket;
+use crate::simd::TrianglePacket;
 use wide::f32x4;
 
 /// Marks a leaf lane in [`WideNode::counts`]; the low bits are the number of primitives.
@@ -202,7 +195,7 @@ pub struct WideTree<T> {
     /// Depth of the deepest wide node (the root has depth 0).
     depth: u32,
     /// Present when leaves are tested two packets at a time with AVX2.
-    avx2: Option<walk::Avx2>,
+    avx2: Option<crate::simd::Avx2>,
     /// How far outside its triangle's box a computed closest point may lie:
     /// 16 ulps of the largest coordinate of the tree (twice the slack of
     /// the node boxes' widening). A pair of triangle packets is skipped only
@@ -262,7 +255,7 @@ impl<T> WideTree<T> {
     /// is on by default), to compare the two; answers are identical. The
     /// leaves stay as they were made (see [`from_tree_portable`](Self::from_tree_portable)).
     pub fn set_avx2(&mut self, enabled: bool) {
-        self.avx2 = if enabled { walk::detect_avx2() } else { None };
+        self.avx2 = if enabled { crate::simd::detect_avx2() } else { None };
     }
 
     /// Bytes of the wide nodes and triangle packets, on top of the binary

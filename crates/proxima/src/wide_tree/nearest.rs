@@ -2,14 +2,14 @@
 //! node at once, and the triangles of a leaf four (or, with AVX2, eight) at a
 //! time, by a routine that repeats the scalar one operation for operation.
 
-#[cfg(target_arch = "x86_64")]
-use super::avx2::V8;
-use super::packet::{TrianglePacket, V3};
-use super::walk::{Avx2, Pending, Slices, WideQuery};
+use super::walk::{Pending, Slices, WideQuery};
 use super::{WideNode, WidePrimitive, WideTree};
 use crate::math::Vec3A;
 use crate::primitive::ClosestPoint;
 use crate::query::{Counter, NearestQuery, NearestVisitor};
+#[cfg(target_arch = "x86_64")]
+use crate::simd::V8;
+use crate::simd::{Avx2, TrianglePacket, V3};
 use std::ops::ControlFlow;
 use wide::f32x4;
 
@@ -108,7 +108,7 @@ impl<T, V: NearestVisitor<T>> WideQuery<T> for Nearest<'_, V> {
                     lo.first,
                     bits,
                     |lane| if lane < 4 { lo.index[lane] } else { hi.index[lane - 4] },
-                    |lane| (Vec3A::from_array(point.lane(lane)), super::avx2::lane_of(d2, lane)),
+                    |lane| (Vec3A::from_array(point.lane(lane)), crate::simd::lane_of(d2, lane)),
                 );
                 self.visit_slow(tree, lo.first, lo.slow | hi.slow << 4 | (fast & far));
             }

@@ -10,7 +10,6 @@
 //! packets are prefetched with it, a level ahead. On CPUs with AVX2 the
 //! whole walk runs compiled for AVX2 ([`WideTree::walk`]).
 
-use super::packet::TrianglePacket;
 use super::{LEAF, WideNode, WideTree};
 use crate::bvh::MAX_DEPTH;
 use crate::memory::prefetch;
@@ -19,22 +18,8 @@ use std::ops::ControlFlow;
 use wide::f32x4;
 
 #[cfg(target_arch = "x86_64")]
-pub(crate) use super::avx2::Avx2;
-#[cfg(target_arch = "x86_64")]
-use super::avx2::Avx2Task;
-
-/// The AVX2 token when this CPU has AVX2.
-pub(crate) fn detect_avx2() -> Option<Avx2> {
-    #[cfg(target_arch = "x86_64")]
-    return Avx2::detect();
-    #[cfg(not(target_arch = "x86_64"))]
-    None
-}
-
-/// Stands for the AVX2 token where there is no AVX2: never made.
-#[cfg(not(target_arch = "x86_64"))]
-#[derive(Clone, Copy, Debug)]
-pub(crate) enum Avx2 {}
+use crate::simd::Avx2Task;
+use crate::simd::{Avx2, TrianglePacket, prefetch_packet};
 
 /// What the walk of the wide tree asks of the query it serves.
 pub(crate) trait WideQuery<T> {
@@ -95,16 +80,6 @@ const SMALL_STACK: usize = 3 * SHALLOW as usize + SLACK;
 /// Packets prefetched with a wide node, from the first of its leaf lanes'
 /// (see docs/perf-log.md for the counts tried).
 pub(crate) const PREFETCHED_PACKETS: usize = 4;
-
-/// Asks for every cache line of a triangle packet (176 bytes at a 16-byte
-/// boundary: three or four lines).
-#[inline(always)]
-pub(crate) fn prefetch_packet(packet: &TrianglePacket) {
-    prefetch(packet);
-    prefetch(&packet.a[2]);
-    prefetch(&packet.b[2]);
-    prefetch(&packet.c[2]);
-}
 
 /// The arrays a walk reads, taken once per query: the node and packet
 /// arrays may sit behind a [`HugePageArray`](crate::memory::HugePageArray),

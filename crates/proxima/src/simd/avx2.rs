@@ -1,25 +1,30 @@
-//! Two triangle packets at once on 256-bit AVX2 lanes, chosen at run time.
+//! The AVX2 token, and two triangle packets at once on 256-bit AVX2 lanes,
+//! chosen at run time.
 //!
-//! [`closest_pair`] is [`TrianglePacket::closest`] on eight lanes: lanes 0–3
-//! are the first packet's, lanes 4–7 the second's. It repeats the four-lane
+//! [`closest_pair`] is [`TrianglePacket::closest`] on eight lanes, and
+//! [`ray_hits_pair`] is [`TrianglePacket::ray_hits`]: lanes 0–3 are the
+//! first packet's, lanes 4–7 the second's. Each repeats the four-lane
 //! routine operation for operation (no fused multiply-add, the same order of
-//! every sum), so each lane's point and distance are bit for bit the scalar
-//! routine's; the test below checks it against [`Triangle::closest_point`].
+//! every sum), so each lane's answer is bit for bit the scalar routine's;
+//! the test below checks the closest points against
+//! [`Triangle::closest_point`], the ray tree's tests the hits.
 //!
-//! The crate is compiled for baseline x86-64 (SSE2). This module is the only
-//! place with `unsafe` code: calls into functions compiled for AVX2, made only
-//! through an [`Avx2`] token, which exists only once the running CPU has been
-//! seen to support AVX2.
+//! The crate is compiled for baseline x86-64 (SSE2). With the ray tree's
+//! node test (`ray_tree/avx2.rs`), this module is the only place with
+//! `unsafe` code: calls into functions compiled for AVX2, made only through
+//! an [`Avx2`] token, which exists only once the running CPU has been seen
+//! to support AVX2.
 //!
 //! [`Triangle::closest_point`]: crate::primitive::ClosestPoint::closest_point
 #![allow(unsafe_code)]
 
 use super::packet::TrianglePacket;
 use crate::primitive::closest_triangle::FAST_REACH2;
+use crate::primitive::{TriangleHit, WatertightRay};
 use core::arch::x86_64::{
-    __m128, __m256, _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LE_OQ, _mm256_add_ps, _mm256_and_ps, _mm256_blendv_ps, _mm256_cmp_ps,
-    _mm256_div_ps, _mm256_max_ps, _mm256_min_ps, _mm256_movemask_ps, _mm256_mul_ps, _mm256_set_m128, _mm256_set1_ps,
-    _mm256_setzero_ps, _mm256_sub_ps,
+    __m128, __m256, _CMP_EQ_OQ, _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LE_OQ, _CMP_LT_OQ, _CMP_NEQ_UQ, _mm256_add_ps,
+    _mm256_and_ps, _mm256_andnot_ps, _mm256_blendv_ps, _mm256_cmp_ps, _mm256_div_ps, _mm256_max_ps, _mm256_min_ps,
+    _mm256_movemask_ps, _mm256_mul_ps, _mm256_or_ps, _mm256_set_m128, _mm256_set1_ps, _mm256_setzero_ps, _mm256_sub_ps,
 };
 
 /// Proof that the running CPU supports AVX2: made only by [`Avx2::detect`].
@@ -282,6 +287,109 @@ fn box_beyond(lo: &TrianglePacket, hi: &TrianglePacket, p: &V8, threshold: f32) 
     _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_GT_OQ>(d2, _mm256_set1_ps(threshold))) as u32
 }
 
+/// Lanes 0–3 from `lo`, 4–7 from `hi`.
+#[target_feature(enable = "avx2")]
+#[inline]
+fn pair(lo: &[f32; 4], hi: &[f32; 4]) -> __m256 {
+    _mm256_set_m128(bytemuck::cast(*hi), bytemuck::cast(*lo))
+}
+
+/// [`TrianglePacket::ray_hits`] for two packets at once: the operations of
+/// the four-lane test in the same order on eight lanes (lanes 0–3 are
+/// `lo`'s, 4–7 `hi`'s), so each lane's hit is bit for bit the same.
+#[target_feature(enable = "avx2")]
+#[inline]
+fn ray_hits_pair(
+    lo: &TrianglePacket,
+    hi: &TrianglePacket,
+    ray: &WatertightRay,
+    t_min: f32,
+    t_max: f32,
+) -> (u32, [TriangleHit; 8], u32) {
+    let ([kx, ky, kz], [sx, sy, sz]) = ray.shear();
+    let origin = ray.origin().to_array();
+    let o = origin.map(|x| _mm256_set1_ps(x));
+    let (sx, sy, sz) = (_mm256_set1_ps(sx), _mm256_set1_ps(sy), _mm256_set1_ps(sz));
+    let sheared = |lo: &[[f32; 4]; 3], hi: &[[f32; 4]; 3]| {
+        let px = _mm256_sub_ps(pair(&lo[kx], &hi[kx]), o[kx]);
+        let py = _mm256_sub_ps(pair(&lo[ky], &hi[ky]), o[ky]);
+        let pz = _mm256_sub_ps(pair(&lo[kz], &hi[kz]), o[kz]);
+        (
+            _mm256_sub_ps(px, _mm256_mul_ps(sx, pz)),
+            _mm256_sub_ps(py, _mm256_mul_ps(sy, pz)),
+            pz,
+        )
+    };
+    let (ax, ay, a_z) = sheared(&lo.a, &hi.a);
+    let (bx, by, b_z) = sheared(&lo.b, &hi.b);
+    let (cx, cy, c_z) = sheared(&lo.c, &hi.c);
+    let u = _mm256_sub_ps(_mm256_mul_ps(cx, by), _mm256_mul_ps(cy, bx));
+    let v = _mm256_sub_ps(_mm256_mul_ps(ax, cy), _mm256_mul_ps(ay, cx));
+    let w = _mm256_sub_ps(_mm256_mul_ps(bx, ay), _mm256_mul_ps(by, ax));
+    let zero = _mm256_setzero_ps();
+    let (eq, lt, gt, ne) = (
+        |a, b| _mm256_cmp_ps::<_CMP_EQ_OQ>(a, b),
+        |a, b| _mm256_cmp_ps::<_CMP_LT_OQ>(a, b),
+        |a, b| _mm256_cmp_ps::<_CMP_GT_OQ>(a, b),
+        |a, b| _mm256_cmp_ps::<_CMP_NEQ_UQ>(a, b),
+    );
+    let bits = |m: __m256| _mm256_movemask_ps(m) as u32;
+    let lanes = (lo.fast | lo.slow) | (hi.fast | hi.slow) << 4;
+    let exact_zero = bits(_mm256_or_ps(_mm256_or_ps(eq(u, zero), eq(v, zero)), eq(w, zero))) & lanes;
+    let negative = _mm256_or_ps(_mm256_or_ps(lt(u, zero), lt(v, zero)), lt(w, zero));
+    let positive = _mm256_or_ps(_mm256_or_ps(gt(u, zero), gt(v, zero)), gt(w, zero));
+    let det = _mm256_add_ps(_mm256_add_ps(u, v), w);
+    let t = _mm256_div_ps(
+        _mm256_add_ps(
+            _mm256_add_ps(
+                _mm256_mul_ps(u, _mm256_mul_ps(sz, a_z)),
+                _mm256_mul_ps(v, _mm256_mul_ps(sz, b_z)),
+            ),
+            _mm256_mul_ps(w, _mm256_mul_ps(sz, c_z)),
+        ),
+        det,
+    );
+    let det_nonzero = ne(det, zero);
+    let in_range = _mm256_and_ps(
+        _mm256_cmp_ps::<_CMP_GE_OQ>(t, _mm256_set1_ps(t_min)),
+        _mm256_cmp_ps::<_CMP_LE_OQ>(t, _mm256_set1_ps(t_max)),
+    );
+    let inside = _mm256_and_ps(
+        _mm256_andnot_ps(_mm256_and_ps(negative, positive), det_nonzero),
+        in_range,
+    );
+    let infinite = _mm256_or_ps(
+        eq(t, _mm256_set1_ps(f32::INFINITY)),
+        eq(t, _mm256_set1_ps(f32::NEG_INFINITY)),
+    );
+    let overflow = bits(_mm256_or_ps(ne(t, t), infinite)) & lanes & bits(det_nonzero);
+    let exact_zero = exact_zero | overflow;
+    let hit_lanes = bits(inside) & lanes & !exact_zero;
+    let (t, bu, bv): ([f32; 8], [f32; 8], [f32; 8]) = (
+        bytemuck::cast(t),
+        bytemuck::cast(_mm256_div_ps(v, det)),
+        bytemuck::cast(_mm256_div_ps(w, det)),
+    );
+    (hit_lanes, TriangleHit::lanes(t, bu, bv), exact_zero)
+}
+
+impl Avx2 {
+    /// [`TrianglePacket::ray_hits`] of `lo` (lanes 0–3) and `hi` (lanes
+    /// 4–7) at once, both within `[t_min, t_max]`: the same bits.
+    #[inline(always)]
+    pub(crate) fn ray_hits_pair(
+        self,
+        lo: &TrianglePacket,
+        hi: &TrianglePacket,
+        ray: &WatertightRay,
+        t_min: f32,
+        t_max: f32,
+    ) -> (u32, [TriangleHit; 8], u32) {
+        // SAFETY: `self` exists, so `detect` saw AVX2 on this CPU.
+        unsafe { ray_hits_pair(lo, hi, ray, t_min, t_max) }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -298,7 +406,7 @@ mod tests {
             return;
         };
         let mut rng = Rng::new(29);
-        let tris = super::super::packet::tests::triangles(&mut rng, 4000);
+        let tris = super::super::triangles(&mut rng, 4000);
         let mut checked = 0;
         for chunk in tris.chunks(8) {
             let (lo, hi) = (
@@ -310,7 +418,7 @@ mod tests {
                 let p = Vec3A::new(rng.range(-s, s), rng.range(-s, s), rng.range(-s, s));
                 let v = avx2.splat(p.x, p.y, p.z);
                 let (q, d2, far) = avx2.closest_pair(&lo, &hi, &v);
-                let (q4, d4, far4) = lo.closest(&super::super::packet::V3::splat(p));
+                let (q4, d4, far4) = lo.closest(&super::super::V3::splat(p));
                 assert_eq!(far & 0xf, far4);
                 for (lane, t) in chunk.iter().enumerate() {
                     let packet = if lane < 4 { &lo } else { &hi };

@@ -12,44 +12,10 @@
 //! are marked at build time and answered by the scalar routine itself.
 
 use crate::math::{Vec3, Vec3A};
+use crate::memory::prefetch;
 use crate::primitive::closest_triangle::{FAST_REACH2, takes_f64_path_x4};
 use crate::primitive::{Triangle, TriangleHit, WatertightRay};
 use wide::f32x4;
-
-/// What the wide tree needs to know of a primitive type: whether its leaves
-/// are tested in SIMD packets ([`Triangle`]s, on x86-64) or one primitive at
-/// a time (the default). Chosen at compile time, per type.
-///
-/// ```
-/// use proxima::prelude::*;
-/// use proxima::wide_tree::WidePrimitive;
-/// #[derive(Clone, Copy, Debug)]
-/// struct Marker(Vec3);
-/// impl WidePrimitive for Marker {}
-/// assert!(!Marker::PACKED);
-/// ```
-pub trait WidePrimitive: Sized {
-    /// `true` when leaves of this type are tested as triangle packets.
-    const PACKED: bool = false;
-    /// The primitives as triangles, when [`PACKED`](Self::PACKED).
-    #[inline(always)]
-    fn as_triangles(_primitives: &[Self]) -> Option<&[Triangle]> {
-        None
-    }
-}
-
-impl WidePrimitive for Triangle {
-    /// On x86-64, where the packet arithmetic is known to repeat `Vec3A`'s bit for bit.
-    const PACKED: bool = cfg!(target_arch = "x86_64");
-    #[inline(always)]
-    fn as_triangles(primitives: &[Self]) -> Option<&[Triangle]> {
-        Self::PACKED.then_some(primitives)
-    }
-}
-
-impl WidePrimitive for crate::Point {}
-impl WidePrimitive for crate::LineSegment {}
-impl WidePrimitive for crate::ConvexPolygon {}
 
 /// Up to four triangles of one leaf in structure of arrays form, with the
 /// leaf-order slot of the first and each lane's input index (so that a tie
@@ -308,6 +274,16 @@ impl TrianglePacket {
         let far = ap.dot(ap).simd_gt(f32x4::splat(FAST_REACH2 / 4.0)).to_bitmask();
         (q, d.dot(d), far)
     }
+}
+
+/// Asks for every cache line of a triangle packet (176 bytes at a 16-byte
+/// boundary: three or four lines).
+#[inline(always)]
+pub(crate) fn prefetch_packet(packet: &TrianglePacket) {
+    prefetch(packet);
+    prefetch(&packet.a[2]);
+    prefetch(&packet.b[2]);
+    prefetch(&packet.c[2]);
 }
 
 #[cfg(test)]
