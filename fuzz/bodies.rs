@@ -15,7 +15,7 @@
 
 use arbitrary::{Result, Unstructured};
 use proxima::GridError;
-use proxima::bvh::SplitMethod;
+use proxima::build::SplitMethod;
 use proxima::grid::{ClassicHash, FastHash, GridConfig, GridInsert, GridLayout, HashGrid, InsertMethod};
 use proxima::io::{Format, LoadOptions, parse_with};
 use proxima::prelude::*;
@@ -151,7 +151,7 @@ fn coordinate(u: &mut Unstructured<'_>, regime: u8) -> Result<f32> {
         4 => 1e7 + lattice,
         _ => {
             let raw = f32::from_bits(u.arbitrary()?);
-            if raw.is_finite() && raw.abs() <= proxima::bvh::MAX_COORDINATE {
+            if raw.is_finite() && raw.abs() <= proxima::build::MAX_COORDINATE {
                 raw
             } else {
                 lattice
@@ -229,7 +229,7 @@ impl Geometry {
 
 fn build_config(u: &mut Unstructured<'_>) -> Result<BuildConfig> {
     Ok(BuildConfig {
-        max_depth: u.int_in_range(1..=proxima::bvh::MAX_DEPTH)?,
+        max_depth: u.int_in_range(1..=proxima::build::MAX_DEPTH)?,
         min_size: u.int_in_range(1..=8)?,
         split: if u.arbitrary()? {
             SplitMethod::BinnedSah

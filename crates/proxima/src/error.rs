@@ -186,7 +186,7 @@ pub enum QueryError {
     #[error("query point has a non-finite coordinate")]
     NonFinite,
     /// A coordinate beyond the bound
-    /// ([`MAX_QUERY_COORDINATE`](crate::bvh::MAX_QUERY_COORDINATE)) where
+    /// ([`MAX_QUERY_COORDINATE`](crate::build::MAX_QUERY_COORDINATE)) where
     /// squared distances overflow `f32`.
     #[error("query point has a coordinate beyond ±{bound:e}, where squared distances overflow f32")]
     CoordinateTooLarge {
@@ -216,7 +216,7 @@ pub enum BuildError {
         index: usize,
     },
     /// A primitive has a coordinate beyond the bound
-    /// ([`MAX_COORDINATE`](crate::bvh::MAX_COORDINATE)) where squared distances
+    /// ([`MAX_COORDINATE`](crate::build::MAX_COORDINATE)) where squared distances
     /// would overflow `f32`.
     #[error("primitive {index} has a coordinate beyond ±{bound:e}, where squared distances overflow f32")]
     CoordinateTooLarge {
@@ -606,7 +606,7 @@ pub enum SdfError {
     },
     /// A spread or margin so large that samples would lie beyond the
     /// coordinates a query accepts
-    /// ([`MAX_QUERY_COORDINATE`](crate::bvh::MAX_QUERY_COORDINATE)).
+    /// ([`MAX_QUERY_COORDINATE`](crate::build::MAX_QUERY_COORDINATE)).
     #[error("{option} = {value} puts samples beyond ±{bound:e}, where squared distances overflow f32")]
     TooFar {
         /// The option.

@@ -23,7 +23,7 @@
 //! | Primitives | [`primitive`] ([`Point`], [`LineSegment`], [`Triangle`], [`ConvexPolygon`]; traits [`Bounded`], [`ClosestPoint`], [`BoxOverlap`], [`RayIntersect`]), [`frustum`] ([`Frustum`], [`FrustumOverlap`]), [`ray`] ([`Ray`]) |
 //! | Mesh index | [`index`] ([`MeshIndex`]: one mesh and every structure on it, built on first use; what the command line, viewer and Python package ask) |
 //! | Queries | [`sdf`] ([`SignedDistanceField`]: signed distance, winding numbers, inside tests, grids, samples), [`query`]: [`NearestQuery`], [`RayQuery`], [`FrustumQuery`], each written once over a structure's walk; answers [`ClosestHit`], [`RayHit`] |
-//! | Structures | [`bvh`] ([`AabbTree`]), [`wide_tree`] ([`WideTree`], 4-wide, SIMD leaves), [`ray_tree`] ([`RayTree`], 8-wide, for rays), [`sphere_tree`] ([`SphereTree`]), [`linear`] ([`LinearSearch`], brute force), [`grid`] ([`HashGrid`]), [`traversal`] ([`GridTraversal`]) |
+//! | Structures | [`aabb_tree`] ([`AabbTree`]), [`build`] (the binary build every tree starts from: [`BuildConfig`]), [`wide_tree`] ([`WideTree`], 4-wide, SIMD leaves), [`ray_tree`] ([`RayTree`], 8-wide, for rays), [`sphere_tree`] ([`SphereTree`]), [`linear`] ([`LinearSearch`], brute force), [`grid`] ([`HashGrid`]), [`traversal`] ([`GridTraversal`]) |
 //! | Support | [`aabb`], [`sphere`], [`math`], [`memory`], [`budget`] (memory and work limits), [`error`] (typed errors), [`sample`] (seeded test and benchmark inputs) |
 //!
 //! `use proxima::prelude::*;` brings the structures, primitives and query traits.
@@ -35,8 +35,9 @@
 #![deny(missing_docs)]
 
 pub mod aabb;
+pub mod aabb_tree;
 pub mod budget;
-pub mod bvh;
+pub mod build;
 pub mod error;
 mod exact;
 pub mod frustum;
@@ -62,7 +63,8 @@ pub mod traversal;
 pub mod wide_tree;
 
 pub use aabb::Aabb;
-pub use bvh::{AabbTree, BuildConfig, TreeStats, check_query_point};
+pub use aabb_tree::AabbTree;
+pub use build::{BuildConfig, TreeStats, check_query_point};
 pub use error::FrustumError;
 pub use error::GridError;
 pub use error::RayError;

@@ -6,7 +6,7 @@
 mod common;
 
 use common::{bumpy_sphere, random_soup};
-use proxima::bvh::SplitMethod;
+use proxima::build::SplitMethod;
 use proxima::{AabbTree, BuildConfig, Vec3};
 
 #[test]

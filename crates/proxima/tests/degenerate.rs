@@ -18,7 +18,7 @@ mod common;
 
 use common::degenerate::{Case, cases};
 use common::exact::{ExactBox, triangle_touches_exact_box};
-use proxima::bvh::{MAX_COORDINATE, SplitMethod};
+use proxima::build::{MAX_COORDINATE, SplitMethod};
 use proxima::grid::{GridConfig, GridLayout, HashGrid, VoxelConfig, voxelize};
 use proxima::prelude::*;
 use proxima::traversal::GridTraversal;

@@ -6,7 +6,7 @@
 mod common;
 
 use common::temp_dir;
-use proxima::bvh::MAX_COORDINATE;
+use proxima::build::MAX_COORDINATE;
 use proxima::grid::{GridConfig, HashGrid, VoxelConfig, voxelize};
 use proxima::io::LoadOptions;
 use proxima::prelude::*;
@@ -840,7 +840,7 @@ fn points_file_bom_and_utf8() {
 
 #[test]
 fn query_point_beyond_bound() {
-    use proxima::bvh::{MAX_QUERY_COORDINATE, check_query_point};
+    use proxima::build::{MAX_QUERY_COORDINATE, check_query_point};
     use proxima::{QueryError, Triangle};
     let triangle = Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y);
     let tree = AabbTree::build(vec![triangle], &BuildConfig::default()).unwrap();

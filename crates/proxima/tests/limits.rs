@@ -16,7 +16,7 @@ mod common;
 
 use common::glb_writer::instanced_glb;
 
-use proxima::bvh::{MAX_DEPTH, SplitMethod};
+use proxima::build::{MAX_DEPTH, SplitMethod};
 use proxima::grid::{GridConfig, HashGrid, VoxelConfig, voxelize};
 use proxima::io::{Format, LoadOptions, parse};
 use proxima::prelude::*;

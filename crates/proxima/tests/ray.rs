@@ -8,7 +8,7 @@
 mod common;
 
 use proptest::prelude::*;
-use proxima::bvh::SplitMethod;
+use proxima::build::SplitMethod;
 use proxima::grid::{FastHash, GridConfig, HashGrid};
 use proxima::prelude::*;
 use proxima::primitive::{RayIntersect, TriangleHit, WatertightRay};

@@ -21,7 +21,7 @@ mod wide_shape;
 
 use common::{batch_options, bumpy_sphere, mixed_with, queries, random_soup, shared_meshes};
 use proptest::prelude::*;
-use proxima::bvh::SplitMethod;
+use proxima::build::SplitMethod;
 use proxima::prelude::*;
 use proxima::{BuildError, Frustum, RayError};
 use rayon::prelude::*;

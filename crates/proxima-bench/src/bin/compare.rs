@@ -25,7 +25,7 @@
 //! steadier than the ratio of best times when the load drifts between rounds.
 
 use parry3d::shape::TriMesh;
-use proxima::bvh::SplitMethod;
+use proxima::build::SplitMethod;
 use proxima::prelude::*;
 use proxima::{AabbTree, BuildConfig, LinearSearch, Mesh};
 use proxima_bench::{Ray, aimed_rays, load_named, parry_distance, parry_input, parry_ray, parry_trimesh, ray_sets};

@@ -12,7 +12,7 @@
 //! interleaved rounds (best of 5) so that load from other processes hits both
 //! alike. The answers of the two trees are checked equal.
 
-use proxima::bvh::SplitMethod;
+use proxima::build::SplitMethod;
 use proxima::prelude::*;
 use proxima::{AabbTree, BuildConfig, ClosestHit, Mesh, SphereTree, Vec3};
 use proxima_bench::load_named;
@@ -25,7 +25,7 @@ fn timed<T>(f: impl FnOnce() -> T) -> (T, f64) {
 }
 
 /// Mean nodes and primitives visited per query.
-fn visits(points: &[Vec3], query: impl Fn(Vec3) -> proxima::bvh::QueryStats) -> (f64, f64) {
+fn visits(points: &[Vec3], query: impl Fn(Vec3) -> proxima::QueryStats) -> (f64, f64) {
     let (nodes, primitives) = points.iter().fold((0, 0), |acc, &p| {
         let s = query(p);
         (acc.0 + s.nodes_visited, acc.1 + s.primitives_tested)

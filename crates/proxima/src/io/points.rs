@@ -4,7 +4,7 @@
 use super::read::{Limit, TextGuard, read_bounded};
 use super::text::{Lines, show, syntax};
 use super::{DEFAULT_MAX_LINE_BYTES, LoadOptions};
-use crate::bvh::MAX_QUERY_COORDINATE;
+use crate::build::MAX_QUERY_COORDINATE;
 use crate::error::{LoadError, LoadErrorKind};
 use crate::math::Vec3;
 use std::path::Path;

@@ -29,7 +29,7 @@ pub trait NearestQuery<T: ClosestPoint>: SpatialIndex<T> {
 
     /// The primitive closest to `p`, or `None` for an empty structure or a
     /// `p` that is not finite or beyond
-    /// [`MAX_QUERY_COORDINATE`](crate::bvh::MAX_QUERY_COORDINATE). Ties go to
+    /// [`MAX_QUERY_COORDINATE`](crate::build::MAX_QUERY_COORDINATE). Ties go to
     /// the lowest input index.
     #[inline]
     fn closest(&self, p: Vec3) -> Option<ClosestHit> {
@@ -78,7 +78,7 @@ pub trait NearestQuery<T: ClosestPoint>: SpatialIndex<T> {
         let leaves = self.leaves();
         let k = k.min(leaves.len());
         scratch.heap.clear();
-        if k > 0 && crate::bvh::answerable(p) {
+        if k > 0 && crate::build::answerable(p) {
             let mut best = KBest::new(&mut scratch.heap, k, leaves.indices());
             self.nearest_walk(Vec3A::from(p), &mut best, &mut ());
         }
@@ -197,7 +197,7 @@ pub(crate) fn best_within<'a, T: ClosestPoint + 'a, S: NearestQuery<T> + ?Sized,
     max_distance: f32,
     counter: &mut C,
 ) -> Option<Best<'a>> {
-    if !crate::bvh::answerable(p) {
+    if !crate::build::answerable(p) {
         return None;
     }
     let mut best = Best::new(structure.leaves().indices(), max_distance * max_distance);

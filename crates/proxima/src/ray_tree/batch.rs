@@ -18,7 +18,7 @@
 use super::RayTree;
 use super::slabs::NodeSlabs;
 use super::walk::{Arrays, Lanes, Portable, RayWalk, SHALLOW, SMALL_STACK, WalkState};
-use crate::bvh::RaySlabs;
+use crate::aabb_tree::RaySlabs;
 use crate::error::RayError;
 use crate::math::Vec3;
 use crate::memory::prefetch;

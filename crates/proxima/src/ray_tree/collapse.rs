@@ -2,7 +2,7 @@
 
 use super::{LEAF, PACKET_INDEX, PAIR, RayNode, RayTree, WIDTH};
 use crate::aabb::Aabb;
-use crate::bvh::AabbTree;
+use crate::aabb_tree::AabbTree;
 use crate::memory::HugePageVec;
 use crate::primitive::{Bounded, Triangle};
 use crate::query::SpatialIndex;

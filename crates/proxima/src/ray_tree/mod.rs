@@ -18,7 +18,7 @@
 //!   tested at once by the watertight test (Woop et al. 2013) that every
 //!   structure uses, repeated lane by lane bit for bit.
 //!
-//! The box test is the binary tree's (`bvh/ray.rs`): boxes widened per ray,
+//! The box test is the binary tree's (`aabb_tree/ray.rs`): boxes widened per ray,
 //! so that no computed hit lies outside a box the ray was found to miss.
 //! The answers therefore equal brute force's, field for field: the smallest
 //! `t`, ties to the lowest input index, and no ray slips between the
@@ -45,7 +45,8 @@ mod slabs;
 mod walk;
 
 use crate::aabb::Aabb;
-use crate::bvh::{AabbTree, BuildConfig};
+use crate::aabb_tree::AabbTree;
+use crate::build::BuildConfig;
 use crate::error::BuildError;
 use crate::memory::HugePageArray;
 use crate::mesh::Mesh;
@@ -256,7 +257,7 @@ mod tests {
     use super::slabs::NodeSlabs;
     use super::walk::{Lanes, Portable};
     use super::*;
-    use crate::bvh::RaySlabs;
+    use crate::aabb_tree::RaySlabs;
     use crate::math::Vec3;
     use crate::primitive::WatertightRay;
     use crate::query::RayQuery;

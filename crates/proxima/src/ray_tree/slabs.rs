@@ -3,13 +3,13 @@
 //! both give the same bits.
 
 use super::{RayNode, WIDTH};
-use crate::bvh::RaySlabs;
+use crate::aabb_tree::RaySlabs;
 use wide::f32x4;
 
 /// A ray as a node test needs it: per axis, the rows of [`RayNode::bounds`]
 /// that hold its near and far planes, and the terms of
 /// `((plane − origin) + shift) · (1 / direction)`, the binary tree's slab
-/// test with its per-ray widening (`bvh/ray.rs`).
+/// test with its per-ray widening (`aabb_tree/ray.rs`).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct NodeSlabs {
     pub(crate) near_row: [usize; 3],

@@ -15,7 +15,8 @@
 
 use super::slabs::NodeSlabs;
 use super::{LEAF, PACKET_INDEX, PAIR, RayNode, RayTree, WIDTH};
-use crate::bvh::{MAX_DEPTH, RaySlabs};
+use crate::aabb_tree::RaySlabs;
+use crate::build::MAX_DEPTH;
 use crate::math::Vec3;
 use crate::memory::prefetch;
 use crate::primitive::{Triangle, TriangleHit, WatertightRay};

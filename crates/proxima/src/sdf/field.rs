@@ -5,7 +5,7 @@ use super::pseudonormal::Pseudonormals;
 use super::winding::{DEFAULT_BETA, WindingNumbers, winding_number_exact};
 use crate::Triangle;
 use crate::aabb::Aabb;
-use crate::bvh::BuildConfig;
+use crate::build::BuildConfig;
 use crate::error::SdfError;
 use crate::math::Vec3;
 use crate::mesh::Mesh;

@@ -5,7 +5,7 @@
 use super::field::SignedDistanceField;
 use crate::aabb::Aabb;
 use crate::budget::default_memory_budget;
-use crate::bvh::MAX_QUERY_COORDINATE;
+use crate::build::MAX_QUERY_COORDINATE;
 use crate::error::SdfError;
 use crate::math::Vec3;
 use crate::query::NearestQuery;

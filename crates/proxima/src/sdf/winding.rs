@@ -60,8 +60,8 @@ const INNER: u32 = u32::MAX;
 const LEAF_ENTRY: u32 = 1 << 31;
 
 /// Deepest stack a walk can need: three pushes per level of a tree at most
-/// [`MAX_DEPTH`](crate::bvh::MAX_DEPTH) deep, plus the root.
-const STACK: usize = 3 * crate::bvh::MAX_DEPTH as usize + 4;
+/// [`MAX_DEPTH`](crate::build::MAX_DEPTH) deep, plus the root.
+const STACK: usize = 3 * crate::build::MAX_DEPTH as usize + 4;
 
 /// The expansions of a wide node's four children, structure of arrays.
 #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]

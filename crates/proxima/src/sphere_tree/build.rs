@@ -21,7 +21,8 @@
 
 use super::SphereTree;
 use super::node::{SphereNode, SpherePair};
-use crate::bvh::{AabbTree, BuildConfig};
+use crate::aabb_tree::AabbTree;
+use crate::build::BuildConfig;
 use crate::error::BuildError;
 use crate::math::Vec3;
 use crate::primitive::{BoundingPoints, PrimitiveSet};

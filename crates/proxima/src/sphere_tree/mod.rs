@@ -28,7 +28,7 @@ pub use node::SphereNode;
 use node::SpherePair;
 
 use crate::aabb::Aabb;
-use crate::bvh::{frustum_walk, nearest_walk};
+use crate::build::{frustum_walk, nearest_walk};
 use crate::frustum::{Frustum, FrustumOverlap};
 use crate::math::{Vec3, Vec3A};
 use crate::primitive::ClosestPoint;

@@ -1,6 +1,6 @@
 //! The 32-byte sphere node.
 
-use crate::bvh::PairedNode;
+use crate::build::PairedNode;
 use crate::math::{Vec3, Vec3A};
 use crate::sphere::Sphere;
 

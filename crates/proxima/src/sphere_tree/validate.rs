@@ -2,7 +2,7 @@
 
 use super::SphereTree;
 use super::node::SphereNode;
-use crate::bvh::{TreeStats, check_structure};
+use crate::build::{TreeStats, check_structure};
 use crate::math::Vec3;
 use crate::primitive::BoundingPoints;
 use crate::sphere::Sphere;

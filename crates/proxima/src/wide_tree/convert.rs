@@ -2,7 +2,8 @@
 
 use super::{WideNode, WidePrimitive, WideTree};
 use crate::aabb::Aabb;
-use crate::bvh::{AabbTree, BuildConfig};
+use crate::aabb_tree::AabbTree;
+use crate::build::BuildConfig;
 use crate::error::BuildError;
 use crate::math::Vec3;
 use crate::memory::{HugePageArray, HugePageVec, prefetch};
@@ -362,7 +363,7 @@ mod tests {
     /// box against the union of its binary children's widened boxes.
     #[test]
     fn merged_leaves_make_the_same_wide_tree() {
-        use crate::bvh::SplitMethod;
+        use crate::build::SplitMethod;
         use crate::wide_tree::WideChild;
         for (n, seed) in [(1, 1), (9, 2), (3000, 3), (20_000, 4)] {
             let triangles = crate::sample::small_triangles(n, seed);

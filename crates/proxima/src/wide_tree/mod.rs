@@ -39,7 +39,7 @@ mod walk;
 pub use primitive::WidePrimitive;
 
 use crate::aabb::Aabb;
-use crate::bvh::AabbTree;
+use crate::aabb_tree::AabbTree;
 use crate::frustum::{Frustum, FrustumOverlap};
 use crate::math::Vec3;
 use crate::memory::HugePageArray;

@@ -12,7 +12,7 @@
 
 use super::walk::{Pending, Slices, WideQuery};
 use super::{WideNode, WidePrimitive, WideTree};
-use crate::bvh::RaySlabs;
+use crate::aabb_tree::RaySlabs;
 use crate::math::Vec3;
 use crate::primitive::{RayIntersect, WatertightRay};
 use crate::query::{Counter, RayQuery, RayVisitor};

@@ -11,7 +11,7 @@
 //! whole walk runs compiled for AVX2 ([`WideTree::walk`]).
 
 use super::{LEAF, WideNode, WideTree};
-use crate::bvh::MAX_DEPTH;
+use crate::build::MAX_DEPTH;
 use crate::memory::prefetch;
 use crate::query::Counter;
 use std::ops::ControlFlow;

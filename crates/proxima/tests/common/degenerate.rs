@@ -23,7 +23,7 @@ pub struct Case {
     /// Every coordinate, cell boundary and query is a small dyadic value, so
     /// overlap tests carry no rounding and grids must equal brute force exactly.
     pub exact: bool,
-    /// Coordinates beyond [`proxima::bvh::MAX_COORDINATE`]: trees refuse to build.
+    /// Coordinates beyond [`proxima::build::MAX_COORDINATE`]: trees refuse to build.
     pub beyond_tree_bound: bool,
 }
 

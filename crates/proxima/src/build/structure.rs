@@ -1,9 +1,8 @@
-//! Statistics and invariant checks.
+//! The shape and the structural invariants of a binary hierarchy stored as
+//! sibling pairs, whatever its bounding volume: statistics, and the checks
+//! every such tree's `validate` starts from.
 
-use super::AabbTree;
-use super::Node;
 use super::walk::PairedNode;
-use crate::primitive::Bounded;
 
 /// Shape of a built tree.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -56,51 +55,6 @@ impl TreeStats {
             },
             memory_bytes,
         }
-    }
-}
-
-impl<T: Bounded> AabbTree<T> {
-    /// Counts nodes, leaves and leaf sizes.
-    pub fn stats(&self) -> TreeStats {
-        TreeStats::of(
-            self.nodes()
-                .filter(|(_, n)| n.is_leaf())
-                .map(|(_, n)| n.primitive_range().len()),
-            self.len(),
-            self.node_count(),
-            self.depth,
-            std::mem::size_of_val(&self.nodes[..]) + self.leaves.memory_bytes(),
-        )
-    }
-
-    /// Checks the tree's invariants: every node reachable once; every node's
-    /// box holds its children's boxes or its primitives' boxes; the leaves
-    /// cover the primitive array exactly once, in order; the recorded depth is
-    /// right; `indices` is a permutation. Returns a description of the first
-    /// violation.
-    pub fn validate(&self) -> Result<(), String> {
-        check_structure::<Node>(
-            &self.nodes,
-            self.len(),
-            self.depth,
-            self.leaves.indices(),
-            |i, ancestors| {
-                let n = self.node(i);
-                if let Some(&parent) = ancestors.last()
-                    && !self.node(parent).bounds().contains(&n.bounds())
-                {
-                    return Err(format!("node {parent} does not hold child {i}"));
-                }
-                let outside = n.is_leaf().then(|| {
-                    n.primitive_range()
-                        .find(|&slot| !n.bounds().contains(&self.leaves.primitives()[slot].bounds()))
-                });
-                match outside.flatten() {
-                    Some(slot) => Err(format!("leaf {i} does not hold primitive slot {slot}")),
-                    None => Ok(()),
-                }
-            },
-        )
     }
 }
 

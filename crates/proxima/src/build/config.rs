@@ -31,7 +31,7 @@ pub const MAX_QUERY_COORDINATE: f32 = (1u64 << 62) as f32;
 /// ±[`MAX_QUERY_COORDINATE`] on every axis.
 ///
 /// ```
-/// use proxima::bvh::{check_query_point, MAX_QUERY_COORDINATE};
+/// use proxima::build::{check_query_point, MAX_QUERY_COORDINATE};
 /// use proxima::{QueryError, Vec3};
 /// assert!(check_query_point(Vec3::splat(MAX_QUERY_COORDINATE)).is_ok());
 /// assert_eq!(
@@ -74,7 +74,7 @@ pub enum SplitMethod {
     BinnedSah,
 }
 
-/// Build parameters of an [`AabbTree`](super::AabbTree).
+/// Build parameters of an [`AabbTree`](crate::AabbTree).
 ///
 /// ```
 /// use proxima::BuildConfig;

@@ -25,9 +25,8 @@
 //! unbounded value (the plane belongs to the box). The near and far planes are
 //! chosen by the sign bit of the direction, so `−0.0` works like `+0.0`.
 
-use super::AabbTree;
-use super::node::Node;
-use super::walk::{BinaryQuery, walk};
+use super::{AabbTree, Node};
+use crate::build::{BinaryQuery, walk};
 use crate::math::{BVec3A, Vec3, Vec3A};
 use crate::memory::prefetch;
 use crate::primitive::{RayIntersect, WatertightRay};

@@ -1,38 +1,27 @@
 //! The AABB tree (bounding volume hierarchy of axis-aligned boxes).
 //!
-//! One file per operation: [`build`](AabbTree::build) in `build.rs` (its median
-//! split in `median.rs`), the closest-primitive search in `closest.rs`,
-//! k-nearest in `knn.rs`, view frustum queries in `frustum.rs`, batches over
-//! many points in `batch.rs`, first hit and any hit along a ray in `ray.rs`,
-//! statistics and invariants in `validate.rs`.
+//! The tree is the binary hierarchy of [`build`](crate::build) as built:
+//! its build, node, walks and structure checks live there, shared with the
+//! other trees. Here: the tree itself and its distance and frustum queries
+//! (this file), first hit and any hit along a ray (`ray.rs`), statistics
+//! and invariants (`validate.rs`).
 
-mod build;
-mod config;
-mod frustum;
-mod median;
-mod node;
 mod ray;
 mod validate;
-mod walk;
 
-pub(crate) use config::answerable;
-pub use config::{BuildConfig, MAX_COORDINATE, MAX_DEPTH, MAX_QUERY_COORDINATE, SplitMethod, check_query_point};
-pub use node::Node;
-use node::NodePair;
 pub(crate) use ray::RaySlabs;
-pub use validate::TreeStats;
-// Shared with the sphere tree, which answers the same queries the same way.
-pub(crate) use frustum::frustum_walk;
-pub(crate) use validate::check_structure;
-pub(crate) use walk::{PairedNode, nearest_walk};
+// The build layer's names the tree's users need with it.
+pub use crate::build::{BuildConfig, Node, SplitMethod, TreeStats};
 // The query layer's names, where the tree's users have always found them.
 pub use crate::query::{BatchOptions, ClosestHit, KnnScratch, QueryStats, RayHit};
 
 use crate::aabb::Aabb;
+use crate::build::{NodePair, build_hierarchy, frustum_walk, nearest_walk};
+use crate::error::BuildError;
 use crate::frustum::{Frustum, FrustumOverlap};
 use crate::math::Vec3A;
 use crate::memory::HugePageArray;
-use crate::primitive::ClosestPoint;
+use crate::primitive::{Bounded, ClosestPoint, PrimitiveSet};
 use crate::query::{Counter, FrustumQuery, Leaves, NearestQuery, NearestVisitor, SpatialIndex};
 
 /// A bounding volume hierarchy of axis-aligned boxes over primitives of type `T`.
@@ -118,6 +107,35 @@ impl<T> AabbTree<T> {
     /// The leaves, for structures converted from this tree.
     pub(crate) fn into_leaves(self) -> Leaves<T> {
         self.leaves
+    }
+}
+
+impl<T: Bounded + Copy + Send + Sync> AabbTree<T> {
+    /// Builds a tree over `primitives`; the source of each is its input index.
+    ///
+    /// Fails when the configuration is invalid, a primitive has a non-finite
+    /// coordinate or one beyond [`MAX_COORDINATE`](crate::build::MAX_COORDINATE), or there are 2^32 or more primitives. Large builds use all
+    /// threads of rayon's current pool; run it inside a one-thread pool for a
+    /// single-thread build (the tree is the same either way).
+    pub fn build(primitives: Vec<T>, config: &BuildConfig) -> Result<Self, BuildError> {
+        let sources = (0..primitives.len() as u32).collect();
+        Self::build_with_sources(primitives, sources, config)
+    }
+
+    /// Builds a tree over primitives extracted from a mesh, keeping their sources.
+    pub fn build_set(set: PrimitiveSet<T>, config: &BuildConfig) -> Result<Self, BuildError> {
+        Self::build_with_sources(set.primitives, set.sources, config)
+    }
+
+    /// Builds a tree over `primitives`, where `sources[i]` is the mesh element
+    /// that `primitives[i]` came from.
+    pub fn build_with_sources(primitives: Vec<T>, sources: Vec<u32>, config: &BuildConfig) -> Result<Self, BuildError> {
+        let built = build_hierarchy(primitives, sources, config)?;
+        Ok(Self {
+            nodes: built.nodes,
+            leaves: built.leaves,
+            depth: built.depth,
+        })
     }
 }
 

@@ -1,15 +1,16 @@
-//! Top-down build: the classic median split, or binned SAH; subtrees are built
-//! in parallel and joined.
+//! Top-down build of a binary hierarchy: the classic median split, or
+//! binned SAH; subtrees are built in parallel and joined. The AABB tree is
+//! this hierarchy as built; the other trees are made from it.
 
-use super::AabbTree;
 use super::config::{BuildConfig, MAX_COORDINATE, SplitMethod};
 use super::median::{CentreItem, Counts, SMALL_NODE, median_partition, median_small};
 use super::node::{Node, NodePair};
 use crate::aabb::Aabb;
 use crate::error::BuildError;
 use crate::math::{Vec3, Vec4};
-use crate::memory::HugePageVec;
-use crate::primitive::{Bounded, PrimitiveSet};
+use crate::memory::{HugePageArray, HugePageVec};
+use crate::primitive::Bounded;
+use crate::query::Leaves;
 use rayon::prelude::*;
 
 /// A primitive's box and input index, for the binned SAH split, which weighs
@@ -113,75 +114,77 @@ fn widen(b: Aabb) -> Aabb {
     b.inflate(scale * 8.0 * f32::EPSILON)
 }
 
-impl<T: Bounded + Copy + Send + Sync> AabbTree<T> {
-    /// Builds a tree over `primitives`; the source of each is its input index.
-    ///
-    /// Fails when the configuration is invalid, a primitive has a non-finite
-    /// coordinate or one beyond [`MAX_COORDINATE`], or there are 2^32 or more primitives. Large builds use all
-    /// threads of rayon's current pool; run it inside a one-thread pool for a
-    /// single-thread build (the tree is the same either way).
-    pub fn build(primitives: Vec<T>, config: &BuildConfig) -> Result<Self, BuildError> {
-        let sources = (0..primitives.len() as u32).collect();
-        Self::build_with_sources(primitives, sources, config)
-    }
+/// A built binary hierarchy: the node pairs (node 0 the root, node 1
+/// padding, children after their parent) with their widened boxes, the
+/// primitives in leaf order with their input indices and sources, and the
+/// depth of the deepest leaf. What every binary tree is made from.
+pub(crate) struct Hierarchy<T> {
+    pub(crate) nodes: HugePageArray<NodePair>,
+    pub(crate) leaves: Leaves<T>,
+    pub(crate) depth: u32,
+}
 
-    /// Builds a tree over primitives extracted from a mesh, keeping their sources.
-    pub fn build_set(set: PrimitiveSet<T>, config: &BuildConfig) -> Result<Self, BuildError> {
-        Self::build_with_sources(set.primitives, set.sources, config)
+/// Builds the hierarchy over `primitives`, where `sources[i]` is the mesh
+/// element that `primitives[i]` came from.
+///
+/// Fails when the configuration is invalid, a primitive has a non-finite
+/// coordinate or one beyond [`MAX_COORDINATE`], there are 2^32 or more
+/// primitives, or `sources` is not as long as `primitives`. Large builds use
+/// all threads of rayon's current pool; the hierarchy is the same on any
+/// number of threads.
+pub(crate) fn build_hierarchy<T: Bounded + Copy + Send + Sync>(
+    primitives: Vec<T>,
+    sources: Vec<u32>,
+    config: &BuildConfig,
+) -> Result<Hierarchy<T>, BuildError> {
+    config.validate()?;
+    let n = primitives.len();
+    if n >= u32::MAX as usize {
+        return Err(BuildError::TooMany { count: n });
     }
-
-    /// Builds a tree over `primitives`, where `sources[i]` is the mesh element
-    /// that `primitives[i]` came from.
-    pub fn build_with_sources(primitives: Vec<T>, sources: Vec<u32>, config: &BuildConfig) -> Result<Self, BuildError> {
-        config.validate()?;
-        let n = primitives.len();
-        if n >= u32::MAX as usize {
-            return Err(BuildError::TooMany { count: n });
+    if sources.len() != n {
+        return Err(BuildError::SourceCount {
+            primitives: n,
+            sources: sources.len(),
+        });
+    }
+    let (mut nodes, depth, indices) = match config.split {
+        SplitMethod::Median => {
+            let items = centre_items(&primitives);
+            let Some(bounds) = centre_bounds(&items) else {
+                return Err(input_error(primitives.iter().map(Bounded::bounds)));
+            };
+            build_nodes(items, bounds, config)
         }
-        if sources.len() != n {
-            return Err(BuildError::SourceCount {
-                primitives: n,
-                sources: sources.len(),
-            });
+        SplitMethod::BinnedSah => {
+            let items: Vec<BoxItem> = primitives
+                .par_iter()
+                .enumerate()
+                .map(|(index, p)| BoxItem::new(p.bounds(), index as u32))
+                .collect();
+            check_boxes(&items)?;
+            build_nodes(items, Aabb::EMPTY, config)
         }
-        let (mut nodes, depth, indices) = match config.split {
-            SplitMethod::Median => {
-                let items = centre_items(&primitives);
-                let Some(bounds) = centre_bounds(&items) else {
-                    return Err(input_error(primitives.iter().map(Bounded::bounds)));
-                };
-                build_nodes(items, bounds, config)
+    };
+    // A random gather: the primitive a few slots ahead is asked for
+    // early, so that the misses overlap (the distance ahead was measured:
+    // docs/perf-log.md).
+    let (ordered, sources): (Vec<T>, Vec<u32>) = indices
+        .par_iter()
+        .enumerate()
+        .map(|(k, &i)| {
+            if let Some(&next) = indices.get(k + GATHER_AHEAD) {
+                crate::memory::prefetch(&primitives[next as usize]);
             }
-            SplitMethod::BinnedSah => {
-                let items: Vec<BoxItem> = primitives
-                    .par_iter()
-                    .enumerate()
-                    .map(|(index, p)| BoxItem::new(p.bounds(), index as u32))
-                    .collect();
-                check_boxes(&items)?;
-                build_nodes(items, Aabb::EMPTY, config)
-            }
-        };
-        // A random gather: the primitive a few slots ahead is asked for
-        // early, so that the misses overlap (the distance ahead was measured:
-        // docs/perf-log.md).
-        let (ordered, sources): (Vec<T>, Vec<u32>) = indices
-            .par_iter()
-            .enumerate()
-            .map(|(k, &i)| {
-                if let Some(&next) = indices.get(k + GATHER_AHEAD) {
-                    crate::memory::prefetch(&primitives[next as usize]);
-                }
-                (primitives[i as usize], sources[i as usize])
-            })
-            .unzip();
-        refit(nodes.as_mut_slice(), &ordered);
-        Ok(Self {
-            nodes: nodes.finish(),
-            leaves: crate::query::Leaves::new(ordered, indices, sources),
-            depth,
+            (primitives[i as usize], sources[i as usize])
         })
-    }
+        .unzip();
+    refit(nodes.as_mut_slice(), &ordered);
+    Ok(Hierarchy {
+        nodes: nodes.finish(),
+        leaves: Leaves::new(ordered, indices, sources),
+        depth,
+    })
 }
 
 /// The centre items of `primitives`. A primitive with a coordinate that is

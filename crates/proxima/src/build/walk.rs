@@ -201,8 +201,9 @@ pub(crate) fn nearest_walk<N: PairedNode, T, V: NearestVisitor<T>, C: Counter>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::query::{Best, QueryStats, SpatialIndex};
-    use crate::{AabbTree, BuildConfig, Vec3};
+    use crate::build::{BuildConfig, Node, build_hierarchy};
+    use crate::math::Vec3;
+    use crate::query::{Best, QueryStats};
 
     /// The small stack and the full one make the same walk (real trees are
     /// too shallow to reach the full one, so it is tested directly).
@@ -211,17 +212,18 @@ mod tests {
         let triangles = crate::sample::small_triangles(3000, 9);
         let mut rng = crate::sample::Rng::new(109);
         let mut v = || Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
-        let tree = AabbTree::build(triangles, &BuildConfig::default()).unwrap();
-        assert!(tree.depth() < SHALLOW as u32);
-        let leaves = tree.leaves();
+        let sources = (0..triangles.len() as u32).collect();
+        let tree = build_hierarchy(triangles, sources, &BuildConfig::default()).unwrap();
+        assert!(tree.depth < SHALLOW as u32);
+        let leaves = &tree.leaves;
         for _ in 0..500 {
             let p = Vec3A::from(v() * 1.5);
             let mut small = Best::new(leaves.indices(), f32::INFINITY);
             let mut full = Best::new(leaves.indices(), f32::INFINITY);
             let (mut small_stats, mut full_stats) = (QueryStats::default(), QueryStats::default());
             let primitives = leaves.primitives();
-            walk_with::<crate::bvh::Node, _, _, SHALLOW>(
-                tree.pairs(),
+            walk_with::<Node, _, _, SHALLOW>(
+                &tree.nodes,
                 &mut Nearest {
                     p,
                     primitives,
@@ -229,8 +231,8 @@ mod tests {
                 },
                 &mut small_stats,
             );
-            walk_with::<crate::bvh::Node, _, _, { MAX_DEPTH as usize + 1 }>(
-                tree.pairs(),
+            walk_with::<Node, _, _, { MAX_DEPTH as usize + 1 }>(
+                &tree.nodes,
                 &mut Nearest {
                     p,
                     primitives,
