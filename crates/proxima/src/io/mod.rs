@@ -113,6 +113,7 @@
 //! the file becomes the nearest `f32`). Timings: `docs/perf-log.md`.
 
 mod glb;
+mod load_budget;
 mod obj;
 mod off;
 mod ply;

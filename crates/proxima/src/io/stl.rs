@@ -1,6 +1,6 @@
 //! STL, binary and ascii, with exactly-equal positions welded into shared vertices.
 
-use super::read::Budget;
+use super::load_budget::Budget;
 use super::text::{Faces, TokenStream, check_finite, error_at, parse_f32, show, syntax, truncated};
 use crate::error::{LoadError, MeshError};
 use crate::math::Vec3;
