@@ -64,7 +64,7 @@ pub mod wide_tree;
 
 pub use aabb::Aabb;
 pub use aabb_tree::AabbTree;
-pub use build::{BuildConfig, TreeStats, check_query_point};
+pub use build::{BuildConfig, TreeStats};
 pub use error::FrustumError;
 pub use error::GridError;
 pub use error::RayError;
@@ -82,7 +82,7 @@ pub use primitive::{
 };
 pub use query::{
     BatchOptions, ClosestHit, FrustumQuery, KnnScratch, Leaves, NearestQuery, QueryStats, RayHit, RayQuery,
-    SpatialIndex,
+    SpatialIndex, check_query_point,
 };
 pub use ray::Ray;
 pub use ray_tree::RayTree;

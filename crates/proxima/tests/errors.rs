@@ -840,8 +840,8 @@ fn points_file_bom_and_utf8() {
 
 #[test]
 fn query_point_beyond_bound() {
-    use proxima::build::{MAX_QUERY_COORDINATE, check_query_point};
-    use proxima::{QueryError, Triangle};
+    use proxima::build::MAX_QUERY_COORDINATE;
+    use proxima::{QueryError, Triangle, check_query_point};
     let triangle = Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y);
     let tree = AabbTree::build(vec![triangle], &BuildConfig::default()).unwrap();
     let wide = WideTree::from_tree(AabbTree::build(vec![triangle], &BuildConfig::default()).unwrap());

@@ -1,7 +1,6 @@
 //! Build parameters.
 
-use crate::error::{BuildError, QueryError};
-use crate::math::Vec3;
+use crate::error::BuildError;
 
 /// The deepest tree the build produces. Traversals use a fixed stack of this
 /// many entries, so no query allocates and none can overflow.
@@ -24,39 +23,8 @@ pub const MAX_COORDINATE: f32 = (1u64 << 60) as f32;
 /// `∞` and the answer would be primitive 0 at an infinite distance, so the
 /// queries of the trees and of [`LinearSearch`](crate::LinearSearch) answer
 /// such a point as they answer a NaN one: `None`, or no hits.
-/// [`check_query_point`] says why, for callers that report it.
+/// [`check_query_point`](crate::check_query_point) says why, for callers that report it.
 pub const MAX_QUERY_COORDINATE: f32 = (1u64 << 62) as f32;
-
-/// Whether `p` is a point the queries answer: finite, and within
-/// ±[`MAX_QUERY_COORDINATE`] on every axis.
-///
-/// ```
-/// use proxima::build::{check_query_point, MAX_QUERY_COORDINATE};
-/// use proxima::{QueryError, Vec3};
-/// assert!(check_query_point(Vec3::splat(MAX_QUERY_COORDINATE)).is_ok());
-/// assert_eq!(
-///     check_query_point(Vec3::new(1e30, 0.0, 0.0)),
-///     Err(QueryError::CoordinateTooLarge { bound: MAX_QUERY_COORDINATE })
-/// );
-/// assert_eq!(check_query_point(Vec3::new(f32::NAN, 0.0, 0.0)), Err(QueryError::NonFinite));
-/// ```
-pub fn check_query_point(p: Vec3) -> Result<(), QueryError> {
-    if !p.is_finite() {
-        Err(QueryError::NonFinite)
-    } else if p.abs().max_element() > MAX_QUERY_COORDINATE {
-        Err(QueryError::CoordinateTooLarge {
-            bound: MAX_QUERY_COORDINATE,
-        })
-    } else {
-        Ok(())
-    }
-}
-
-/// [`check_query_point`] as a test on the query path.
-#[inline(always)]
-pub(crate) fn answerable(p: Vec3) -> bool {
-    p.is_finite() && p.abs().max_element() <= MAX_QUERY_COORDINATE
-}
 
 /// How a node's primitives are divided between its two children.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]

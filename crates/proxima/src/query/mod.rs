@@ -30,6 +30,7 @@ mod frustum;
 mod knn;
 mod leaves;
 mod nearest;
+mod point;
 mod ray;
 mod visitor;
 
@@ -38,12 +39,14 @@ pub use frustum::FrustumQuery;
 pub use knn::{KnnScratch, NearestAnswers, distinct_sources};
 pub use leaves::Leaves;
 pub use nearest::NearestQuery;
+pub use point::check_query_point;
 pub use ray::{RayHit, RayQuery};
 pub use visitor::{Counter, NearestVisitor, QueryStats, RayVisitor};
 
 pub(crate) use batch::answer_batch_indexed;
 pub(crate) use batch::{morton_order, unpermute};
 pub(crate) use closest::Best;
+pub(crate) use point::answerable;
 pub(crate) use ray::{AnyHit, FarRay, FirstHit, hit_answer, prepare_structure_ray, sort_points};
 
 use crate::aabb::Aabb;

@@ -78,7 +78,7 @@ pub trait NearestQuery<T: ClosestPoint>: SpatialIndex<T> {
         let leaves = self.leaves();
         let k = k.min(leaves.len());
         scratch.heap.clear();
-        if k > 0 && crate::build::answerable(p) {
+        if k > 0 && super::answerable(p) {
             let mut best = KBest::new(&mut scratch.heap, k, leaves.indices());
             self.nearest_walk(Vec3A::from(p), &mut best, &mut ());
         }
@@ -197,7 +197,7 @@ pub(crate) fn best_within<'a, T: ClosestPoint + 'a, S: NearestQuery<T> + ?Sized,
     max_distance: f32,
     counter: &mut C,
 ) -> Option<Best<'a>> {
-    if !crate::build::answerable(p) {
+    if !super::answerable(p) {
         return None;
     }
     let mut best = Best::new(structure.leaves().indices(), max_distance * max_distance);

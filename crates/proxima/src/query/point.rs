@@ -1,0 +1,36 @@
+//! Query points: which ones the structures answer.
+
+use crate::bvh::MAX_QUERY_COORDINATE;
+use crate::error::QueryError;
+use crate::math::Vec3;
+
+/// Whether `p` is a point the queries answer: finite, and within
+/// ±[`MAX_QUERY_COORDINATE`] on every axis.
+///
+/// ```
+/// use proxima::bvh::MAX_QUERY_COORDINATE;
+/// use proxima::{QueryError, Vec3, check_query_point};
+/// assert!(check_query_point(Vec3::splat(MAX_QUERY_COORDINATE)).is_ok());
+/// assert_eq!(
+///     check_query_point(Vec3::new(1e30, 0.0, 0.0)),
+///     Err(QueryError::CoordinateTooLarge { bound: MAX_QUERY_COORDINATE })
+/// );
+/// assert_eq!(check_query_point(Vec3::new(f32::NAN, 0.0, 0.0)), Err(QueryError::NonFinite));
+/// ```
+pub fn check_query_point(p: Vec3) -> Result<(), QueryError> {
+    if !p.is_finite() {
+        Err(QueryError::NonFinite)
+    } else if p.abs().max_element() > MAX_QUERY_COORDINATE {
+        Err(QueryError::CoordinateTooLarge {
+            bound: MAX_QUERY_COORDINATE,
+        })
+    } else {
+        Ok(())
+    }
+}
+
+/// [`check_query_point`] as a test on the query path.
+#[inline(always)]
+pub(crate) fn answerable(p: Vec3) -> bool {
+    p.is_finite() && p.abs().max_element() <= MAX_QUERY_COORDINATE
+}
