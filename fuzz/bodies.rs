@@ -17,10 +17,10 @@ use arbitrary::{Result, Unstructured};
 use proxima::GridError;
 use proxima::build::SplitMethod;
 use proxima::grid::{ClassicHash, FastHash, GridConfig, GridInsert, GridLayout, HashGrid, InsertMethod};
+use proxima::grid::{GridTraversal, TraversalStep};
 use proxima::io::{Format, LoadOptions, parse_with};
 use proxima::prelude::*;
 use proxima::primitive::WatertightRay;
-use proxima::traversal::{GridTraversal, TraversalStep};
 use std::path::Path;
 
 /// Loader inputs longer than this are cut: the loaders allocate in proportion

@@ -15,8 +15,8 @@ use proxima::grid::{
     Cell, ClassicHash, FastHash, GridConfig, GridInsert, GridLayout, HashGrid, InsertMethod, InsertParams, VoxelConfig,
     voxelize,
 };
+use proxima::grid::{GridTraversal, TraversalConfig};
 use proxima::sample::Rng;
-use proxima::traversal::{GridTraversal, TraversalConfig};
 use proxima::{Mesh, PrimitiveSet, Triangle, Vec3};
 use proxima_bench::load_named;
 use std::collections::HashMap;

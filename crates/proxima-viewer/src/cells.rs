@@ -4,10 +4,10 @@
 use crate::model::Model;
 use crate::scene::{BoxSet, Overlay, colors};
 use proxima::grid::{Cell, FastHash, GridConfig, GridStats, HashGrid, InsertMethod};
+use proxima::grid::{GridTraversal, TraversalConfig};
 use proxima::kind::{KindFamily, KindGeneric, PerKind};
 use proxima::prelude::*;
 use proxima::primitive::polygon::DEFAULT_PLANARITY_TOLERANCE;
-use proxima::traversal::{GridTraversal, TraversalConfig};
 use std::sync::Arc;
 use std::time::Instant;
 

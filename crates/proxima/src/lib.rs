@@ -23,7 +23,7 @@
 //! | Primitives | [`primitive`] ([`Point`], [`LineSegment`], [`Triangle`], [`ConvexPolygon`]; traits [`Bounded`], [`ClosestPoint`], [`BoxOverlap`], [`RayIntersect`]), [`frustum`] ([`Frustum`], [`FrustumOverlap`]), [`ray`] ([`Ray`]) |
 //! | Mesh index | [`index`] ([`MeshIndex`]: one mesh and every structure on it, built on first use; what the command line, viewer and Python package ask) |
 //! | Queries | [`sdf`] ([`SignedDistanceField`]: signed distance, winding numbers, inside tests, grids, samples), [`query`]: [`NearestQuery`], [`RayQuery`], [`FrustumQuery`], each written once over a structure's walk; answers [`ClosestHit`], [`RayHit`] |
-//! | Structures | [`aabb_tree`] ([`AabbTree`]), [`build`] (the binary build every tree starts from: [`BuildConfig`]), [`wide_tree`] ([`WideTree`], 4-wide, SIMD leaves), [`ray_tree`] ([`RayTree`], 8-wide, for rays), [`sphere_tree`] ([`SphereTree`]), [`linear`] ([`LinearSearch`], brute force), [`grid`] ([`HashGrid`]), [`traversal`] ([`GridTraversal`]) |
+//! | Structures | [`aabb_tree`] ([`AabbTree`]), [`build`] (the binary build every tree starts from: [`BuildConfig`]), [`wide_tree`] ([`WideTree`], 4-wide, SIMD leaves), [`ray_tree`] ([`RayTree`], 8-wide, for rays), [`sphere_tree`] ([`SphereTree`]), [`linear`] ([`LinearSearch`], brute force), [`grid`] ([`HashGrid`], [`GridTraversal`]) |
 //! | Support | [`aabb`], [`sphere`], [`math`], [`memory`], [`budget`] (memory and work limits), [`error`] (typed errors), [`sample`] (seeded test and benchmark inputs) |
 //!
 //! `use proxima::prelude::*;` brings the structures, primitives and query traits.
@@ -59,7 +59,6 @@ pub mod sdf;
 mod simd;
 pub mod sphere;
 pub mod sphere_tree;
-pub mod traversal;
 pub mod wide_tree;
 
 pub use aabb::Aabb;
@@ -70,7 +69,7 @@ pub use error::GridError;
 pub use error::RayError;
 pub use error::{BuildError, LoadError, LoadErrorKind, MeshError, PolygonError, QueryError, SdfError};
 pub use frustum::{Frustum, FrustumOverlap};
-pub use grid::{GridConfig, HashGrid, InsertMethod};
+pub use grid::{GridConfig, GridTraversal, HashGrid, InsertMethod, TraversalConfig, TraversalStep};
 pub use index::{IndexConfig, IndexError, MeshIndex};
 pub use kind::{MeshPrimitive, PrimitiveKind};
 pub use linear::LinearSearch;
@@ -89,5 +88,4 @@ pub use ray_tree::RayTree;
 pub use sdf::{SdfConfig, Sign, SignedDistance, SignedDistanceField};
 pub use sphere::Sphere;
 pub use sphere_tree::SphereTree;
-pub use traversal::{GridTraversal, TraversalConfig, TraversalStep};
 pub use wide_tree::WideTree;

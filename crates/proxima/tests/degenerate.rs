@@ -19,9 +19,9 @@ mod common;
 use common::degenerate::{Case, cases};
 use common::exact::{ExactBox, triangle_touches_exact_box};
 use proxima::build::{MAX_COORDINATE, SplitMethod};
+use proxima::grid::GridTraversal;
 use proxima::grid::{GridConfig, GridLayout, HashGrid, VoxelConfig, voxelize};
 use proxima::prelude::*;
-use proxima::traversal::GridTraversal;
 use proxima::{AabbTree, BuildConfig, BuildError, GridError, LinearSearch, Point, PrimitiveSet, Triangle, Vec3};
 
 fn configs() -> [BuildConfig; 3] {

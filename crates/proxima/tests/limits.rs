@@ -18,9 +18,9 @@ use common::glb_writer::instanced_glb;
 
 use proxima::build::{MAX_DEPTH, SplitMethod};
 use proxima::grid::{GridConfig, HashGrid, VoxelConfig, voxelize};
+use proxima::grid::{GridTraversal, TraversalConfig};
 use proxima::io::{Format, LoadOptions, parse};
 use proxima::prelude::*;
-use proxima::traversal::{GridTraversal, TraversalConfig};
 use proxima::{AabbTree, BuildConfig, GridError, LinearSearch, LoadErrorKind, Point, PrimitiveSet, Vec3};
 use std::io::Write;
 

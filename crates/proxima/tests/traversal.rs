@@ -7,8 +7,8 @@
 
 use num_rational::BigRational;
 use proxima::grid::{Cell, GridLayout};
+use proxima::grid::{GridTraversal, TraversalConfig, TraversalStep};
 use proxima::sample::Rng;
-use proxima::traversal::{GridTraversal, TraversalConfig, TraversalStep};
 use proxima::{GridError, Vec3};
 use std::time::Instant;
 

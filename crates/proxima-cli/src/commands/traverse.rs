@@ -4,7 +4,7 @@
 use super::grid::parse_cell;
 use crate::common::parse_vec3;
 use anyhow::{Result, bail};
-use proxima::traversal::{GridTraversal, TraversalConfig};
+use proxima::grid::{GridTraversal, TraversalConfig};
 use proxima::{GridError, Vec3};
 use std::io::{BufWriter, Write};
 

@@ -17,8 +17,7 @@ mod node;
 mod structure;
 mod walk;
 
-pub(crate) use config::answerable;
-pub use config::{BuildConfig, MAX_COORDINATE, MAX_DEPTH, MAX_QUERY_COORDINATE, SplitMethod, check_query_point};
+pub use config::{BuildConfig, MAX_COORDINATE, MAX_DEPTH, MAX_QUERY_COORDINATE, SplitMethod};
 pub(crate) use frustum::frustum_walk;
 pub(crate) use hierarchy::build_hierarchy;
 pub use node::Node;

@@ -5,8 +5,10 @@
 //! in `hasher.rs`, the cells of a range (plain or through an exact cell test)
 //! in `cells.rs`, the classic insertion (box range, then exact test per cell)
 //! in `insert.rs` (for convex polygons in `polygon_insert.rs`), the scan-line insertion in `scanline.rs`, the build in
-//! `build.rs`, the first-hit ray query in `ray.rs`, dense/sparse surface
-//! voxelization in `voxelize.rs` and statistics in `stats.rs`.
+//! `build.rs`, the cells a ray crosses ([`GridTraversal`]) in `traversal.rs`, the
+//! first-hit ray query (the walk of [`RayQuery`](crate::query::RayQuery)) in
+//! `ray.rs`, dense/sparse surface voxelization in `voxelize.rs` and statistics
+//! in `stats.rs`.
 //!
 //! # Conventions
 //!
@@ -48,6 +50,7 @@ mod polygon_insert;
 mod ray;
 mod scanline;
 mod stats;
+mod traversal;
 mod voxelize;
 
 pub use hasher::{ClassicHash, ClassicHasher, FastHash, FastHasher};
@@ -55,6 +58,7 @@ pub use insert::{GridInsert, InsertParams};
 pub(crate) use layout::last_true;
 pub use layout::{CellRange, GridLayout, MAX_CELL_INDEX};
 pub use stats::GridStats;
+pub use traversal::{GridTraversal, TraversalConfig, TraversalStep};
 pub use voxelize::{VoxelConfig, VoxelGrid, voxelize};
 
 use crate::error::GridError;

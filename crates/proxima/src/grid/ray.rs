@@ -10,13 +10,12 @@
 //! and is stored there. A triangle spanning several cells may be tested more
 //! than once (no mailbox: the query stays read-only and allocation-free).
 
-use super::{Cell, HashGrid};
+use super::{Cell, GridTraversal, HashGrid};
 use crate::aabb::Aabb;
 use crate::error::GridError;
 use crate::math::Vec3;
 use crate::primitive::{RayIntersect, TriangleHit, WatertightRay};
 use crate::query::{Counter, FarRay, QueryStats, RayHit};
-use crate::traversal::GridTraversal;
 use std::hash::BuildHasher;
 
 impl<T: RayIntersect, S: BuildHasher> HashGrid<T, S> {

@@ -1,6 +1,6 @@
 //! Query points: which ones the structures answer.
 
-use crate::bvh::MAX_QUERY_COORDINATE;
+use crate::build::MAX_QUERY_COORDINATE;
 use crate::error::QueryError;
 use crate::math::Vec3;
 
@@ -8,7 +8,7 @@ use crate::math::Vec3;
 /// ±[`MAX_QUERY_COORDINATE`] on every axis.
 ///
 /// ```
-/// use proxima::bvh::MAX_QUERY_COORDINATE;
+/// use proxima::build::MAX_QUERY_COORDINATE;
 /// use proxima::{QueryError, Vec3, check_query_point};
 /// assert!(check_query_point(Vec3::splat(MAX_QUERY_COORDINATE)).is_ok());
 /// assert_eq!(

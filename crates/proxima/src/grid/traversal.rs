@@ -1,67 +1,12 @@
 //! Grid traversal: the cells a ray passes through, in order (Amanatides & Woo,
-//! "A Fast Voxel Traversal Algorithm for Ray Tracing", 1987).
-//!
-//! [`GridTraversal`] is an [`Iterator`] of [`TraversalStep`]s: each cell
-//! `(i, j, k)` with the ray parameters where the ray enters and leaves it.
-//! Per step it compares the three parameters of the next boundary crossings,
-//! steps the axis (or axes) crossed first, and computes that axis' next
-//! crossing — a handful of operations and no allocation.
-//!
-//! # Which cells are yielded
-//!
-//! Exactly the cells in which the ray spends a parameter interval of
-//! **positive length** within `[t_min, t_max]`, in order, each once:
-//!
-//! - cells are closed boxes ([`GridLayout::cell_box`]) along every axis the
-//!   ray moves along; along an axis where the direction is zero, the ray is
-//!   given to the half-open cell `[b(i), b(i+1))`, so a ray lying in a
-//!   boundary plane walks the cells *above* it;
-//! - a ray through an edge or a corner of cells (two or three boundaries
-//!   crossed at the same parameter) steps the crossed axes together: the
-//!   cells it only grazes at that single point are not yielded. The same holds
-//!   for an origin on a boundary: the walk starts in the cell the ray enters;
-//! - which cells, and in which order, is decided exactly: the crossing
-//!   parameters `(b_a(n) − origin_a) / direction_a` are compared in `f64`
-//!   when they are clearly apart and in integer arithmetic otherwise (every
-//!   `f32` is a dyadic rational), so a ray through an edge or a corner of
-//!   cells steps its axes together even when the rounded parameters differ,
-//!   and two crossings that differ by less than a rounding step still make a
-//!   cell of positive length. The reported parameters are the rounded values
-//!   `(b_a(n) − origin_a) · (1 / direction_a)`, in `f64`;
-//! - `t_enter` of each cell is the `t_exit` of the one before; the first
-//!   starts at `t_min`, the last ends at `t_max` (or at the step limit). An
-//!   empty range (`t_min == t_max`) yields nothing.
-//!
-//! The walk ends when `t_max` is reached, after `max_steps` cells, with the
-//! cell whose exit parameter no longer fits `f32` (yielded with
-//! `t_exit = ∞`), or when a cell index would leave the layout's range
-//! ([`GridLayout::max_index`], at most `±2^50`) — never later: with `t_max = ∞` and no step limit it
-//! is merely very long. The parameters are
-//! tracked in `f64`, so huge `t` does not stall the walk; they are yielded as
-//! `f32`.
-//!
-//! # Worked example
-//!
-//! Cell size 0.3, origin (1, 0.2, 0.5), direction (0.3, 0.5, 1) normalized:
-//!
-//! ```
-//! use proxima::traversal::{GridTraversal, TraversalConfig};
-//! use proxima::Vec3;
-//! let dir = Vec3::new(0.3, 0.5, 1.0).normalize();
-//! let walk = GridTraversal::new(Vec3::new(1.0, 0.2, 0.5), dir, &TraversalConfig::cubic(0.3)).unwrap();
-//! let steps: Vec<_> = walk.take(4).collect();
-//! let cells: Vec<_> = steps.iter().map(|s| s.cell).collect();
-//! assert_eq!(cells, [[3, 0, 1], [3, 0, 2], [3, 1, 2], [3, 1, 3]]);
-//! // z reaches 0.6 first, at t = 0.1 / 0.8639 = 0.1158, then y reaches 0.3 at
-//! // t = 0.1 / 0.4319 = 0.2315.
-//! assert!((steps[0].t_exit - 0.1158).abs() < 1e-4);
-//! assert!((steps[1].t_exit - 0.2315).abs() < 1e-4);
-//! assert_eq!(steps[1].t_enter, steps[0].t_exit);
-//! ```
+//! "A Fast Voxel Traversal Algorithm for Ray Tracing", 1987). The walk of
+//! [`GridTraversal`] (exactly which cells, with which parameters) is
+//! documented on the type; [`HashGrid::first_hit`](super::HashGrid::first_hit)
+//! walks the occupied cells with it.
 
+use super::{Cell, GridLayout, last_true};
 use crate::error::GridError;
 use crate::exact::{Exact, common_scale, integer};
-use crate::grid::{Cell, GridLayout, last_true};
 use crate::math::Vec3;
 use num_bigint::BigInt;
 use std::cmp::Ordering;
@@ -74,7 +19,7 @@ const CROSSING_SLACK: f64 = 4.0 * f64::EPSILON;
 /// Where a traversal walks: cell placement, parameter range and step limit.
 ///
 /// ```
-/// use proxima::traversal::TraversalConfig;
+/// use proxima::grid::TraversalConfig;
 /// use proxima::Vec3;
 /// let config = TraversalConfig { t_max: 10.0, max_steps: 1000, ..TraversalConfig::cubic(0.5) };
 /// assert_eq!(config.grid_origin, Vec3::ZERO);
@@ -123,8 +68,65 @@ pub struct TraversalStep {
     pub t_exit: f32,
 }
 
-/// The Amanatides–Woo walk of a ray through a grid; see the [module
-/// documentation](self) for exactly which cells it yields.
+/// The Amanatides–Woo walk of a ray through a grid.
+///
+/// [`GridTraversal`] is an [`Iterator`] of [`TraversalStep`]s: each cell
+/// `(i, j, k)` with the ray parameters where the ray enters and leaves it.
+/// Per step it compares the three parameters of the next boundary crossings,
+/// steps the axis (or axes) crossed first, and computes that axis' next
+/// crossing — a handful of operations and no allocation.
+///
+/// # Which cells are yielded
+///
+/// Exactly the cells in which the ray spends a parameter interval of
+/// **positive length** within `[t_min, t_max]`, in order, each once:
+///
+/// - cells are closed boxes ([`GridLayout::cell_box`]) along every axis the
+///   ray moves along; along an axis where the direction is zero, the ray is
+///   given to the half-open cell `[b(i), b(i+1))`, so a ray lying in a
+///   boundary plane walks the cells *above* it;
+/// - a ray through an edge or a corner of cells (two or three boundaries
+///   crossed at the same parameter) steps the crossed axes together: the
+///   cells it only grazes at that single point are not yielded. The same holds
+///   for an origin on a boundary: the walk starts in the cell the ray enters;
+/// - which cells, and in which order, is decided exactly: the crossing
+///   parameters `(b_a(n) − origin_a) / direction_a` are compared in `f64`
+///   when they are clearly apart and in integer arithmetic otherwise (every
+///   `f32` is a dyadic rational), so a ray through an edge or a corner of
+///   cells steps its axes together even when the rounded parameters differ,
+///   and two crossings that differ by less than a rounding step still make a
+///   cell of positive length. The reported parameters are the rounded values
+///   `(b_a(n) − origin_a) · (1 / direction_a)`, in `f64`;
+/// - `t_enter` of each cell is the `t_exit` of the one before; the first
+///   starts at `t_min`, the last ends at `t_max` (or at the step limit). An
+///   empty range (`t_min == t_max`) yields nothing.
+///
+/// The walk ends when `t_max` is reached, after `max_steps` cells, with the
+/// cell whose exit parameter no longer fits `f32` (yielded with
+/// `t_exit = ∞`), or when a cell index would leave the layout's range
+/// ([`GridLayout::max_index`], at most `±2^50`) — never later: with `t_max = ∞` and no step limit it
+/// is merely very long. The parameters are
+/// tracked in `f64`, so huge `t` does not stall the walk; they are yielded as
+/// `f32`.
+///
+/// # Worked example
+///
+/// Cell size 0.3, origin (1, 0.2, 0.5), direction (0.3, 0.5, 1) normalized:
+///
+/// ```
+/// use proxima::grid::{GridTraversal, TraversalConfig};
+/// use proxima::Vec3;
+/// let dir = Vec3::new(0.3, 0.5, 1.0).normalize();
+/// let walk = GridTraversal::new(Vec3::new(1.0, 0.2, 0.5), dir, &TraversalConfig::cubic(0.3)).unwrap();
+/// let steps: Vec<_> = walk.take(4).collect();
+/// let cells: Vec<_> = steps.iter().map(|s| s.cell).collect();
+/// assert_eq!(cells, [[3, 0, 1], [3, 0, 2], [3, 1, 2], [3, 1, 3]]);
+/// // z reaches 0.6 first, at t = 0.1 / 0.8639 = 0.1158, then y reaches 0.3 at
+/// // t = 0.1 / 0.4319 = 0.2315.
+/// assert!((steps[0].t_exit - 0.1158).abs() < 1e-4);
+/// assert!((steps[1].t_exit - 0.2315).abs() < 1e-4);
+/// assert_eq!(steps[1].t_enter, steps[0].t_exit);
+/// ```
 #[derive(Clone, Debug)]
 pub struct GridTraversal {
     layout: GridLayout,
