@@ -1,179 +1,40 @@
-//! Shared pieces of the benchmarks: mesh choice and the parry3d baseline.
+//! The benchmarks of proxima, in one place.
+//!
+//! - `proxima bench` (the command of the shipped binary, without peers) and
+//!   the `bench` binary (the same, with the parry3d rows): [`run`] with the
+//!   options of [`Args`]. The closest-point benchmark is in [`closest`], the
+//!   signed distances in [`sdf`], the rays in [`rays`]; what they share
+//!   (rows, timing, the table) in [`report`], which uses none of them.
+//! - Peer libraries (parry3d, obvhs) only with the feature `peers` (on by
+//!   default; `proxima-cli` turns it off): [`peers`], and the binaries
+//!   `bench`, `compare` and `rays_peers`.
+//! - Shared by the other binaries and the criterion benches: meshes by name
+//!   ([`load_named`]) and ray sets ([`ray_sets()`], [`aimed_rays`]).
 
-use parry3d::query::PointQuery;
-use parry3d::shape::TriMesh;
-use proxima::{Mesh, Vec3};
-use std::path::PathBuf;
-
-/// The shared data folder: `PROXIMA_DATA_DIR` when set, else `../shared/data`
-/// beside the checkout; `None` when absent.
-pub fn data_dir() -> Option<PathBuf> {
-    let dir = std::env::var_os("PROXIMA_DATA_DIR").map_or_else(
-        || PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data")),
-        PathBuf::from,
-    );
-    dir.is_dir().then_some(dir)
+/// `println!` that returns an error instead of panicking when standard output
+/// is closed (`proxima bench MESH | head -1`); the caller ends quietly on it.
+macro_rules! outln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        writeln!(std::io::stdout().lock(), $($arg)*)?
+    }};
 }
 
-/// A mesh by name: `ico1m` (the seeded 1,003,520-triangle bumpy icosphere),
-/// `ico100k` (101,120 triangles), or a file path (absolute, or relative to the
-/// shared data folder).
-pub fn load_named(name: &str) -> Result<Mesh, String> {
-    match name {
-        "ico1m" => Ok(proxima::mesh::generate::noisy_icosphere(224, 1)),
-        "ico100k" => Ok(proxima::mesh::generate::noisy_icosphere(71, 1)),
-        _ => {
-            let path = PathBuf::from(name);
-            let path = if path.exists() {
-                path
-            } else {
-                data_dir().map(|d| d.join(name)).unwrap_or(path)
-            };
-            proxima::io::load(&path).map_err(|e| e.to_string())
-        }
-    }
-}
+pub mod args;
+pub mod closest;
+pub mod command;
+pub mod input;
+pub mod meshes;
+#[cfg(feature = "peers")]
+pub mod peers;
+pub mod ray_sets;
+pub mod rays;
+pub mod report;
+pub mod sdf;
 
-/// parry3d's triangle mesh (with its BVH) over the faces of `mesh`.
-pub fn parry_trimesh(mesh: &Mesh) -> TriMesh {
-    let (vertices, indices) = parry_input(mesh);
-    TriMesh::new(vertices, indices).expect("parry3d accepts the mesh")
-}
-
-/// The vertices and triangles that [`TriMesh::new`] takes, from the faces of
-/// `mesh` (polygons fanned): parry3d's input, made apart so that build
-/// timings can leave it out, as they leave out copying ours.
-pub fn parry_input(mesh: &Mesh) -> (Vec<parry3d::math::Vector>, Vec<[u32; 3]>) {
-    let vertices: Vec<parry3d::math::Vector> = mesh
-        .positions()
-        .iter()
-        .map(|p| parry3d::math::Vector::from_array(p.to_array()))
-        .collect();
-    let mut indices = Vec::with_capacity(mesh.triangle_count());
-    for face in mesh.faces() {
-        for w in face[1..].windows(2) {
-            indices.push([face[0], w[0], w[1]]);
-        }
-    }
-    (vertices, indices)
-}
-
-/// parry3d's distance from `p` to the surface of `trimesh` (not solid).
-pub fn parry_distance(trimesh: &TriMesh, p: Vec3) -> f32 {
-    let q = parry3d::math::Vector::from_array(p.to_array());
-    let projection = trimesh.project_local_point(q, false);
-    (projection.point - q).length()
-}
-
-/// A ray as `(origin, direction)`.
-pub type Ray = (Vec3, Vec3);
-
-/// The ray sets of the ray benchmarks: `outside`, from outside the bounding
-/// sphere (1 to 3 radii from the center) aimed at random points of the box,
-/// mostly hits; `inside`, from near the surface (Gaussian offsets of 1% of
-/// the diagonal) in random directions.
-pub fn ray_sets(mesh: &Mesh, n: usize, seed: u64) -> Vec<(&'static str, Vec<Ray>)> {
-    let b = mesh.bounds();
-    let radius = 0.5 * b.diagonal();
-    let mut rng = proxima::sample::Rng::new(seed);
-    let unit = |rng: &mut proxima::sample::Rng| loop {
-        let d = Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
-        let len = d.length();
-        if len > 1e-3 && len <= 1.0 {
-            break d / len;
-        }
-    };
-    let outside = (0..n)
-        .map(|_| {
-            let o = b.center() + unit(&mut rng) * radius * rng.range(1.0, 3.0);
-            (o, (rng.in_box(&b) - o).normalize())
-        })
-        .collect();
-    let inside = proxima::sample::near_surface(mesh, n, 0.01, seed + 1)
-        .into_iter()
-        .map(|o| (o, unit(&mut rng)))
-        .collect();
-    vec![("outside", outside), ("inside", inside)]
-}
-
-/// Rays aimed exactly at edge midpoints (even `k`) and vertices (odd `k`),
-/// each from the side that every incident triangle faces, from 0.01 to 2
-/// bbox diagonals away. Only edges shared by exactly two triangles, and
-/// vertices all of whose edges are, with no degenerate or back-facing
-/// incident triangle, are aimed at: such a ray crosses the surface there, so
-/// a watertight test must report a hit (on that surface or before it).
-pub fn aimed_rays(mesh: &Mesh, n: usize, seed: u64) -> Vec<Ray> {
-    let p = mesh.positions();
-    let mut tris: Vec<[u32; 3]> = Vec::with_capacity(mesh.triangle_count());
-    for face in mesh.faces() {
-        for w in face[1..].windows(2) {
-            tris.push([face[0], w[0], w[1]]);
-        }
-    }
-    let normal = |t: &[u32; 3]| {
-        let (a, b, c) = (p[t[0] as usize], p[t[1] as usize], p[t[2] as usize]);
-        (b - a).cross(c - a).normalize_or_zero()
-    };
-    // Undirected edges with their triangles, by sorting (no hashing).
-    let mut edge_list: Vec<(u32, u32, u32)> = Vec::with_capacity(3 * tris.len());
-    for (f, t) in tris.iter().enumerate() {
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            edge_list.push((a.min(b), a.max(b), f as u32));
-        }
-    }
-    edge_list.sort_unstable();
-    let mut open_vertex = vec![false; p.len()];
-    let mut edges: Vec<(u32, u32, [u32; 2])> = Vec::new();
-    for run in edge_list.chunk_by(|x, y| (x.0, x.1) == (y.0, y.1)) {
-        if run.len() == 2 {
-            edges.push((run[0].0, run[0].1, [run[0].2, run[1].2]));
-        } else {
-            open_vertex[run[0].0 as usize] = true;
-            open_vertex[run[0].1 as usize] = true;
-        }
-    }
-    let mut vertex_faces: Vec<Vec<u32>> = vec![Vec::new(); p.len()];
-    for (f, t) in tris.iter().enumerate() {
-        for &v in t {
-            vertex_faces[v as usize].push(f as u32);
-        }
-    }
-    let reach = mesh.bounds().diagonal();
-    let mut rng = proxima::sample::Rng::new(seed);
-    let mut out = Vec::with_capacity(n);
-    let mut attempts = 0;
-    while out.len() < n && attempts < 20 * n + 100 && !edges.is_empty() {
-        attempts += 1;
-        let (target, faces): (Vec3, &[u32]) = if out.len() % 2 == 0 {
-            let (a, b, f) = &edges[rng.below(edges.len())];
-            ((p[*a as usize] + p[*b as usize]) * 0.5, f)
-        } else {
-            let v = rng.below(p.len());
-            if open_vertex[v] || vertex_faces[v].is_empty() {
-                continue;
-            }
-            (p[v], &vertex_faces[v])
-        };
-        let normals: Vec<Vec3> = faces.iter().map(|&f| normal(&tris[f as usize])).collect();
-        let axis = normals.iter().sum::<Vec3>().normalize_or_zero();
-        let jitter = Vec3::new(rng.range(-0.3, 0.3), rng.range(-0.3, 0.3), rng.range(-0.3, 0.3));
-        let side = (axis + jitter).normalize_or_zero();
-        if axis == Vec3::ZERO || normals.iter().any(|n| n.dot(side) < 0.02) {
-            continue;
-        }
-        let o = target + side * reach * rng.range(0.01, 2.0);
-        out.push((o, target - o));
-    }
-    out
-}
-
-/// parry3d's first hit along `ray` (its time of impact), hollow triangles.
-pub fn parry_ray(trimesh: &TriMesh, ray: Ray) -> Option<f32> {
-    use parry3d::query::RayCast;
-    let ray = parry3d::query::Ray::new(
-        parry3d::math::Vector::from_array(ray.0.to_array()),
-        parry3d::math::Vector::from_array(ray.1.to_array()),
-    );
-    trimesh.cast_local_ray(&ray, f32::MAX, false)
-}
+pub use args::{Args, Peers, QueryKind, QuerySet, Split};
+pub use command::run;
+pub use meshes::{data_dir, load_named};
+#[cfg(feature = "peers")]
+pub use peers::{parry_distance, parry_input, parry_ray, parry_trimesh};
+pub use ray_sets::{Ray, aimed_rays, ray_sets};

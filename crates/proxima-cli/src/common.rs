@@ -187,13 +187,6 @@ pub fn polygons(mesh: &Mesh, path: &Path, planarity: f32) -> PrimitiveSet<Convex
     extraction.set
 }
 
-/// Prints the fan-triangulation note of [`polygons`] when `kind` is polygons.
-pub fn note_polygons(mesh: &Mesh, kind: PrimitiveKind, path: &Path, planarity: f32) {
-    if kind == PrimitiveKind::Polygons {
-        polygons(mesh, path, planarity);
-    }
-}
-
 /// Runs `task` on `kind`'s primitives of `mesh` ([`PrimitiveKind::run`]);
 /// polygons come with the note of [`polygons`], from the one extraction.
 pub fn run_kind<F: KindTask>(mesh: &Mesh, kind: PrimitiveKind, path: &Path, planarity: f32, task: F) -> F::Output {

@@ -31,6 +31,7 @@ enum Command {
     /// The vertices, edges or faces a camera sees (overlapping its view frustum).
     Frustum(commands::frustum::Args),
     /// Linear search against the trees on the same queries (closest points, signed distances or rays).
+    #[command(after_help = commands::bench::PEER_ROWS)]
     Bench(commands::bench::Args),
     /// Hash grid statistics per primitive type (occupied cells, primitives per cell, build time).
     Grid(commands::grid::Args),

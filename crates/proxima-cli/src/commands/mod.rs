@@ -1,9 +1,6 @@
 //! One file per subcommand, each with its `Args` and `run`.
 
 pub mod bench;
-pub mod bench_peer;
-pub mod bench_rays;
-pub mod bench_sdf;
 pub mod closest;
 pub mod demo;
 pub mod frustum;

@@ -1,20 +1,64 @@
-//! The peer rows of `proxima bench`: parry3d's closest point (or first
-//! ray hit) on the same triangles and queries, so that every run states its own ratio to the
+//! The peer library parry3d (feature `peers`): its triangle mesh over ours,
+//! its distance and first hit for the `compare` binary and the criterion
+//! benches, and the parry3d rows of the `bench` binary, on the same
+//! triangles and queries, so that every run states its own ratio to the
 //! library most Rust users would otherwise reach for.
 
-use super::bench::Record;
+use crate::report::Record;
+use parry3d::query::PointQuery;
+use parry3d::shape::TriMesh;
 use proxima::{Mesh, Vec3};
 use std::time::{Duration, Instant};
 
 /// Queries a peer answers between two looks at its time budget.
 const CHUNK: usize = 1024;
 
+/// parry3d's triangle mesh (with its BVH) over the faces of `mesh`.
+pub fn parry_trimesh(mesh: &Mesh) -> TriMesh {
+    let (vertices, indices) = parry_input(mesh);
+    TriMesh::new(vertices, indices).expect("parry3d accepts the mesh")
+}
+
+/// The vertices and triangles that [`TriMesh::new`] takes, from the faces of
+/// `mesh` (polygons fanned): parry3d's input, made apart so that build
+/// timings can leave it out, as they leave out copying ours.
+pub fn parry_input(mesh: &Mesh) -> (Vec<parry3d::math::Vector>, Vec<[u32; 3]>) {
+    let vertices: Vec<parry3d::math::Vector> = mesh
+        .positions()
+        .iter()
+        .map(|p| parry3d::math::Vector::from_array(p.to_array()))
+        .collect();
+    let mut indices = Vec::with_capacity(mesh.triangle_count());
+    for face in mesh.faces() {
+        for w in face[1..].windows(2) {
+            indices.push([face[0], w[0], w[1]]);
+        }
+    }
+    (vertices, indices)
+}
+
+/// parry3d's distance from `p` to the surface of `trimesh` (not solid).
+pub fn parry_distance(trimesh: &TriMesh, p: Vec3) -> f32 {
+    let q = parry3d::math::Vector::from_array(p.to_array());
+    let projection = trimesh.project_local_point(q, false);
+    (projection.point - q).length()
+}
+
+/// parry3d's first hit along `ray` (its time of impact), hollow triangles.
+pub fn parry_ray(trimesh: &TriMesh, ray: crate::Ray) -> Option<f32> {
+    use parry3d::query::RayCast;
+    let ray = parry3d::query::Ray::new(
+        parry3d::math::Vector::from_array(ray.0.to_array()),
+        parry3d::math::Vector::from_array(ray.1.to_array()),
+    );
+    trimesh.cast_local_ray(&ray, f32::MAX, false)
+}
+
 /// `answer(i)` for `i` in `0..count`, in order, on the current pool, a
 /// chunk of [`CHUNK`] at a time until `budget` has passed: every chunk once
 /// the budget allows, at least the first. A peer's row is bounded so: its
 /// work cannot be counted as ours is, and on degenerate input a peer may
 /// search far longer per query than on a mesh.
-#[cfg_attr(not(feature = "parry3d"), allow(dead_code))]
 pub fn answer_within<R: Send>(count: usize, budget: Duration, answer: impl Fn(usize) -> R + Sync) -> Vec<R> {
     use rayon::prelude::*;
     let start = Instant::now();
@@ -28,7 +72,6 @@ pub fn answer_within<R: Send>(count: usize, budget: Duration, answer: impl Fn(us
 }
 
 /// The note of a peer's row that answered `done` of `count` queries within `budget`.
-#[cfg_attr(not(feature = "parry3d"), allow(dead_code))]
 fn budget_note(done: usize, count: usize, budget: Duration) -> Option<String> {
     (done < count).then(|| {
         format!(
@@ -45,11 +88,9 @@ fn budget_note(done: usize, count: usize, budget: Duration) -> Option<String> {
 /// every distance is within 1e-5 of the bounding box diagonal of `expected`
 /// (parry3d's closest point differs from ours by rounding only), on the
 /// queries both answered. `None` when parry3d refuses the mesh.
-#[cfg(feature = "parry3d")]
 pub fn parry3d_faces(mesh: &Mesh, points: &[Vec3], expected: &[Option<f32>], budget: Duration) -> Option<Record> {
     use parry3d::math::Vector;
-    use parry3d::query::PointQuery;
-    let (vertices, indices) = parry3d_input(mesh);
+    let (vertices, indices) = parry_input(mesh);
     // The build alone is timed, not the making of its input (nor ours).
     let start = Instant::now();
     let trimesh = parry3d::shape::TriMesh::new(vertices, indices).ok()?;
@@ -82,7 +123,6 @@ pub fn parry3d_faces(mesh: &Mesh, points: &[Vec3], expected: &[Option<f32>], bud
 /// misses as in `expected` (`t`, input index), at a `t` within 1e-5 of the
 /// bounding box diagonal, on the rays both cast. `None` when parry3d
 /// refuses the mesh.
-#[cfg(feature = "parry3d")]
 pub fn parry3d_rays(
     mesh: &Mesh,
     rays: &[(Vec3, Vec3)],
@@ -90,7 +130,7 @@ pub fn parry3d_rays(
     budget: Duration,
 ) -> Option<Record> {
     use parry3d::query::{Ray, RayCast};
-    let (vertices, indices) = parry3d_input(mesh);
+    let (vertices, indices) = parry_input(mesh);
     let start = Instant::now();
     let trimesh = parry3d::shape::TriMesh::new(vertices, indices).ok()?;
     let build_seconds = start.elapsed().as_secs_f64();
@@ -119,36 +159,6 @@ pub fn parry3d_rays(
         agree,
         note: budget_note(hits.len(), rays.len(), budget),
     })
-}
-
-/// parry3d's vertex and index arrays for the mesh's faces, fanned as
-/// proxima fans them.
-#[cfg(feature = "parry3d")]
-fn parry3d_input(mesh: &Mesh) -> (Vec<parry3d::math::Vector>, Vec<[u32; 3]>) {
-    let vertices = mesh
-        .positions()
-        .iter()
-        .map(|p| parry3d::math::Vector::from_array(p.to_array()))
-        .collect();
-    let mut indices = Vec::with_capacity(mesh.triangle_count());
-    for face in mesh.faces() {
-        for pair in face[1..].windows(2) {
-            indices.push([face[0], pair[0], pair[1]]);
-        }
-    }
-    (vertices, indices)
-}
-
-/// Without the `parry3d` feature there is no peer row.
-#[cfg(not(feature = "parry3d"))]
-pub fn parry3d_faces(_: &Mesh, _: &[Vec3], _: &[Option<f32>], _: Duration) -> Option<Record> {
-    None
-}
-
-/// Without the `parry3d` feature there is no peer row.
-#[cfg(not(feature = "parry3d"))]
-pub fn parry3d_rays(_: &Mesh, _: &[(Vec3, Vec3)], _: &[Option<(f32, u32)>], _: Duration) -> Option<Record> {
-    None
 }
 
 #[cfg(test)]

@@ -3,8 +3,9 @@
 //! batches, against the plain closest query and against linear search
 //! (the closest triangle and the exact winding number) on a subset.
 
-use super::bench::{QuerySet, Record, bar, print_table, timed};
-use crate::common::load_mesh;
+use crate::args::QuerySet;
+use crate::input::{load_mesh, memory_budget, read_points};
+use crate::report::{Record, bar, print_table, timed};
 use anyhow::{Context, Result, bail};
 use proxima::prelude::*;
 use proxima::sdf::winding_number_exact;
@@ -72,7 +73,7 @@ struct SetResult {
 
 /// Runs `proxima bench --query sdf`.
 pub fn run(options: &Options) -> Result<()> {
-    let budget = crate::common::memory_budget()?;
+    let budget = memory_budget()?;
     let asked = options.queries as u128 * BYTES_PER_QUERY as u128;
     if options.points.is_none() && asked > budget as u128 {
         bail!(
@@ -85,7 +86,7 @@ pub fn run(options: &Options) -> Result<()> {
     let mesh = load_mesh(options.mesh)?;
     let name = || options.mesh.display().to_string();
     let sets: Vec<(String, Vec<Vec3>)> = match options.points {
-        Some(file) => vec![(file.display().to_string(), crate::common::read_points(file)?)],
+        Some(file) => vec![(file.display().to_string(), read_points(file)?)],
         None => options
             .sets
             .iter()
@@ -289,7 +290,7 @@ fn time_ratio(records: &[Record], method: &str, reference: &str) -> Option<f64> 
 }
 
 fn print_tables(options: &Options, mesh: &Mesh, results: &[SetResult]) -> std::io::Result<()> {
-    crate::outln!(
+    outln!(
         "{}: {} vertices, {} triangles; signed distances; {} thread(s)",
         options.mesh.display(),
         mesh.vertex_count(),
@@ -297,8 +298,8 @@ fn print_tables(options: &Options, mesh: &Mesh, results: &[SetResult]) -> std::i
         options.threads
     );
     for result in results {
-        crate::outln!("");
-        crate::outln!("{} queries of the {} set:", result.queries, result.name);
+        outln!("");
+        outln!("{} queries of the {} set:", result.queries, result.name);
         print_table(&result.records)?;
         for (method, reference) in [
             ("pseudonormal", "closest"),
@@ -307,11 +308,11 @@ fn print_tables(options: &Options, mesh: &Mesh, results: &[SetResult]) -> std::i
             ("winding-batch", "closest-batch"),
         ] {
             if let Some(ratio) = time_ratio(&result.records, method, reference) {
-                crate::outln!("{}: {method} takes {ratio:.2}x the time of {reference}", result.name);
+                outln!("{}: {method} takes {ratio:.2}x the time of {reference}", result.name);
             }
         }
         let s = &result.signs;
-        crate::outln!(
+        outln!(
             "{}: signs on the {} linear-checked queries, {} with |w - 1/2| > {SIGN_MARGIN} (exact): winding number \
              agrees on {}, pseudonormal on {}",
             result.name,
@@ -347,6 +348,6 @@ fn print_json(options: &Options, mesh: &Mesh, results: &[SetResult]) -> std::io:
         "threads": options.threads, "split": options.split, "seed": options.seed,
         "results": rows, "signs": signs,
     });
-    crate::outln!("{out:#}");
+    outln!("{out:#}");
     Ok(())
 }

@@ -1,9 +1,12 @@
 //! `proxima bench MESH --query rays [--queries N] [--seed S] [--threads T] [--json]`:
 //! first-hit rays of the BENCHMARKS.md `rays` set, cast by linear search,
 //! the 4-wide tree, the ray tree one ray at a time and in batches, and
-//! parry3d, on the same rays; every proxima answer must be linear search's.
+//! parry3d (when asked, [`Peers`]), on the same rays; every proxima answer
+//! must be linear search's.
 
-use super::bench::{Record, bar, print_table, timed};
+use crate::args::Peers;
+use crate::input::load_mesh;
+use crate::report::{Record, bar, linear_budget, linear_queries, print_notes, print_table, timed};
 use anyhow::{Context, bail};
 use proxima::prelude::*;
 use rayon::prelude::*;
@@ -31,9 +34,9 @@ fn answer(hit: Result<Option<RayHit>, proxima::RayError>) -> anyhow::Result<Answ
     Ok(hit?.map(|h| (h.t, h.primitive)))
 }
 
-/// Runs `proxima bench --query rays`.
-pub fn run(options: &Options<'_>) -> anyhow::Result<()> {
-    let mesh = crate::common::load_mesh(options.mesh)?;
+/// Runs `proxima bench --query rays`, with the rows of `peers`.
+pub fn run(options: &Options<'_>, peers: Peers) -> anyhow::Result<()> {
+    let mesh = load_mesh(options.mesh)?;
     if mesh.face_count() == 0 {
         bail!("{}: the mesh has no faces to hit", options.mesh.display());
     }
@@ -49,7 +52,7 @@ pub fn run(options: &Options<'_>) -> anyhow::Result<()> {
         .build()
         .context("thread pool")?;
     let records = pool
-        .install(|| measure(&mesh, &rays, !options.json))
+        .install(|| measure(&mesh, &rays, !options.json, peers))
         .with_context(|| options.mesh.display().to_string())?;
     if options.json {
         let results: Vec<_> = records
@@ -66,9 +69,9 @@ pub fn run(options: &Options<'_>) -> anyhow::Result<()> {
             "mesh": options.mesh.display().to_string(), "triangles": mesh.triangle_count(), "query": "rays",
             "threads": options.threads, "results": results,
         });
-        crate::outln!("{out:#}");
+        outln!("{out:#}");
     } else {
-        crate::outln!(
+        outln!(
             "{}: {} triangles; {} rays of the BENCHMARKS rays set; {} thread(s)",
             options.mesh.display(),
             mesh.triangle_count(),
@@ -76,10 +79,10 @@ pub fn run(options: &Options<'_>) -> anyhow::Result<()> {
             options.threads
         );
         print_table(&records)?;
-        super::bench::print_notes(&records)?;
+        print_notes(&records)?;
         if let Some(peer) = records.iter().find(|r| r.method == "parry3d") {
             for r in records.iter().filter(|r| r.method.starts_with("ray-tree")) {
-                crate::outln!(
+                outln!(
                     "{} casts {:.2}x as many rays per second as parry3d",
                     r.method,
                     r.queries_per_second() / peer.queries_per_second()
@@ -106,7 +109,7 @@ pub fn run(options: &Options<'_>) -> anyhow::Result<()> {
 }
 
 /// Every method's row, on the current pool.
-fn measure(mesh: &Mesh, rays: &[(Vec3, Vec3)], progress: bool) -> anyhow::Result<Vec<Record>> {
+fn measure(mesh: &Mesh, rays: &[(Vec3, Vec3)], progress: bool, peers: Peers) -> anyhow::Result<Vec<Record>> {
     let row = |method, build_seconds, queries, seconds, agree| Record {
         primitives: "faces",
         method,
@@ -117,7 +120,7 @@ fn measure(mesh: &Mesh, rays: &[(Vec3, Vec3)], progress: bool) -> anyhow::Result
         note: None,
     };
     // The linear scan's budget of triangle tests, as for closest points.
-    let n_linear = super::bench::linear_queries(super::bench::linear_budget()?, mesh.triangle_count(), rays.len());
+    let n_linear = linear_queries(linear_budget()?, mesh.triangle_count(), rays.len());
     let linear = LinearSearch::new(mesh.triangles());
     let progress_bar = bar(progress, n_linear, "faces linear");
     let (expected, linear_seconds) = timed(|| {
@@ -146,19 +149,25 @@ fn measure(mesh: &Mesh, rays: &[(Vec3, Vec3)], progress: bool) -> anyhow::Result
     // The ray tree against linear search, the others against the ray tree.
     let single_agrees = single[..n_linear] == expected[..];
     let n = rays.len();
-    let mut records = vec![
+    let records = vec![
         row("linear", 0.0, n_linear, linear_seconds, single_agrees),
         row("tree-wide", wide_build, n, wide_seconds, wide_answers == single),
         row("ray-tree", tree_build, n, single_seconds, single_agrees),
         row("ray-tree-batch", tree_build, n, batch_seconds, batch == single),
     ];
-    // The peer may take ten times our slowest row, and at least 10 s.
-    let slowest = [wide_seconds, single_seconds, batch_seconds]
-        .into_iter()
-        .fold(0.0, f64::max);
-    let budget = std::time::Duration::from_secs_f64((10.0 * slowest).max(10.0));
-    records.extend(super::bench_peer::parry3d_rays(mesh, rays, &single, budget));
-    Ok(records)
+    let peer = match peers {
+        Peers::None => None,
+        #[cfg(feature = "peers")]
+        Peers::Parry3d => {
+            // The peer may take ten times our slowest row, and at least 10 s.
+            let slowest = [wide_seconds, single_seconds, batch_seconds]
+                .into_iter()
+                .fold(0.0, f64::max);
+            let budget = std::time::Duration::from_secs_f64((10.0 * slowest).max(10.0));
+            crate::peers::parry3d_rays(mesh, rays, &single, budget)
+        }
+    };
+    Ok(records.into_iter().chain(peer).collect())
 }
 
 /// `first_hit` of every ray, one at a time, on the current pool.
