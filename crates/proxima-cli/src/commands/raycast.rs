@@ -27,7 +27,7 @@ pub enum RayMethod {
 #[derive(clap::Args)]
 pub struct Args {
     /// Mesh file (.obj, .ply, .stl, .off, .glb, optionally .gz).
-    pub(crate) mesh: PathBuf,
+    mesh: PathBuf,
     /// Ray origin.
     #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true,
           required_unless_present = "rays", conflicts_with = "rays")]
@@ -41,10 +41,10 @@ pub struct Args {
     /// `ray,t,face` in input order (`inf,-1` for a miss; with `--any`,
     /// `ray,hit` with 1 or 0), cast on all cores with the 4-wide tree.
     #[arg(long, value_name = "FILE", conflicts_with_all = ["method", "cell"])]
-    pub(crate) rays: Option<PathBuf>,
+    rays: Option<PathBuf>,
     /// With --rays: worker threads (default: all cores; at most 4 per core, at least 8).
     #[arg(long, value_name = "T", requires = "rays")]
-    pub(crate) threads: Option<usize>,
+    threads: Option<usize>,
     /// Search structure; default `tree`, or `grid` when `--cell` is given.
     #[arg(long, value_enum)]
     method: Option<RayMethod>,
@@ -56,10 +56,10 @@ pub struct Args {
     /// Only say whether the ray hits a face (occlusion test; stops at the first
     /// hit found).
     #[arg(long)]
-    pub(crate) any: bool,
+    any: bool,
     /// Print one JSON object instead of text.
     #[arg(long)]
-    pub(crate) json: bool,
+    json: bool,
 }
 
 /// What was found, in the terms both methods share.
@@ -74,8 +74,17 @@ struct Found {
 /// Prints the hit face, t and point, or "no hit" (or, with `--rays`, a row per ray).
 pub fn run(args: Args) -> Result<()> {
     let (Some(origin), Some(dir)) = (args.origin, args.dir) else {
-        let rays = args.rays.clone().context("give --origin and --dir, or --rays FILE")?;
-        return super::raycast_batch::run(&args, &rays);
+        let rays = args
+            .rays
+            .as_deref()
+            .context("give --origin and --dir, or --rays FILE")?;
+        return super::raycast_batch::run(&super::raycast_batch::Batch {
+            mesh: &args.mesh,
+            rays,
+            threads: args.threads,
+            any: args.any,
+            json: args.json,
+        });
     };
     let method = match (args.method, args.cell) {
         (Some(RayMethod::Tree), Some(_)) => {

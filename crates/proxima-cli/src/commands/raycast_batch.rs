@@ -2,7 +2,6 @@
 //! ray of a file cast on all cores with the 8-wide ray tree ([`RayTree`]), answers in input
 //! order as CSV `ray,t,face` (`inf,-1` for a miss) or `ray,hit` with `--any`.
 
-use super::raycast::Args;
 use crate::common::{load_mesh, read_rays, thread_count, unit_direction};
 use anyhow::{Context, Result, bail};
 use proxima::RayTree;
@@ -17,14 +16,29 @@ use std::time::Instant;
 /// whatever the size of the file.
 const CHUNK: usize = 1 << 20;
 
-/// Casts the rays of `file` and prints one row per ray, or a JSON summary.
-pub fn run(args: &Args, file: &Path) -> Result<()> {
+/// What `raycast --rays FILE` was asked (`raycast.rs` owns the options).
+pub struct Batch<'a> {
+    /// The mesh file.
+    pub mesh: &'a Path,
+    /// The rays file.
+    pub rays: &'a Path,
+    /// Worker threads; all cores when `None`.
+    pub threads: Option<usize>,
+    /// Only whether each ray hits (`ray,hit`).
+    pub any: bool,
+    /// A JSON summary instead of rows.
+    pub json: bool,
+}
+
+/// Casts the rays of `args.rays` and prints one row per ray, or a JSON summary.
+pub fn run(args: &Batch) -> Result<()> {
+    let file = args.rays;
     let threads = match args.threads {
         Some(t) => thread_count(t)?,
         None => 0,
     };
     let rays = read_rays(file)?;
-    let mesh = load_mesh(&args.mesh)?;
+    let mesh = load_mesh(args.mesh)?;
     if mesh.face_count() == 0 {
         bail!("{}: the mesh has no faces to hit", args.mesh.display());
     }
