@@ -2,7 +2,7 @@
 //! checks them: meshes and points files within the loading limits of the
 //! environment, the memory budget, the thread limit, one-line notes.
 
-use anyhow::{Result, anyhow, bail};
+use anyhow::{Context, Result, anyhow, bail};
 use proxima::prelude::*;
 use std::path::Path;
 
@@ -40,32 +40,16 @@ pub fn thread_count(requested: usize) -> Result<usize> {
 
 /// Fails when the mesh has no primitive of `kind` (no vertices, no edges, or no faces).
 pub fn require_primitives(mesh: &Mesh, kind: PrimitiveKind, path: &Path) -> Result<()> {
-    if kind.available(mesh) == 0 {
-        bail!(
-            "{}: the mesh has no {} to search ({} vertices, {} faces)",
-            path.display(),
-            kind.name(),
-            mesh.vertex_count(),
-            mesh.face_count()
-        );
-    }
-    Ok(())
+    proxima::index::check_primitives(mesh, kind).with_context(|| path.display().to_string())
 }
 
 /// With `kind` polygons, prints on stderr how many faces of more than three
 /// vertices were fan-triangulated, when any were.
 pub fn note_polygons(mesh: &Mesh, kind: PrimitiveKind, path: &Path, planarity: f32) {
-    if kind != PrimitiveKind::Polygons {
-        return;
-    }
-    let extraction = mesh.extract_polygons(planarity);
-    if extraction.fan_triangulated > 0 {
-        note(&format!(
-            "{}: {} of {} faces with more than 3 vertices are not planar/convex within tolerance {planarity:e}; fan-triangulated",
-            path.display(),
-            extraction.fan_triangulated,
-            extraction.polygon_faces(),
-        ));
+    if kind == PrimitiveKind::Polygons
+        && let Some(line) = mesh.extract_polygons(planarity).fan_note(planarity)
+    {
+        note(&format!("{}: {line}", path.display()));
     }
 }
 

@@ -176,15 +176,17 @@ pub fn parse_planarity(text: &str) -> Result<f32, String> {
 /// three vertices were fan-triangulated, when any were.
 pub fn polygons(mesh: &Mesh, path: &Path, planarity: f32) -> PrimitiveSet<ConvexPolygon> {
     let extraction = mesh.extract_polygons(planarity);
-    if extraction.fan_triangulated > 0 {
-        note(&format!(
-            "{}: {} of {} faces with more than 3 vertices are not planar/convex within tolerance {planarity:e}; fan-triangulated",
-            path.display(),
-            extraction.fan_triangulated,
-            extraction.polygon_faces(),
-        ));
+    if let Some(line) = extraction.fan_note(planarity) {
+        note(&format!("{}: {line}", path.display()));
     }
     extraction.set
+}
+
+/// Prints the note of [`polygons`] when `kind` is polygons.
+pub fn note_polygons(mesh: &Mesh, kind: PrimitiveKind, path: &Path, planarity: f32) {
+    if kind == PrimitiveKind::Polygons {
+        polygons(mesh, path, planarity);
+    }
 }
 
 /// Runs `task` on `kind`'s primitives of `mesh` ([`PrimitiveKind::run`]);

@@ -234,6 +234,102 @@ pub fn max_cell_tests_from_env() -> Result<u64, String> {
     env_size(MAX_CELL_TESTS_ENV, DEFAULT_MAX_CELL_TESTS)
 }
 
+/// The most worker threads a caller may ask for (the command line's
+/// `--threads`, Python's `threads=`): 4 per core, at least 8. More would
+/// only cost memory and scheduling.
+///
+/// ```
+/// assert!(proxima::budget::max_threads() >= 8);
+/// ```
+pub fn max_threads() -> usize {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    (4 * cores).max(8)
+}
+
+/// What [`check_fits`] refuses.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum BudgetError {
+    /// `count` items of `bytes_each` bytes, sized by `option = value`, need
+    /// more than the memory budget.
+    #[error(
+        "{option} {value}: needs about {} ({count} × {bytes_each} = {} bytes), more than the memory budget of {} \
+         ({budget} bytes; set PROXIMA_MEMORY_BUDGET to change it)",
+        human_bytes(self.bytes()),
+        self.bytes(),
+        human_bytes(u128::from(*budget))
+    )]
+    TooLarge {
+        /// The option (argument) that sizes the work, as the caller spells it.
+        option: String,
+        /// Its value, as given.
+        value: String,
+        /// How many items it asks for.
+        count: u128,
+        /// Bytes each item needs at the peak.
+        bytes_each: u128,
+        /// The memory budget.
+        budget: u64,
+    },
+    /// [`MEMORY_BUDGET_ENV`] is set but is not a size ([`parse_size`]).
+    #[error("{0}")]
+    Environment(String),
+}
+
+impl BudgetError {
+    /// The bytes asked for (saturating); 0 for [`BudgetError::Environment`].
+    pub fn bytes(&self) -> u128 {
+        match self {
+            Self::TooLarge { count, bytes_each, .. } => count.saturating_mul(*bytes_each),
+            Self::Environment(_) => 0,
+        }
+    }
+}
+
+/// The one memory check of every front end: fails unless `count` items of
+/// `bytes_each` bytes fit the memory budget of the environment
+/// ([`memory_budget_from_env`]: [`MEMORY_BUDGET_ENV`], or
+/// [`default_memory_budget`] when it is not set). The error names `option`
+/// and `value`, the bytes needed and the budget, and how to change it; a
+/// malformed [`MEMORY_BUDGET_ENV`] is [`BudgetError::Environment`].
+///
+/// ```
+/// use proxima::budget::{check_fits, BudgetError};
+/// assert_eq!(check_fits("--grid", 4, 64, 4), Ok(()));
+/// let e = check_fits("--grid", 100_000, 100_000u128.pow(3), 4).unwrap_err();
+/// assert!(matches!(e, BudgetError::TooLarge { .. }));
+/// assert!(e.to_string().starts_with("--grid 100000: needs about 3.6 PiB"), "{e}");
+/// assert!(e.to_string().contains("PROXIMA_MEMORY_BUDGET"));
+/// ```
+pub fn check_fits(
+    option: &str,
+    value: impl std::fmt::Display,
+    count: u128,
+    bytes_each: u128,
+) -> Result<(), BudgetError> {
+    let budget = memory_budget_from_env().map_err(BudgetError::Environment)?;
+    check_fits_in(budget, option, value, count, bytes_each)
+}
+
+/// [`check_fits`] against an explicit `budget` instead of the environment's.
+pub fn check_fits_in(
+    budget: u64,
+    option: &str,
+    value: impl std::fmt::Display,
+    count: u128,
+    bytes_each: u128,
+) -> Result<(), BudgetError> {
+    if count.saturating_mul(bytes_each) <= u128::from(budget) {
+        return Ok(());
+    }
+    Err(BudgetError::TooLarge {
+        option: option.to_string(),
+        value: value.to_string(),
+        count,
+        bytes_each,
+        budget,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -261,6 +357,37 @@ mod tests {
             human_bytes(u128::MAX),
             format!("{:.1} EiB", u128::MAX as f64 / (1u64 << 60) as f64)
         );
+    }
+
+    #[test]
+    fn fits_up_to_the_budget_and_names_the_option_past_it() {
+        assert_eq!(check_fits_in(1000, "n", 250, 250, 4), Ok(()));
+        let e = check_fits_in(1000, "n", 251, 251, 4).unwrap_err();
+        assert_eq!(
+            e,
+            BudgetError::TooLarge {
+                option: "n".into(),
+                value: "251".into(),
+                count: 251,
+                bytes_each: 4,
+                budget: 1000
+            }
+        );
+        assert_eq!(e.bytes(), 1004);
+        assert_eq!(
+            e.to_string(),
+            "n 251: needs about 1004 bytes (251 × 4 = 1004 bytes), more than the memory budget of 1000 bytes \
+             (1000 bytes; set PROXIMA_MEMORY_BUDGET to change it)"
+        );
+        // Counts whose product passes u128 saturate instead of wrapping into a small number.
+        let e = check_fits_in(u64::MAX, "k", "huge", u128::MAX, 48).unwrap_err();
+        assert_eq!(e.bytes(), u128::MAX);
+    }
+
+    #[test]
+    fn the_thread_cap_is_four_per_core_at_least_eight() {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        assert_eq!(max_threads(), (4 * cores).max(8));
     }
 
     #[test]

@@ -592,7 +592,7 @@ pub enum SdfError {
         option: &'static str,
     },
     /// The output would not fit the memory budget
-    /// ([`default_memory_budget`](crate::budget::default_memory_budget)).
+    /// ([`check_fits`](crate::budget::check_fits): `PROXIMA_MEMORY_BUDGET` or the default).
     #[error("{option} = {value} needs {bytes} bytes, more than the memory budget of {budget} bytes")]
     MemoryBudget {
         /// The option that sizes the output.
@@ -604,6 +604,10 @@ pub enum SdfError {
         /// The budget.
         budget: u64,
     },
+    /// The memory budget of the environment cannot be read
+    /// ([`BudgetError::Environment`](crate::budget::BudgetError)).
+    #[error(transparent)]
+    Budget(#[from] crate::budget::BudgetError),
     /// A spread or margin so large that samples would lie beyond the
     /// coordinates a query accepts
     /// ([`MAX_QUERY_COORDINATE`](crate::build::MAX_QUERY_COORDINATE)).

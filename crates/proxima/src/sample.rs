@@ -176,6 +176,30 @@ pub fn near_triangles(triangles: &[Triangle], n: usize, sigma: f32, seed: u64) -
         .collect()
 }
 
+/// How many of `total` training samples are drawn near the surface and how
+/// many uniform in a box, when `uniform_fraction` of them are uniform:
+/// `(near, uniform)`, `uniform` the nearest whole number to
+/// `total × uniform_fraction` (computed in `f64`; halves round down, so
+/// that 0.5 gives the near samples the odd one). A fraction outside
+/// `[0, 1]` (or NaN) counts as the nearest end.
+///
+/// ```
+/// use proxima::sample::training_sample_counts;
+/// assert_eq!(training_sample_counts(101, 0.5), (51, 50));
+/// assert_eq!(training_sample_counts(20_000, 0.1), (18_000, 2_000));
+/// assert_eq!(training_sample_counts(10, 0.0), (10, 0));
+/// assert_eq!(training_sample_counts(10, 1.0), (0, 10));
+/// ```
+pub fn training_sample_counts(total: usize, uniform_fraction: f64) -> (usize, usize) {
+    let fraction = if uniform_fraction.is_nan() {
+        0.0
+    } else {
+        uniform_fraction.clamp(0.0, 1.0)
+    };
+    let uniform = ((total as f64 * fraction - 0.5).ceil().max(0.0) as usize).min(total);
+    (total - uniform, uniform)
+}
+
 /// `n` small random triangles (edges up to 0.1) in the cube [-1, 1]³: the
 /// soup the crate's unit tests build trees over.
 #[cfg(test)]

@@ -486,3 +486,76 @@ fn grids_are_counted_against_the_budget_before_storing() {
         );
     }
 }
+
+/// The memory budget of the environment (`PROXIMA_MEMORY_BUDGET`) bounds the
+/// library's signed-distance grids and samples as it bounds every front end
+/// (they used to be checked against the default budget only). The test runs
+/// itself again in a child process with the variable set: setting it here
+/// would race the other tests of this process.
+#[test]
+fn sdf_grids_and_samples_follow_the_budget_of_the_environment() {
+    const CHILD: &str = "PROXIMA_TEST_SDF_BUDGET_CHILD";
+    const NAME: &str = "sdf_grids_and_samples_follow_the_budget_of_the_environment";
+    if std::env::var_os(CHILD).is_some() {
+        return sdf_budget_child(&std::env::var("PROXIMA_MEMORY_BUDGET").unwrap_or_default());
+    }
+    for budget in ["64K", "lots"] {
+        let out = std::process::Command::new(std::env::current_exe().unwrap())
+            .args(["--exact", NAME, "--nocapture", "--test-threads", "1"])
+            .env(CHILD, "1")
+            .env("PROXIMA_MEMORY_BUDGET", budget)
+            .output()
+            .unwrap();
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success() && stdout.contains("1 passed"),
+            "child with PROXIMA_MEMORY_BUDGET={budget}: {stdout}{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+}
+
+/// The child of `sdf_grids_and_samples_follow_the_budget_of_the_environment`.
+fn sdf_budget_child(budget: &str) {
+    use proxima::SdfError;
+    use proxima::budget::BudgetError;
+    use proxima::sdf::{SdfConfig, SdfGrid, SignedDistanceField};
+    let field =
+        SignedDistanceField::new(&proxima::mesh::generate::noisy_icosphere(4, 1), &SdfConfig::default()).unwrap();
+    let cube = proxima::Aabb::new(Vec3::splat(-2.0), Vec3::splat(2.0));
+    let grid = |n| SdfGrid::around(&field.bounds(), n, 0.05).unwrap();
+    if budget == "lots" {
+        let e = field.sdf_grid(&grid(2), |_, _| {}).unwrap_err();
+        assert!(matches!(&e, SdfError::Budget(BudgetError::Environment(_))), "{e:?}");
+        assert!(
+            e.to_string().contains("PROXIMA_MEMORY_BUDGET: 'lots' is not a number"),
+            "{e}"
+        );
+        let e = field.sample_in(&cube, 10, 1).unwrap_err();
+        assert!(matches!(e, SdfError::Budget(BudgetError::Environment(_))), "{e:?}");
+        return;
+    }
+    assert_eq!(budget, "64K");
+    // 16³ values of 4 bytes fit 64 KiB; 26³ (70,304 bytes) do not.
+    assert_eq!(field.sdf_grid(&grid(16), |_, _| {}).unwrap().len(), 4096);
+    assert_eq!(
+        field.sdf_grid(&grid(26), |_, _| {}).unwrap_err(),
+        SdfError::MemoryBudget {
+            option: "resolution",
+            value: 26 * 26 * 26,
+            bytes: 26 * 26 * 26 * 4,
+            budget: 64 << 10,
+        }
+    );
+    // Samples are counted at 32 bytes: 2,048 fit, 2,049 do not.
+    assert_eq!(field.sample_in(&cube, 2048, 1).unwrap().points.len(), 2048);
+    let over = SdfError::MemoryBudget {
+        option: "count",
+        value: 2049,
+        bytes: 2049 * 32,
+        budget: 64 << 10,
+    };
+    assert_eq!(field.sample_in(&cube, 2049, 1).unwrap_err(), over);
+    assert_eq!(field.sample_near_surface(2049, 0.01, 1).unwrap_err(), over);
+    assert_eq!(field.training_samples(2000, 0.01, 49, &cube, 1).unwrap_err(), over);
+}

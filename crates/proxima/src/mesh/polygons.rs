@@ -39,6 +39,29 @@ impl PolygonExtraction {
     pub fn polygon_faces(&self) -> usize {
         self.polygons + self.fan_triangulated
     }
+
+    /// The one-line note front ends print when faces were fan-triangulated
+    /// (`None` when none was), for an extraction made with `tolerance`.
+    ///
+    /// ```
+    /// use proxima::{Mesh, Vec3};
+    /// let bent = Mesh::from_faces(
+    ///     vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 1.0), Vec3::Y],
+    ///     &[vec![0, 1, 2, 3]],
+    /// )
+    /// .unwrap();
+    /// let note = bent.extract_polygons(1e-5).fan_note(1e-5).unwrap();
+    /// assert_eq!(note, "1 of 1 faces with more than 3 vertices are not planar/convex within tolerance 1e-5; fan-triangulated");
+    /// ```
+    pub fn fan_note(&self, tolerance: f32) -> Option<String> {
+        (self.fan_triangulated > 0).then(|| {
+            format!(
+                "{} of {} faces with more than 3 vertices are not planar/convex within tolerance {tolerance:e}; fan-triangulated",
+                self.fan_triangulated,
+                self.polygon_faces(),
+            )
+        })
+    }
 }
 
 impl Mesh {

@@ -4,7 +4,7 @@
 
 use super::field::SignedDistanceField;
 use crate::aabb::Aabb;
-use crate::budget::default_memory_budget;
+use crate::budget::{BudgetError, check_fits};
 use crate::build::MAX_QUERY_COORDINATE;
 use crate::error::SdfError;
 use crate::math::Vec3;
@@ -95,6 +95,10 @@ pub struct Samples {
     pub signed_distances: Vec<f32>,
 }
 
+/// What the seed of [`SignedDistanceField::training_samples`]' uniform
+/// samples is xor-ed with.
+const UNIFORM_STREAM: u64 = 0x5851_f42d_4c95_7f2d;
+
 /// Fails with [`SdfError::Parameter`] unless `value` is finite and not negative.
 fn check_length(option: &'static str, value: f32) -> Result<(), SdfError> {
     if value.is_finite() && value >= 0.0 {
@@ -104,22 +108,22 @@ fn check_length(option: &'static str, value: f32) -> Result<(), SdfError> {
     }
 }
 
-/// Fails unless `count` items of `bytes_each` fit the memory budget.
+/// Fails on a zero `count`, and unless `count` items of `bytes_each` fit
+/// the memory budget of the environment ([`check_fits`]: the
+/// `PROXIMA_MEMORY_BUDGET` of every front end, or the default).
 fn check_budget(option: &'static str, count: u64, bytes_each: u64) -> Result<(), SdfError> {
     if count == 0 {
         return Err(SdfError::Zero { option });
     }
-    let bytes = count.saturating_mul(bytes_each);
-    let budget = default_memory_budget();
-    if bytes > budget {
-        return Err(SdfError::MemoryBudget {
+    check_fits(option, count, count.into(), bytes_each.into()).map_err(|e| match e {
+        BudgetError::TooLarge { budget, .. } => SdfError::MemoryBudget {
             option,
             value: count,
-            bytes,
+            bytes: u64::try_from(e.bytes()).unwrap_or(u64::MAX),
             budget,
-        });
-    }
-    Ok(())
+        },
+        e => SdfError::Budget(e),
+    })
 }
 
 impl SignedDistanceField {
@@ -195,10 +199,90 @@ impl SignedDistanceField {
     pub fn sample_uniform(&self, n: usize, margin: f32, seed: u64) -> Result<Samples, SdfError> {
         check_length("margin", margin)?;
         self.check_reach("margin", margin, self.bounds().size().max_element() * margin)?;
-        check_budget("count", n as u64, 32)?;
         let b = self.bounds();
         let grow = b.size() * margin;
-        Ok(self.samples(uniform_in(&Aabb::new(b.min - grow, b.max + grow), n, seed)))
+        self.sample_in(&Aabb::new(b.min - grow, b.max + grow), n, seed)
+    }
+
+    /// `n` points uniform in `bounds` (the dataset's cube `[-h, h]³`), with
+    /// their signed distances, seeded as
+    /// [`sample_near_surface`](Self::sample_near_surface). Fails on an empty
+    /// box, one not finite or beyond the coordinates a query accepts, `n == 0`
+    /// or an `n` beyond the memory budget.
+    ///
+    /// ```
+    /// use proxima::{Aabb, Vec3};
+    /// use proxima::mesh::generate::noisy_icosphere;
+    /// use proxima::sdf::{SdfConfig, SignedDistanceField};
+    /// let field = SignedDistanceField::new(&noisy_icosphere(4, 1), &SdfConfig::default()).unwrap();
+    /// let cube = Aabb::new(Vec3::splat(-2.0), Vec3::splat(2.0));
+    /// let samples = field.sample_in(&cube, 100, 7).unwrap();
+    /// assert!(samples.points.iter().all(|p| p.abs().max_element() <= 2.0));
+    /// assert_eq!(samples.signed_distances.len(), 100);
+    /// ```
+    pub fn sample_in(&self, bounds: &Aabb, n: usize, seed: u64) -> Result<Samples, SdfError> {
+        let extent = bounds.min.abs().max(bounds.max.abs()).max_element();
+        if bounds.is_empty() || !extent.is_finite() {
+            let value = if bounds.is_empty() { -1.0 } else { f32::INFINITY };
+            return Err(SdfError::Parameter {
+                option: "bounds",
+                value,
+            });
+        }
+        if extent > MAX_QUERY_COORDINATE {
+            return Err(SdfError::TooFar {
+                option: "bounds",
+                value: extent,
+                bound: MAX_QUERY_COORDINATE,
+            });
+        }
+        check_budget("count", n as u64, 32)?;
+        Ok(self.samples(uniform_in(bounds, n, seed)))
+    }
+
+    /// Training samples, the one recipe of `proxima sdf --sample` and
+    /// `proxima.dataset`: `near` points near the surface
+    /// ([`sample_near_surface`](Self::sample_near_surface) with `sigma`, an
+    /// absolute length in the mesh's units, and `seed`), then `uniform`
+    /// points uniform in `uniform_box` ([`sample_in`](Self::sample_in), with
+    /// a stream of its own derived from `seed`), with their signed
+    /// distances. Split a total with
+    /// [`training_sample_counts`](crate::sample::training_sample_counts).
+    /// The same arguments give the same samples on every machine and thread
+    /// count. A count of zero draws nothing of that kind (both zero: no
+    /// samples).
+    ///
+    /// ```
+    /// use proxima::{Aabb, Vec3};
+    /// use proxima::mesh::generate::noisy_icosphere;
+    /// use proxima::sdf::{SdfConfig, SignedDistanceField};
+    /// let field = SignedDistanceField::new(&noisy_icosphere(4, 1), &SdfConfig::default()).unwrap();
+    /// let cube = Aabb::new(Vec3::splat(-1.5), Vec3::splat(1.5));
+    /// let samples = field.training_samples(90, 0.01, 10, &cube, 3).unwrap();
+    /// assert_eq!(samples.points.len(), 100);
+    /// assert_eq!(samples.points[..90], field.sample_near_surface(90, 0.01, 3).unwrap().points[..]);
+    /// ```
+    pub fn training_samples(
+        &self,
+        near: usize,
+        sigma: f32,
+        uniform: usize,
+        uniform_box: &Aabb,
+        seed: u64,
+    ) -> Result<Samples, SdfError> {
+        check_budget("count", (near as u64).saturating_add(uniform as u64), 32)?;
+        let mut samples = match near {
+            0 => Samples::default(),
+            n => self.sample_near_surface(n, sigma, seed)?,
+        };
+        if uniform > 0 {
+            // Another stream than the near samples', so the two sets are not
+            // drawn from the same random numbers.
+            let more = self.sample_in(uniform_box, uniform, seed ^ UNIFORM_STREAM)?;
+            samples.points.extend(more.points);
+            samples.signed_distances.extend(more.signed_distances);
+        }
+        Ok(samples)
     }
 
     /// Fails when points up to `reach` beyond the mesh's box would lie
