@@ -225,7 +225,9 @@ pub fn note(line: &str) {
     let _ = writeln!(std::io::stderr().lock(), "proxima: {line}");
 }
 
-/// The memory budget: [`MEMORY_BUDGET_ENV`] or the library's default.
+/// The memory budget: `PROXIMA_MEMORY_BUDGET` or the library's default (the
+/// sizes known before a command starts are checked with
+/// [`proxima::budget::check_fits`], which reads the same).
 pub fn memory_budget() -> Result<u64> {
     proxima::budget::memory_budget_from_env().map_err(|e| anyhow!(e))
 }
@@ -235,18 +237,12 @@ pub fn max_cell_tests() -> Result<u64> {
     proxima::budget::max_cell_tests_from_env().map_err(|e| anyhow!(e))
 }
 
-/// The largest `--threads` a command accepts: 4 per core (at least 8). More
-/// would only cost memory and scheduling.
-pub fn max_threads() -> usize {
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    (4 * cores).max(8)
-}
-
-/// `requested` worker threads, refused beyond [`max_threads`] with a
-/// one-line error (a note and a cap would make a second stderr line when the
-/// command then fails).
+/// `requested` worker threads, refused beyond the library's cap
+/// ([`proxima::budget::max_threads`], Python's too) with a one-line error (a
+/// note and a cap would make a second stderr line when the command then
+/// fails).
 pub fn thread_count(requested: usize) -> Result<usize> {
-    let cap = max_threads();
+    let cap = proxima::budget::max_threads();
     if requested > cap {
         bail!("--threads {requested} is more than the limit of {cap} (4 per core on this machine, at least 8)");
     }

@@ -2,13 +2,14 @@
 //! [--exact] [--beta B] [--threads T] [--json]`: signed distances (negative inside) at query points as
 //! CSV, on a dense grid as a `.npy`, or at training samples as a `.npz`.
 
-use crate::common::{load_mesh, memory_budget, note, parse_vec3, query_points, thread_count};
+use crate::common::{load_mesh, note, parse_vec3, query_points, thread_count};
 use crate::npy;
 use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
-use proxima::budget::human_bytes;
+use proxima::budget::check_fits;
+use proxima::sample::training_sample_counts;
 use proxima::sdf::{DEFAULT_BETA, SdfGrid};
-use proxima::{SdfConfig, SdfError, Sign, SignedDistance, SignedDistanceField, Vec3};
+use proxima::{Aabb, SdfConfig, SdfError, Sign, SignedDistance, SignedDistanceField, Vec3};
 use rayon::prelude::*;
 use serde_json::{Value, json};
 use std::io::{BufWriter, IsTerminal, Write};
@@ -59,21 +60,32 @@ pub struct Args {
     #[arg(long, value_name = "FILE")]
     points: Option<PathBuf>,
     /// The signed distances at the centres of N³ cells over the bounding box
-    /// grown by 5% on every side, as a float32 .npy of shape (N, N, N),
-    /// index [i, j, k] = x, y, z. Written to --out, or to standard output
-    /// when it is redirected (never to a terminal).
+    /// grown by 5% on every side (or the --cube), as a float32 .npy of shape
+    /// (N, N, N), index [i, j, k] = x, y, z. Written to --out, or to standard
+    /// output when it is redirected (never to a terminal).
     #[arg(long, value_name = "N")]
     grid: Option<usize>,
-    /// N training samples, half near the surface and half uniform in the
-    /// bounding box grown by 5%, written to --out as a .npz with `points`
-    /// (N, 3) and `sdf` (N,) float32 arrays (the DeepSDF layout).
+    /// N training samples, near the surface first, then (--uniform-fraction of
+    /// them) uniform in the bounding box grown by 5% (or the --cube), written
+    /// to --out as a .npz with `points` (N, 3) and `sdf` (N,) float32 arrays
+    /// (the DeepSDF layout). The recipe of `proxima.dataset`: the same mesh,
+    /// options and seed give the same samples.
     #[arg(long, value_name = "N", requires = "out")]
     sample: Option<usize>,
     /// With --sample: the standard deviation of the near samples' offsets
-    /// from the surface, per axis, in mesh units (default 1% of the bounding
-    /// box diagonal).
+    /// from the surface, per axis, an absolute length in the mesh's units
+    /// (as `proxima.dataset`'s near_sigma in its normalized units; default 1%
+    /// of the bounding box diagonal).
     #[arg(long, value_name = "S", requires = "sample", allow_hyphen_values = true)]
     near_sigma: Option<f32>,
+    /// With --sample: the share of the samples drawn uniform in the box, the
+    /// rest near the surface (the nearest whole number, halves rounded down).
+    #[arg(long, value_name = "F", requires = "sample", default_value_t = 0.5, allow_hyphen_values = true)]
+    uniform_fraction: f64,
+    /// With --sample or --grid: the box is the cube [-H, H]³ (as
+    /// `proxima.dataset`'s volume) instead of the bounding box grown by 5%.
+    #[arg(long, value_name = "H", allow_hyphen_values = true)]
+    cube: Option<f32>,
     /// With --sample: the seed (the same seed gives the same samples on every machine).
     #[arg(long, value_name = "K", default_value_t = 1)]
     seed: u64,
@@ -169,25 +181,11 @@ pub fn run(args: Args) -> Result<()> {
 /// and sample sets beyond the memory budget, before anything is read or
 /// allocated; and a grid bound for a terminal.
 fn check_sizes(args: &Args) -> Result<()> {
-    let budget = memory_budget()?;
-    let beyond_budget = |option: &str, n: usize, what: &str, count: u128, each: u128| -> Result<()> {
-        let bytes = count.saturating_mul(each);
-        if bytes > u128::from(budget) {
-            bail!(
-                "{option} {n}: {count} {what} of {each} bytes need about {} ({bytes} bytes), more than the memory budget \
-                 of {} ({budget} bytes; PROXIMA_MEMORY_BUDGET sets it)",
-                human_bytes(bytes),
-                human_bytes(budget.into()),
-            );
-        }
-        Ok(())
-    };
     if let Some(n) = args.grid {
         if n == 0 {
             return Err(SdfError::Zero { option: "--grid" }.into());
         }
-        let cells = (n as u128).pow(3);
-        beyond_budget("--grid", n, "cells", cells, BYTES_PER_CELL)?;
+        check_fits("--grid", n, (n as u128).pow(3), BYTES_PER_CELL)?;
         // Any other name is taken as given (`/dev/stdout`, a pipe), as for --sample.
         if let Some(path) = args.out.as_deref().filter(|path| extension_is(path, "npz")) {
             bail!(
@@ -214,7 +212,18 @@ fn check_sizes(args: &Args) -> Result<()> {
                 path.display()
             );
         }
-        beyond_budget("--sample", n, "samples", n as u128, BYTES_PER_SAMPLE)?;
+        check_fits("--sample", n, n as u128, BYTES_PER_SAMPLE)?;
+        if !(0.0..=1.0).contains(&args.uniform_fraction) {
+            bail!("--uniform-fraction must be between 0 and 1, got {}", args.uniform_fraction);
+        }
+    }
+    if let Some(half) = args.cube {
+        if args.grid.is_none() && args.sample.is_none() {
+            bail!("--cube sets the box of --grid or --sample: give one of them");
+        }
+        if !(half.is_finite() && half > 0.0) {
+            bail!("--cube must be a finite number above 0, got {half}");
+        }
     }
     if let Some(sigma) = args.near_sigma
         && !(sigma.is_finite() && sigma >= 0.0)
@@ -352,7 +361,11 @@ fn answer_json(query: usize, answer: Option<&SignedDistance>) -> Value {
 /// Fortran order for numpy's `[i, j, k]` = x, y, z).
 fn write_grid(field: &SignedDistanceField, n: usize, summary: &Summary) -> Result<()> {
     let args = summary.args;
-    let grid = SdfGrid::around(&field.bounds(), n, MARGIN).with_context(|| args.mesh.display().to_string())?;
+    let grid = match args.cube {
+        Some(half) => SdfGrid::over(&cube(half), [n; 3]),
+        None => SdfGrid::around(&field.bounds(), n, MARGIN),
+    }
+    .with_context(|| args.mesh.display().to_string())?;
     let start = Instant::now();
     let mut bar = LateBar::new("sdf grid");
     let values = field
@@ -411,12 +424,19 @@ fn write_grid(field: &SignedDistanceField, n: usize, summary: &Summary) -> Resul
 fn write_samples(field: &SignedDistanceField, n: usize, summary: &Summary) -> Result<()> {
     let args = summary.args;
     let path = args.out.as_ref().expect("clap requires --out with --sample");
-    let (near_count, uniform_count) = (n / 2 + n % 2, n / 2);
+    let (near_count, uniform_count) = training_sample_counts(n, args.uniform_fraction);
     let sigma = args.near_sigma.unwrap_or(0.01 * field.bounds().size().length());
+    let uniform_box = match args.cube {
+        Some(half) => cube(half),
+        None => {
+            let b = field.bounds();
+            let grow = b.size() * MARGIN;
+            Aabb::new(b.min - grow, b.max + grow)
+        }
+    };
     let start = Instant::now();
-    let mesh = || args.mesh.display().to_string();
-    let near = field
-        .sample_near_surface(near_count, sigma, args.seed)
+    let samples = field
+        .training_samples(near_count, sigma, uniform_count, &uniform_box, args.seed)
         .map_err(|e| match e {
             SdfError::TooFar { value, bound, .. } => SdfError::TooFar {
                 option: "--near-sigma",
@@ -425,28 +445,11 @@ fn write_samples(field: &SignedDistanceField, n: usize, summary: &Summary) -> Re
             },
             e => e,
         })
-        .with_context(mesh)?;
-    // Another stream than the near samples', so the two sets are not drawn
-    // from the same random numbers.
-    let uniform_seed = args.seed ^ 0x5851_f42d_4c95_7f2d;
-    let uniform = match uniform_count {
-        0 => Default::default(),
-        count => field.sample_uniform(count, MARGIN, uniform_seed).with_context(mesh)?,
-    };
+        .with_context(|| args.mesh.display().to_string())?;
     let seconds = start.elapsed().as_secs_f64();
-    let points: Vec<f32> = near
-        .points
-        .iter()
-        .chain(&uniform.points)
-        .flat_map(|p| p.to_array())
-        .collect();
-    let sdf: Vec<f32> = near
-        .signed_distances
-        .iter()
-        .chain(&uniform.signed_distances)
-        .copied()
-        .collect();
-    drop((near, uniform));
+    let points: Vec<f32> = samples.points.iter().flat_map(|p| p.to_array()).collect();
+    let sdf = samples.signed_distances;
+    drop(samples.points);
     let inside = sdf.iter().filter(|&&v| v < 0.0).count();
     let archive = npy::npz(&[("points", &[n, 3], &points), ("sdf", &[n], &sdf)])
         .with_context(|| format!("{}: the .npz archive", path.display()))?;
@@ -458,7 +461,9 @@ fn write_samples(field: &SignedDistanceField, n: usize, summary: &Summary) -> Re
         out.insert("near".into(), json!(near_count));
         out.insert("uniform".into(), json!(uniform_count));
         out.insert("near_sigma".into(), json!(sigma));
-        out.insert("margin".into(), json!(MARGIN));
+        out.insert("uniform_fraction".into(), json!(args.uniform_fraction));
+        out.insert("margin".into(), json!(args.cube.map_or(Some(MARGIN), |_| None)));
+        out.insert("cube".into(), json!(args.cube));
         out.insert("seed".into(), json!(args.seed));
         out.insert("inside".into(), json!(inside));
         out.insert("seconds".into(), json!(seconds));
@@ -466,12 +471,19 @@ fn write_samples(field: &SignedDistanceField, n: usize, summary: &Summary) -> Re
         crate::outln!("{:#}", Value::Object(out));
     } else {
         note(&format!(
-            "{n} samples ({near_count} near the surface, sigma {sigma}; {uniform_count} uniform in the box grown by 5%), \
+            "{n} samples ({near_count} near the surface, sigma {sigma}; {uniform_count} uniform in {}), \
              {inside} inside; {seconds:.3} s; written to {}",
+            args.cube
+                .map_or("the box grown by 5%".to_string(), |h| format!("the cube [-{h}, {h}]³")),
             path.display()
         ));
     }
     Ok(())
+}
+
+/// The cube `[-half, half]³` of `--cube`.
+fn cube(half: f32) -> Aabb {
+    Aabb::new(Vec3::splat(-half), Vec3::splat(half))
 }
 
 /// `true` when `path` ends in `.ext` (any case).
