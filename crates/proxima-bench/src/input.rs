@@ -30,8 +30,7 @@ pub fn memory_budget() -> Result<u64> {
 /// `requested` worker threads, refused beyond 4 per core (at least 8): more
 /// would only cost memory and scheduling.
 pub fn thread_count(requested: usize) -> Result<usize> {
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let cap = (4 * cores).max(8);
+    let cap = proxima::budget::max_threads();
     if requested > cap {
         bail!("--threads {requested} is more than the limit of {cap} (4 per core on this machine, at least 8)");
     }
