@@ -16,7 +16,10 @@ use crate::math::{DVec3, Vec3, Vec3A};
 /// assert_eq!(b.largest_axis(), 0);
 /// assert!(b.contains_point(Vec3::new(2.0, 1.0, 2.0)));
 /// ```
-#[derive(Clone, Copy, Debug, PartialEq)]
+// Plain data (`Pod`), so that tree nodes holding one can live in typed
+// huge-page arrays.
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+#[repr(C)]
 pub struct Aabb {
     /// Smallest corner.
     pub min: Vec3,

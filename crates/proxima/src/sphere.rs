@@ -18,7 +18,9 @@ use crate::math::{DVec3, Vec3, Vec3A};
 /// assert!(points.iter().all(|&p| sphere.contains_point(p))); // for certain, not within rounding
 /// assert!(Sphere::from_points(&[]).is_none());
 /// ```
-#[derive(Clone, Copy, Debug, PartialEq, Default)]
+// Plain data (`Pod`), as a tree node's volume.
+#[derive(Clone, Copy, Debug, PartialEq, Default, bytemuck::Pod, bytemuck::Zeroable)]
+#[repr(C)]
 pub struct Sphere {
     /// Center.
     pub center: Vec3,

@@ -11,18 +11,21 @@ mod validate;
 
 pub(crate) use ray::RaySlabs;
 // The build layer's names the tree's users need with it.
-pub use crate::build::{BuildConfig, Node, SplitMethod, TreeStats};
+pub use crate::build::{BuildConfig, SplitMethod, TreeStats};
 // The query layer's names, where the tree's users have always found them.
 pub use crate::query::{BatchOptions, ClosestHit, KnnScratch, QueryStats, RayHit};
 
 use crate::aabb::Aabb;
-use crate::build::{NodePair, build_hierarchy, frustum_walk, nearest_walk};
+use crate::build::{Node, NodePair, build_hierarchy, frustum_walk, nearest_walk};
 use crate::error::BuildError;
 use crate::frustum::{Frustum, FrustumOverlap};
 use crate::math::Vec3A;
 use crate::memory::HugePageArray;
 use crate::primitive::{Bounded, ClosestPoint, PrimitiveSet};
 use crate::query::{Counter, FrustumQuery, Leaves, NearestQuery, NearestVisitor, SpatialIndex};
+
+/// A node of the AABB tree: the binary trees' node holding a box.
+pub type AabbNode = Node<Aabb>;
 
 /// A bounding volume hierarchy of axis-aligned boxes over primitives of type `T`.
 ///
@@ -33,7 +36,7 @@ use crate::query::{Counter, FrustumQuery, Leaves, NearestQuery, NearestVisitor, 
 #[derive(Clone, Debug)]
 pub struct AabbTree<T> {
     /// Node pairs; see [`Node`] for the indexing.
-    nodes: HugePageArray<NodePair>,
+    nodes: HugePageArray<NodePair<Aabb>>,
     /// Primitives in leaf order, with their input indices and sources.
     leaves: Leaves<T>,
     depth: u32,
@@ -41,15 +44,15 @@ pub struct AabbTree<T> {
 
 impl<T> AabbTree<T> {
     /// The root node, `None` for an empty tree.
-    pub fn root(&self) -> Option<&Node> {
-        self.nodes.first().map(|pair| &pair.0[0])
+    pub fn root(&self) -> Option<&AabbNode> {
+        self.nodes.first().map(|pair| &pair.nodes()[0])
     }
 
     /// Node `index` (0 is the root; children indices come from
     /// [`Node::children`]).
     #[inline(always)]
-    pub fn node(&self, index: usize) -> &Node {
-        &self.nodes[index >> 1].0[index & 1]
+    pub fn node(&self, index: usize) -> &AabbNode {
+        &self.nodes[index >> 1].nodes()[index & 1]
     }
 
     /// Number of nodes (inner and leaves).
@@ -58,17 +61,17 @@ impl<T> AabbTree<T> {
     }
 
     /// Every node with its index, root first (the padding node is skipped).
-    pub fn nodes(&self) -> impl Iterator<Item = (usize, &Node)> + '_ {
+    pub fn nodes(&self) -> impl Iterator<Item = (usize, &AabbNode)> + '_ {
         self.nodes
             .iter()
-            .flat_map(|pair| &pair.0)
+            .flat_map(|pair| pair.nodes())
             .enumerate()
             .filter(|&(i, _)| i != 1)
     }
 
     /// The node pairs, as the walks read them.
     #[inline(always)]
-    pub(crate) fn pairs(&self) -> &[NodePair] {
+    pub(crate) fn pairs(&self) -> &[NodePair<Aabb>] {
         &self.nodes
     }
 
@@ -152,13 +155,13 @@ impl<T> SpatialIndex<T> for AabbTree<T> {
 impl<T: ClosestPoint> NearestQuery<T> for AabbTree<T> {
     #[inline(always)]
     fn nearest_walk<V: NearestVisitor<T>, C: Counter>(&self, p: Vec3A, visitor: &mut V, counter: &mut C) {
-        nearest_walk::<Node, T, V, C>(&self.nodes, self.depth, self.leaves.primitives(), p, visitor, counter);
+        nearest_walk::<AabbNode, T, V, C>(&self.nodes, self.depth, self.leaves.primitives(), p, visitor, counter);
     }
 }
 
 impl<T: FrustumOverlap> FrustumQuery<T> for AabbTree<T> {
     fn frustum_walk<C: Counter>(&self, frustum: &Frustum, out: &mut Vec<u32>, counter: &mut C) {
-        frustum_walk::<Node, T, C>(
+        frustum_walk::<AabbNode, T, C>(
             &self.nodes,
             self.leaves.primitives(),
             self.leaves.indices(),

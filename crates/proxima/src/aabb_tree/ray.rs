@@ -25,7 +25,7 @@
 //! unbounded value (the plane belongs to the box). The near and far planes are
 //! chosen by the sign bit of the direction, so `−0.0` works like `+0.0`.
 
-use super::{AabbTree, Node};
+use super::{AabbNode, AabbTree};
 use crate::build::{BinaryQuery, walk};
 use crate::math::{BVec3A, Vec3, Vec3A};
 use crate::memory::prefetch;
@@ -91,8 +91,9 @@ impl RaySlabs {
     /// The entry parameter into `node`'s box, or `+∞` when the ray misses it
     /// within `[t_lo, t_hi]`.
     #[inline(always)]
-    fn entry(&self, node: &Node, t_lo: f32, t_hi: f32) -> f32 {
-        let (enter, exit) = self.interval(node.min, node.max, t_lo, t_hi);
+    fn entry(&self, node: &AabbNode, t_lo: f32, t_hi: f32) -> f32 {
+        let b = node.bounds();
+        let (enter, exit) = self.interval(b.min, b.max, t_lo, t_hi);
         if enter <= exit { enter } else { f32::INFINITY }
     }
 }
@@ -109,13 +110,13 @@ impl<T: RayIntersect> RayQuery<T> for AabbTree<T> {
     ) {
         let Some(root) = self.root() else { return };
         let mut query = Rays {
-            slabs: RaySlabs::new(ray.origin(), direction, root.min, root.max),
+            slabs: RaySlabs::new(ray.origin(), direction, root.bounds().min, root.bounds().max),
             ray,
             t_min,
             primitives: self.leaves().primitives(),
             visitor,
         };
-        walk::<Node, _, C>(self.pairs(), self.depth(), &mut query, counter);
+        walk::<AabbNode, _, C>(self.pairs(), self.depth(), &mut query, counter);
     }
 }
 
@@ -130,10 +131,10 @@ struct Rays<'a, T, V> {
     visitor: &'a mut V,
 }
 
-impl<T, V: RayVisitor<T>> BinaryQuery<Node> for Rays<'_, T, V> {
+impl<T, V: RayVisitor<T>> BinaryQuery<AabbNode> for Rays<'_, T, V> {
     const TOUCH_GRANDCHILDREN: bool = false;
     #[inline(always)]
-    fn key(&self, node: &Node) -> f32 {
+    fn key(&self, node: &AabbNode) -> f32 {
         self.slabs.entry(node, self.t_min, self.visitor.t_hi())
     }
     /// `t_hi`, but finite: a missed box's `+∞` entry is never within it.

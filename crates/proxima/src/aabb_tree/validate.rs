@@ -1,6 +1,6 @@
 //! The AABB tree's statistics and invariant checks.
 
-use super::{AabbTree, Node};
+use super::{AabbNode, AabbTree};
 use crate::build::{TreeStats, check_structure};
 use crate::primitive::Bounded;
 
@@ -24,7 +24,7 @@ impl<T: Bounded> AabbTree<T> {
     /// right; `indices` is a permutation. Returns a description of the first
     /// violation.
     pub fn validate(&self) -> Result<(), String> {
-        check_structure::<Node>(
+        check_structure::<AabbNode>(
             &self.nodes,
             self.len(),
             self.depth,

@@ -5,6 +5,11 @@
 use super::config::{BuildConfig, MAX_COORDINATE, SplitMethod};
 use super::median::{CentreItem, Counts, SMALL_NODE, median_partition, median_small};
 use super::node::{Node, NodePair};
+
+/// The nodes this build makes: boxes.
+type BoxNode = Node<Aabb>;
+/// Two of them in a cache line.
+type BoxPair = NodePair<Aabb>;
 use crate::aabb::Aabb;
 use crate::error::BuildError;
 use crate::math::{Vec3, Vec4};
@@ -119,7 +124,7 @@ fn widen(b: Aabb) -> Aabb {
 /// primitives in leaf order with their input indices and sources, and the
 /// depth of the deepest leaf. What every binary tree is made from.
 pub(crate) struct Hierarchy<T> {
-    pub(crate) nodes: HugePageArray<NodePair>,
+    pub(crate) nodes: HugePageArray<BoxPair>,
     pub(crate) leaves: Leaves<T>,
     pub(crate) depth: u32,
 }
@@ -263,14 +268,11 @@ fn input_error(boxes: impl Iterator<Item = Aabb> + Clone) -> BuildError {
 ///
 /// Children always come after their parent in the array, so one pass
 /// backwards meets every child before its parent. Node 1 is padding.
-fn refit<T: Bounded + Sync>(pairs: &mut [NodePair], primitives: &[T]) {
-    let set = |node: &mut Node, b: Aabb| {
-        node.min = b.min;
-        node.max = b.max;
-    };
+fn refit<T: Bounded + Sync>(pairs: &mut [BoxPair], primitives: &[T]) {
+    let set = |node: &mut BoxNode, b: Aabb| node.set_volume(b);
     // Leaves first, in parallel: they read every primitive once.
     pairs.par_iter_mut().for_each(|pair| {
-        for node in &mut pair.0 {
+        for node in pair.nodes_mut() {
             // The padding node has no primitives: not a leaf.
             if node.is_leaf() {
                 let b = primitives[node.primitive_range()]
@@ -281,24 +283,27 @@ fn refit<T: Bounded + Sync>(pairs: &mut [NodePair], primitives: &[T]) {
         }
     });
     for i in (0..2 * pairs.len()).rev() {
-        let node = pairs[i / 2].0[i % 2];
+        let node = pairs[i / 2].nodes()[i % 2];
         // The padding node looks like an inner node whose children are 0 and 1.
         if i == 1 || node.is_leaf() {
             continue;
         }
-        let [left, right] = pairs[node.children()[0] as usize / 2].0;
-        set(&mut pairs[i / 2].0[i % 2], left.bounds().merge(&right.bounds()));
+        let [left, right] = *pairs[node.children()[0] as usize / 2].nodes();
+        set(
+            &mut pairs[i / 2].nodes_mut()[i % 2],
+            left.bounds().merge(&right.bounds()),
+        );
     }
 }
 
 /// A built subtree: its root, and its other nodes as pairs numbered from 0
 /// (inner nodes refer to flat indices within the subtree's pairs).
 struct Subtree {
-    root: Node,
+    root: BoxNode,
     /// The pairs in layout order, as the pieces the threads built: each with
     /// the amount to add to its inner nodes' child indices. Joining subtrees
     /// only adjusts these amounts; the pairs are copied once, at the end.
-    pieces: Vec<(Vec<NodePair>, u32)>,
+    pieces: Vec<(Vec<BoxPair>, u32)>,
     pair_count: usize,
     depth: u32,
 }
@@ -332,7 +337,7 @@ fn build_nodes<I: BuildItem>(
     mut items: Vec<I>,
     bounds: Aabb,
     config: &BuildConfig,
-) -> (HugePageVec<NodePair>, u32, Vec<u32>) {
+) -> (HugePageVec<BoxPair>, u32, Vec<u32>) {
     if items.is_empty() {
         return (HugePageVec::with_capacity(0), 0, Vec::new());
     }
@@ -349,11 +354,11 @@ fn build_nodes<I: BuildItem>(
     // for huge pages once written, when large), not to a `Vec` copied there
     // afterwards.
     let mut nodes = HugePageVec::with_capacity(tree.pair_count + 1);
-    nodes.push(NodePair([tree.root.shifted(2), PADDING]));
+    nodes.push(NodePair::new([tree.root.shifted(2), PADDING]));
     for (pairs, shift) in &tree.pieces {
         let shift = shift + 2;
         for pair in pairs {
-            nodes.push(NodePair(pair.0.map(|n| n.shifted(shift))));
+            nodes.push(NodePair::new(pair.nodes().map(|n| n.shifted(shift))));
         }
     }
     drop(scratch);
@@ -420,7 +425,7 @@ fn build_subtree<I: BuildItem>(
     // Layout: the children pair, then the left subtree's pairs, then the right's.
     let left_shift = 2;
     let right_shift = 2 + 2 * left.pair_count as u32;
-    let children = NodePair([left.root.shifted(left_shift), right.root.shifted(right_shift)]);
+    let children = NodePair::new([left.root.shifted(left_shift), right.root.shifted(right_shift)]);
     let mut pieces = Vec::with_capacity(1 + left.pieces.len() + right.pieces.len());
     pieces.push((vec![children], 0));
     pieces.extend(
@@ -435,7 +440,7 @@ fn build_subtree<I: BuildItem>(
             .map(|(pairs, shift)| (pairs, shift + right_shift)),
     );
     Subtree {
-        root: Node::inner(Aabb::EMPTY, 0),
+        root: BoxNode::inner(Aabb::EMPTY, 0),
         pieces,
         pair_count: 1 + left.pair_count + right.pair_count,
         depth: left.depth.max(right.depth),
@@ -468,7 +473,7 @@ fn build_sequential<I: BuildItem>(
     config: &BuildConfig,
 ) -> Subtree {
     let len = buffers.main.len();
-    let mut pairs: Vec<NodePair> = Vec::with_capacity(len.div_ceil(config.min_size as usize));
+    let mut pairs: Vec<BoxPair> = Vec::with_capacity(len.div_ceil(config.min_size as usize));
     let mut root = PLACEHOLDER;
     let mut work = vec![(ROOT, 0usize, len, depth, bounds, in_scratch)];
     let mut max_depth = depth;
@@ -481,23 +486,23 @@ fn build_sequential<I: BuildItem>(
                 if in_scratch {
                     target.copy_from_slice(source);
                 }
-                Node::leaf(Aabb::EMPTY, (offset + begin) as u32, (end - begin) as u32)
+                BoxNode::leaf(Aabb::EMPTY, (offset + begin) as u32, (end - begin) as u32)
             }
             Some(split) => {
                 let first_child = 2 * pairs.len();
-                pairs.push(NodePair([PLACEHOLDER, PLACEHOLDER]));
+                pairs.push(NodePair::new([PLACEHOLDER, PLACEHOLDER]));
                 let cut = begin + split.cut;
                 let children_in_scratch = in_scratch ^ split.moved;
                 // Left child is popped first, so its subtree is laid out next to it.
                 work.push((first_child + 1, cut, end, depth + 1, split.right, children_in_scratch));
                 work.push((first_child, begin, cut, depth + 1, split.left, children_in_scratch));
-                Node::inner(Aabb::EMPTY, first_child as u32)
+                BoxNode::inner(Aabb::EMPTY, first_child as u32)
             }
         };
         if node == ROOT {
             root = made;
         } else {
-            pairs[node >> 1].0[node & 1] = made;
+            pairs[node >> 1].nodes_mut()[node & 1] = made;
         }
     }
     Subtree {
@@ -588,6 +593,6 @@ fn sah_split(range: &mut [BoxItem]) -> Option<Split> {
     })
 }
 
-const PLACEHOLDER: Node = Node::empty_leaf();
+const PLACEHOLDER: BoxNode = Node::empty_leaf();
 /// Node 1: never referenced by any inner node.
-pub(crate) const PADDING: Node = Node::empty_leaf();
+const PADDING: BoxNode = Node::empty_leaf();

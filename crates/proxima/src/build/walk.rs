@@ -201,6 +201,7 @@ pub(crate) fn nearest_walk<N: PairedNode, T, V: NearestVisitor<T>, C: Counter>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::aabb::Aabb;
     use crate::build::{BuildConfig, Node, build_hierarchy};
     use crate::math::Vec3;
     use crate::query::{Best, QueryStats};
@@ -222,7 +223,7 @@ mod tests {
             let mut full = Best::new(leaves.indices(), f32::INFINITY);
             let (mut small_stats, mut full_stats) = (QueryStats::default(), QueryStats::default());
             let primitives = leaves.primitives();
-            walk_with::<Node, _, _, SHALLOW>(
+            walk_with::<Node<Aabb>, _, _, SHALLOW>(
                 &tree.nodes,
                 &mut Nearest {
                     p,
@@ -231,7 +232,7 @@ mod tests {
                 },
                 &mut small_stats,
             );
-            walk_with::<Node, _, _, { MAX_DEPTH as usize + 1 }>(
+            walk_with::<Node<Aabb>, _, _, { MAX_DEPTH as usize + 1 }>(
                 &tree.nodes,
                 &mut Nearest {
                     p,

@@ -20,9 +20,10 @@
 //! then widened (see [`SphereTree`]).
 
 use super::SphereTree;
-use super::node::{SphereNode, SpherePair};
+use super::node::SphereNode;
 use crate::aabb_tree::AabbTree;
 use crate::build::BuildConfig;
+use crate::build::NodePair;
 use crate::error::BuildError;
 use crate::math::Vec3;
 use crate::primitive::{BoundingPoints, PrimitiveSet};
@@ -114,16 +115,16 @@ impl<T: BoundingPoints + Copy + Send + Sync> SphereTree<T> {
         }
         let nodes = (0..flat / 2)
             .map(|pair| {
-                SpherePair([2 * pair, 2 * pair + 1].map(|i| {
+                NodePair::new([2 * pair, 2 * pair + 1].map(|i| {
                     if i == 1 {
-                        return SphereNode::PADDING;
+                        return SphereNode::empty_leaf();
                     }
                     let node = tree.node(i);
                     let sphere = widen(spheres[i]);
                     if node.is_leaf() {
-                        SphereNode::new(sphere, ranges[i].start as u32, ranges[i].len() as u32)
+                        SphereNode::leaf(sphere, ranges[i].start as u32, ranges[i].len() as u32)
                     } else {
-                        SphereNode::new(sphere, node.children()[0], 0)
+                        SphereNode::inner(sphere, node.children()[0])
                     }
                 }))
             })

@@ -25,14 +25,14 @@ mod node;
 mod validate;
 
 pub use node::SphereNode;
-use node::SpherePair;
 
 use crate::aabb::Aabb;
-use crate::build::{frustum_walk, nearest_walk};
+use crate::build::{NodePair, frustum_walk, nearest_walk};
 use crate::frustum::{Frustum, FrustumOverlap};
 use crate::math::{Vec3, Vec3A};
 use crate::primitive::ClosestPoint;
 use crate::query::{Counter, FrustumQuery, Leaves, NearestQuery, NearestVisitor, SpatialIndex};
+use crate::sphere::Sphere;
 
 /// A bounding volume hierarchy of spheres over primitives of type `T`.
 ///
@@ -49,7 +49,7 @@ use crate::query::{Counter, FrustumQuery, Leaves, NearestQuery, NearestVisitor, 
 /// ```
 #[derive(Clone, Debug)]
 pub struct SphereTree<T> {
-    nodes: Vec<SpherePair>,
+    nodes: Vec<NodePair<Sphere>>,
     /// Primitives in leaf order, with their input indices and sources.
     leaves: Leaves<T>,
     depth: u32,
@@ -58,14 +58,14 @@ pub struct SphereTree<T> {
 impl<T> SphereTree<T> {
     /// The root node, `None` for an empty tree.
     pub fn root(&self) -> Option<&SphereNode> {
-        self.nodes.first().map(|pair| &pair.0[0])
+        self.nodes.first().map(|pair| &pair.nodes()[0])
     }
 
     /// Node `index` (0 is the root; children indices come from
     /// [`SphereNode::children`]).
     #[inline]
     pub fn node(&self, index: usize) -> &SphereNode {
-        &self.nodes[index >> 1].0[index & 1]
+        &self.nodes[index >> 1].nodes()[index & 1]
     }
 
     /// Number of nodes (inner and leaves).
@@ -77,7 +77,7 @@ impl<T> SphereTree<T> {
     pub fn nodes(&self) -> impl Iterator<Item = (usize, &SphereNode)> + '_ {
         self.nodes
             .iter()
-            .flat_map(|pair| &pair.0)
+            .flat_map(|pair| pair.nodes())
             .enumerate()
             .filter(|&(i, _)| i != 1)
     }

@@ -41,7 +41,8 @@ impl<T: BoundingPoints> SphereTree<T> {
             self.leaves.indices(),
             |i, ancestors| {
                 let n = self.node(i);
-                if !(n.center.is_finite() && n.radius.is_finite() && n.radius >= 0.0) {
+                let s = n.sphere();
+                if !(s.center.is_finite() && s.radius.is_finite() && s.radius >= 0.0) {
                     return Err(format!("node {i} has a bad sphere {:?}", n.sphere()));
                 }
                 if !n.is_leaf() {

@@ -133,7 +133,12 @@ impl<T: RayIntersect + WidePrimitive> RayQuery<T> for WideTree<T> {
         counter: &mut C,
     ) {
         let Some(root) = self.tree.root() else { return };
-        let slabs = WideSlabs::new(&RaySlabs::new(ray.origin(), direction, root.min, root.max));
+        let slabs = WideSlabs::new(&RaySlabs::new(
+            ray.origin(),
+            direction,
+            root.bounds().min,
+            root.bounds().max,
+        ));
         self.walk(
             |_| Rays {
                 slabs,
