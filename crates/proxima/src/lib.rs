@@ -24,7 +24,7 @@
 //! | Mesh index | [`index`] ([`MeshIndex`]: one mesh and every structure on it, built on first use; what the command line, viewer and Python package ask) |
 //! | Queries | [`sdf`] ([`SignedDistanceField`]: signed distance, winding numbers, inside tests, grids, samples), [`query`]: [`NearestQuery`], [`RayQuery`], [`FrustumQuery`], each written once over a structure's walk; answers [`ClosestHit`], [`RayHit`] |
 //! | Structures | [`aabb_tree`] ([`AabbTree`]), [`build`] (the binary build every tree starts from: [`BuildConfig`]), [`wide_tree`] ([`WideTree`], 4-wide, SIMD leaves), [`ray_tree`] ([`RayTree`], 8-wide, for rays), [`sphere_tree`] ([`SphereTree`]), [`linear`] ([`LinearSearch`], brute force), [`grid`] ([`HashGrid`], [`GridTraversal`]) |
-//! | Support | [`aabb`], [`sphere`], [`math`], [`memory`], [`budget`] (memory and work limits), [`error`] (typed errors), [`sample`] (seeded test and benchmark inputs) |
+//! | Support | `simd` (private: the AVX2 token, triangle packets and lane kernels the wide trees and `sdf` share), [`aabb`], [`sphere`], [`math`], [`memory`] (huge-page arrays), [`budget`] (memory, thread and work limits), [`error`] (typed errors), [`sample`] (seeded samplers: tests, benchmarks, training sets) |
 //!
 //! `use proxima::prelude::*;` brings the structures, primitives and query traits.
 // No unsafe code, except in the two AVX2 modules (simd/avx2.rs: the token
