@@ -491,7 +491,7 @@ pub fn check_first_hit(grid: &HashGrid<Triangle>, origin: Vec3, direction: Vec3,
         ),
         // A direction too small for its reciprocal (which the watertight
         // test alone accepts) is refused as every structure refuses it.
-        Err(GridError::RayDirection) => {
+        Err(GridError::Ray(proxima::RayError::Direction)) => {
             assert_eq!(proxima::Ray::new(origin, direction), Err(proxima::RayError::Direction))
         }
         // The walk over cells beyond ±2^50 is a typed error, not an answer.

@@ -46,8 +46,8 @@ pub fn traverse<'py>(
     };
     let walk = GridTraversal::new(origin, direction, &config).map_err(|e| {
         let name = match e {
-            proxima::GridError::RayDirection => "direction",
-            proxima::GridError::RayOrigin => "origin",
+            proxima::GridError::Ray(proxima::RayError::Direction) => "direction",
+            proxima::GridError::Ray(proxima::RayError::Origin) => "origin",
             _ => "cell_size",
         };
         value_error(name, e)

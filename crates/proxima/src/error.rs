@@ -267,20 +267,12 @@ pub enum GridError {
         "the bounding box is degenerate (a single point, empty, or wider than f32 can divide): no cell size can be derived from it"
     )]
     DegenerateBounds,
-    /// A ray origin with a NaN or infinite coordinate.
-    #[error("ray origin must be finite")]
-    RayOrigin,
-    /// A ray direction that is zero, or has a NaN or infinite component.
-    #[error("ray direction must be finite and non-zero")]
-    RayDirection,
-    /// A ray parameter range that is NaN or has `t_min > t_max`.
-    #[error("ray range [{t_min}, {t_max}] is not a valid interval")]
-    RayRange {
-        /// Start of the range.
-        t_min: f32,
-        /// End of the range.
-        t_max: f32,
-    },
+    /// A ray that cannot be cast, for the reasons every ray query has
+    /// ([`Ray::with_range`](crate::Ray::with_range)): a non-finite origin, a
+    /// zero or non-finite direction, an invalid range. (An origin too far
+    /// from a grid's occupied cells is [`OutOfRange`](GridError::OutOfRange).)
+    #[error(transparent)]
+    Ray(#[from] RayError),
     /// A primitive with a NaN or infinite coordinate.
     #[error("primitive {index} has a non-finite coordinate")]
     NonFinite {
@@ -560,19 +552,6 @@ fn short(x: f64) -> String {
         format!("{rounded}")
     } else {
         format!("{rounded:e}")
-    }
-}
-
-/// A ray the grid refuses, for the same reasons as the trees
-/// ([`Ray::with_range`](crate::Ray::with_range)).
-impl From<RayError> for GridError {
-    fn from(error: RayError) -> Self {
-        match error {
-            RayError::Origin => GridError::RayOrigin,
-            RayError::Direction => GridError::RayDirection,
-            RayError::Range { t_min, t_max } => GridError::RayRange { t_min, t_max },
-            RayError::OriginTooFar => GridError::OutOfRange,
-        }
     }
 }
 

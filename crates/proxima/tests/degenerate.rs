@@ -123,7 +123,7 @@ fn walks_from_cell_corners_edges_and_faces_equal_the_oracle() {
             if d == Vec3::ZERO {
                 assert_eq!(
                     GridTraversal::in_layout(&layout, o, d, 0.0, 1.0).unwrap_err(),
-                    GridError::RayDirection
+                    GridError::Ray(proxima::RayError::Direction)
                 );
                 continue;
             }

@@ -402,7 +402,7 @@ fn grid_primitive_out_of_range() {
 #[test]
 fn ray_zero_direction() {
     let e = GridTraversal::new(Vec3::ZERO, Vec3::ZERO, &TraversalConfig::cubic(1.0)).unwrap_err();
-    assert_eq!(e, GridError::RayDirection);
+    assert_eq!(e, GridError::Ray(proxima::RayError::Direction));
     assert!(e.to_string().contains("direction"), "{e}");
 }
 
@@ -423,11 +423,11 @@ fn ray_direction_underflowing_everywhere() {
     );
     assert_eq!(
         grid.first_hit(Vec3::ZERO, tiny, 0.0, f32::INFINITY).unwrap_err(),
-        GridError::RayDirection
+        GridError::Ray(proxima::RayError::Direction)
     );
     assert_eq!(
         GridTraversal::new(Vec3::ZERO, tiny, &TraversalConfig::cubic(1.0)).unwrap_err(),
-        GridError::RayDirection
+        GridError::Ray(proxima::RayError::Direction)
     );
     let small = Vec3::new(1e-37, 0.0, 0.0);
     assert!(proxima::Ray::new(Vec3::ZERO, small).is_ok());

@@ -690,11 +690,11 @@ fn raycast_matches_brute_force() {
     assert!(grid.first_hit(Vec3::ZERO, Vec3::X, 0.0, 2.0).unwrap().is_some());
     assert_eq!(
         grid.first_hit(Vec3::ZERO, Vec3::ZERO, 0.0, 1.0).unwrap_err(),
-        GridError::RayDirection
+        GridError::Ray(proxima::RayError::Direction)
     );
     assert_eq!(
         grid.first_hit(Vec3::splat(f32::NAN), Vec3::X, 0.0, 1.0).unwrap_err(),
-        GridError::RayOrigin
+        GridError::Ray(proxima::RayError::Origin)
     );
 }
 

@@ -13,7 +13,7 @@ use proxima::grid::{FastHash, GridConfig, HashGrid};
 use proxima::prelude::*;
 use proxima::primitive::{RayIntersect, TriangleHit, WatertightRay};
 use proxima::sample::Rng;
-use proxima::{AabbTree, BuildConfig, Mesh, PrimitiveSet, RayError, RayTree, Triangle, Vec3};
+use proxima::{AabbTree, BuildConfig, GridError, Mesh, PrimitiveSet, RayError, RayTree, Triangle, Vec3};
 use rayon::prelude::*;
 use std::collections::HashMap;
 
@@ -923,5 +923,82 @@ fn far_origins_are_measured_against_the_mesh_size_and_coordinates() {
     assert_eq!(
         linear.first_hit(too_far, Vec3::Z, 0.0, f32::INFINITY),
         Err(RayError::OriginTooFar)
+    );
+}
+
+/// The hash grid answers rays through `RayQuery`, as the trees do: its own
+/// `first_hit` (with `GridError`s) and the trait's `first_hit`, `any_hit`,
+/// `some_hit` and batches equal brute force on random soups, and the errors
+/// are the ray's, wrapped.
+#[test]
+fn the_grid_answers_every_ray_query() {
+    for seed in 0..3 {
+        let mesh = common::random_soup(300, seed);
+        let set = mesh.triangles();
+        let grid: HashGrid<Triangle> = HashGrid::build(set.clone(), &GridConfig::cubic(0.15)).unwrap();
+        let rays = random_rays(&mesh.bounds(), 600, seed);
+        let mut hits = 0;
+        for &(o, d, t_min, t_max) in &rays {
+            let want = brute_first(&set, o, d, t_min, t_max);
+            hits += want.is_some() as usize;
+            assert_eq!(
+                grid.first_hit(o, d, t_min, t_max),
+                Ok(want),
+                "({o}, {d}, [{t_min}, {t_max}])"
+            );
+            assert_eq!(RayQuery::first_hit(&grid, o, d, t_min, t_max), Ok(want));
+            let any = brute_any(&set, o, d, t_min, t_max);
+            assert_eq!(
+                grid.any_hit(o, d, t_min, t_max),
+                Ok(any),
+                "({o}, {d}, [{t_min}, {t_max}])"
+            );
+            check_some_hit(
+                &set,
+                (o, d, t_min, t_max),
+                any,
+                grid.some_hit(o, d, t_min, t_max).unwrap(),
+                "grid",
+            );
+        }
+        assert!(hits > 100, "only {hits} hits");
+        let pairs: Vec<(Vec3, Vec3)> = rays.iter().map(|&(o, d, ..)| (o, d)).collect();
+        let first = grid.first_hit_batch(&pairs, 0.0, f32::INFINITY);
+        let any = grid.any_hit_batch(&pairs, 0.0, f32::INFINITY);
+        for (k, &(o, d)) in pairs.iter().enumerate() {
+            assert_eq!(first[k], Ok(brute_first(&set, o, d, 0.0, f32::INFINITY)), "ray {k}");
+            assert_eq!(any[k], Ok(brute_any(&set, o, d, 0.0, f32::INFINITY)), "ray {k}");
+        }
+    }
+    let grid: HashGrid<Triangle> =
+        HashGrid::build(common::random_soup(10, 0).triangles(), &GridConfig::cubic(0.5)).unwrap();
+    for (o, d, t_min, t_max, want) in [
+        (Vec3::ZERO, Vec3::ZERO, 0.0, 1.0, RayError::Direction),
+        (Vec3::splat(f32::NAN), Vec3::X, 0.0, 1.0, RayError::Origin),
+        (
+            Vec3::ZERO,
+            Vec3::X,
+            2.0,
+            1.0,
+            RayError::Range { t_min: 2.0, t_max: 1.0 },
+        ),
+    ] {
+        assert_eq!(RayQuery::first_hit(&grid, o, d, t_min, t_max), Err(want.clone()));
+        assert_eq!(grid.first_hit(o, d, t_min, t_max), Err(GridError::Ray(want.clone())));
+        assert_eq!(
+            grid.first_hit(o, d, t_min, t_max).unwrap_err().to_string(),
+            want.to_string()
+        );
+    }
+    // Too far to tell front from back: the trees' error through the trait,
+    // out of the grid's range through its own method.
+    let far = Vec3::new(0.5, 0.5, 1e30);
+    assert_eq!(
+        RayQuery::first_hit(&grid, far, -Vec3::Z, 0.0, f32::INFINITY),
+        Err(RayError::OriginTooFar)
+    );
+    assert_eq!(
+        grid.first_hit(far, -Vec3::Z, 0.0, f32::INFINITY),
+        Err(GridError::OutOfRange)
     );
 }

@@ -276,12 +276,12 @@ fn bad_rays_are_errors() {
     ] {
         assert_eq!(
             GridTraversal::new(Vec3::ZERO, d, &config).unwrap_err(),
-            GridError::RayDirection
+            GridError::Ray(proxima::RayError::Direction)
         );
     }
     assert_eq!(
         GridTraversal::new(Vec3::splat(f32::INFINITY), Vec3::X, &config).unwrap_err(),
-        GridError::RayOrigin
+        GridError::Ray(proxima::RayError::Origin)
     );
     let reversed = TraversalConfig {
         t_min: 2.0,
@@ -290,7 +290,7 @@ fn bad_rays_are_errors() {
     };
     assert!(matches!(
         GridTraversal::new(Vec3::ZERO, Vec3::X, &reversed),
-        Err(GridError::RayRange { .. })
+        Err(GridError::Ray(proxima::RayError::Range { .. }))
     ));
     let nan = TraversalConfig {
         t_min: f32::NAN,
@@ -298,7 +298,7 @@ fn bad_rays_are_errors() {
     };
     assert!(matches!(
         GridTraversal::new(Vec3::ZERO, Vec3::X, &nan),
-        Err(GridError::RayRange { .. })
+        Err(GridError::Ray(proxima::RayError::Range { .. }))
     ));
     assert!(matches!(
         GridTraversal::new(Vec3::ZERO, Vec3::X, &TraversalConfig::cubic(0.0)),

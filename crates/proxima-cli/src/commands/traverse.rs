@@ -5,7 +5,7 @@ use super::grid::parse_cell;
 use crate::common::parse_vec3;
 use anyhow::{Result, bail};
 use proxima::grid::{GridTraversal, TraversalConfig};
-use proxima::{GridError, Vec3};
+use proxima::{GridError, RayError, Vec3};
 use std::io::{BufWriter, Write};
 
 /// Arguments of `proxima traverse`.
@@ -32,7 +32,7 @@ pub const MAX_STEPS: u64 = 10_000_000;
 /// Prints `step,i,j,k,t_enter,t_exit` for each cell.
 pub fn run(args: Args) -> Result<()> {
     if args.dir == Vec3::ZERO {
-        return Err(GridError::RayDirection.into());
+        return Err(GridError::Ray(RayError::Direction).into());
     }
     if args.steps > MAX_STEPS {
         bail!("--steps {} is more than the limit of {MAX_STEPS} cells", args.steps);

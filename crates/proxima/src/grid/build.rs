@@ -21,6 +21,7 @@ use super::{Cell, CellRange, GridConfig, GridInsert, HashGrid, InsertMethod, Ins
 use crate::budget::{GRID_BYTES_PER_CELL, GRID_BYTES_PER_ENTRY};
 use crate::error::GridError;
 use crate::primitive::PrimitiveSet;
+use crate::query::Leaves;
 use std::collections::{HashMap, HashSet};
 use std::hash::BuildHasher;
 
@@ -147,14 +148,15 @@ impl<T: GridInsert, S: BuildHasher + Default> HashGrid<T, S> {
             begin = end as usize;
         }
 
+        let count = primitives.len();
         let bounds = cells
             .iter()
             .map(|&c| CellRange { min: c, max: c })
             .reduce(|a, b| a.merge(&b));
         Ok(Self {
             layout,
-            primitives,
-            sources,
+            // Slots in input order: a slot is its primitive's index.
+            leaves: Leaves::new(primitives, (0..count as u32).collect(), sources),
             slots,
             cells,
             starts,

@@ -63,6 +63,7 @@ pub use voxelize::{VoxelConfig, VoxelGrid, voxelize};
 
 use crate::error::GridError;
 use crate::math::Vec3;
+use crate::query::Leaves;
 use std::collections::HashMap;
 use std::hash::{BuildHasher, Hash, Hasher};
 
@@ -171,12 +172,14 @@ impl Hash for Key {
 ///
 /// Build it with [`HashGrid::build`]; ask [`cell`](HashGrid::cell) for the
 /// primitives of a cell, walk the [`occupied`](HashGrid::occupied) cells, or
-/// (for triangles) cast a ray with [`first_hit`](HashGrid::first_hit).
+/// (for triangles) cast a ray with [`first_hit`](HashGrid::first_hit) or any
+/// query of [`RayQuery`](crate::query::RayQuery).
 #[derive(Clone, Debug)]
 pub struct HashGrid<T, S = ClassicHash> {
     layout: GridLayout,
-    primitives: Vec<T>,
-    sources: Vec<u32>,
+    /// The primitives in input order (slot = index), with their sources:
+    /// what the ray queries of [`RayQuery`](crate::query::RayQuery) answer from.
+    leaves: Leaves<T>,
     /// Cell → slot.
     slots: HashMap<Key, u32, S>,
     /// Slot → cell, in order of first insertion.
@@ -199,25 +202,25 @@ impl<T, S: BuildHasher> HashGrid<T, S> {
     /// The primitives, in input order.
     #[inline]
     pub fn primitives(&self) -> &[T] {
-        &self.primitives
+        self.leaves.primitives()
     }
 
     /// `sources()[p]`: the mesh element primitive `p` came from.
     #[inline]
     pub fn sources(&self) -> &[u32] {
-        &self.sources
+        self.leaves.sources()
     }
 
     /// Number of primitives.
     #[inline]
     pub fn len(&self) -> usize {
-        self.primitives.len()
+        self.leaves.len()
     }
 
     /// `true` when the grid holds no primitive.
     #[inline]
     pub fn is_empty(&self) -> bool {
-        self.primitives.is_empty()
+        self.leaves.is_empty()
     }
 
     /// Number of occupied cells.

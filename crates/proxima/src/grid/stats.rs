@@ -51,10 +51,9 @@ impl<T, S: BuildHasher> HashGrid<T, S> {
             + self.cells.capacity() * size_of::<Cell>()
             + self.starts.capacity() * 4
             + self.entries.capacity() * 4
-            + self.primitives.capacity() * size_of::<T>()
-            + self.sources.capacity() * 4;
+            + self.leaves.memory_bytes();
         GridStats {
-            primitives: self.primitives.len(),
+            primitives: self.leaves.len(),
             occupied_cells: occupied,
             entries: self.entries.len(),
             max_per_cell,

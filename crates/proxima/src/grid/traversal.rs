@@ -152,10 +152,10 @@ pub struct GridTraversal {
 impl GridTraversal {
     /// The walk of `origin + t · direction` through the grid of `config`.
     ///
-    /// Errors: a ray that [`Ray::with_range`](crate::Ray::with_range) refuses
-    /// ([`GridError::RayOrigin`], [`GridError::RayDirection`]), an invalid cell size or
-    /// grid origin, a non-finite `t_min` or `t_min > t_max`
-    /// ([`GridError::RayRange`]), a start cell beyond the supported indices
+    /// Errors: a ray or range that [`Ray::with_range`](crate::Ray::with_range)
+    /// refuses (a non-finite origin, a zero or non-finite direction, a
+    /// non-finite `t_min` or `t_min > t_max`: [`GridError::Ray`]), an invalid
+    /// cell size or grid origin, a start cell beyond the supported indices
     /// ([`GridError::OutOfRange`]).
     pub fn new(origin: Vec3, direction: Vec3, config: &TraversalConfig) -> Result<Self, GridError> {
         let layout = GridLayout::new(config.grid_origin, config.cell_size)?;

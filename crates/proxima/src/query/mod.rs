@@ -47,7 +47,7 @@ pub(crate) use batch::answer_batch_indexed;
 pub(crate) use batch::{morton_order, unpermute};
 pub(crate) use closest::Best;
 pub(crate) use point::answerable;
-pub(crate) use ray::{AnyHit, FarRay, FirstHit, hit_answer, prepare_structure_ray, sort_points};
+pub(crate) use ray::{AnyHit, FarRay, FirstHit, first_hit_by, hit_answer, prepare_structure_ray, sort_points};
 
 use crate::aabb::Aabb;
 use crate::math::Vec3;

@@ -11,7 +11,7 @@ use crate::ray::Ray;
 use rayon::prelude::*;
 
 /// The first primitive a ray hits, as every structure answers it (the trees
-/// and [`HashGrid::first_hit`](crate::HashGrid::first_hit)).
+/// and the hash grid, [`HashGrid::first_hit`](crate::HashGrid::first_hit)).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RayHit {
     /// Index of the primitive in the build input.
@@ -422,12 +422,48 @@ fn first_hit_counted<T: RayIntersect, S: RayQuery<T> + ?Sized, C: Counter>(
     t_max: f32,
     counter: &mut C,
 ) -> Result<Option<RayHit>, RayError> {
+    first_hit_by(
+        structure,
+        origin,
+        direction,
+        t_min,
+        t_max,
+        counter,
+        |ray, t_min, first, counter| {
+            structure.ray_walk(ray, direction, t_min, first, counter);
+            Ok(())
+        },
+    )
+}
+
+/// The first hit of `origin + t · direction`, `t ∈ [t_min, t_max]`, in
+/// `structure`, walked by `walk` (the prepared ray, the start of its range
+/// and the visitor): the one preparation of a ray (checks, the move of a far
+/// origin and the check of the moved range) and the one tie rule
+/// ([`FirstHit`]) of every first-hit query. `walk` may fail with an error of
+/// the structure's own (the hash grid's walk beyond its cell range).
+#[inline]
+pub(crate) fn first_hit_by<T, S, C, E>(
+    structure: &S,
+    origin: Vec3,
+    direction: Vec3,
+    t_min: f32,
+    t_max: f32,
+    counter: &mut C,
+    walk: impl FnOnce(&WatertightRay, f32, &mut FirstHit<'_, T>, &mut C) -> Result<(), E>,
+) -> Result<Option<RayHit>, E>
+where
+    T: RayIntersect,
+    S: SpatialIndex<T> + ?Sized,
+    C: Counter,
+    E: From<RayError>,
+{
     let leaves = structure.leaves();
     let bounds = (!leaves.is_empty()).then(|| structure.bounds());
     let Some((ray, far)) = prepare_structure_ray(origin, direction, t_min, t_max, bounds)? else {
         return Ok(None);
     };
     let mut first = FirstHit::new(leaves, &far);
-    structure.ray_walk(&ray, direction, far.t_min, &mut first, counter);
+    walk(&ray, far.t_min, &mut first, counter)?;
     Ok(first.answer(&far))
 }
