@@ -1110,7 +1110,11 @@ fn sdf_grid_beyond_the_memory_budget() {
     // The budget of the environment applies: 64³ cells of 4 bytes are 1 MiB.
     let args = ["sdf", &mesh, "--grid", "65", "--out", out_path.to_str().unwrap()];
     let out = proxima_env(&args, &[("PROXIMA_MEMORY_BUDGET", "1M")]);
-    assert_one_line_error(&out, 1, &["--grid 65: needs about 1.0 MiB (274625 × 4", "memory budget of 1.0 MiB"]);
+    assert_one_line_error(
+        &out,
+        1,
+        &["--grid 65: needs about 1.0 MiB (274625 × 4", "memory budget of 1.0 MiB"],
+    );
     let args = ["sdf", &mesh, "--grid", "64", "--out", out_path.to_str().unwrap()];
     assert!(proxima_env(&args, &[("PROXIMA_MEMORY_BUDGET", "1M")]).status.success());
 }

@@ -38,6 +38,7 @@ pub mod aabb;
 pub mod aabb_tree;
 pub mod budget;
 pub mod build;
+mod build_error;
 pub mod error;
 mod exact;
 pub mod frustum;

@@ -1,6 +1,5 @@
 //! A ray, checked once: what every ray query takes.
 
-use crate::error::RayError;
 use crate::math::Vec3;
 
 /// A ray `origin + t · direction` for `t` in `[t_min, t_max]`, checked once
@@ -78,4 +77,35 @@ impl Ray {
     pub fn at(&self, t: f32) -> Vec3 {
         self.origin + t * self.direction
     }
+}
+
+/// A ray that cannot be cast: every ray query returns it instead of
+/// answering (the hash grid and the traversal wrap it, as
+/// [`GridError::Ray`](crate::GridError::Ray)).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RayError {
+    /// A ray origin with a NaN or infinite coordinate.
+    #[error("ray origin must be finite")]
+    Origin,
+    /// A ray direction that is zero, or has a NaN or infinite component.
+    #[error("ray direction must be finite and non-zero")]
+    Direction,
+    /// A ray origin so far from the structure's bounds (more than 2^30 times
+    /// the larger of their diagonal and their largest coordinate) that even
+    /// `f64` cannot place the ray near them finely enough to tell their front
+    /// from their back. Bounds of a single point (primitives of no area,
+    /// which no ray hits) never give it.
+    #[error(
+        "ray origin lies too far from the mesh (more than 2^30 times the larger of its size and its coordinates) for \
+         its hits to be told apart"
+    )]
+    OriginTooFar,
+    /// A ray parameter range that is NaN, starts at an infinity, or has `t_min > t_max`.
+    #[error("ray range [{t_min}, {t_max}] is not a valid interval")]
+    Range {
+        /// Start of the range.
+        t_min: f32,
+        /// End of the range.
+        t_max: f32,
+    },
 }

@@ -80,7 +80,13 @@ pub struct Args {
     near_sigma: Option<f32>,
     /// With --sample: the share of the samples drawn uniform in the box, the
     /// rest near the surface (the nearest whole number, halves rounded down).
-    #[arg(long, value_name = "F", requires = "sample", default_value_t = 0.5, allow_hyphen_values = true)]
+    #[arg(
+        long,
+        value_name = "F",
+        requires = "sample",
+        default_value_t = 0.5,
+        allow_hyphen_values = true
+    )]
     uniform_fraction: f64,
     /// With --sample or --grid: the box is the cube [-H, H]³ (as
     /// `proxima.dataset`'s volume) instead of the bounding box grown by 5%.
@@ -214,7 +220,10 @@ fn check_sizes(args: &Args) -> Result<()> {
         }
         check_fits("--sample", n, n as u128, BYTES_PER_SAMPLE)?;
         if !(0.0..=1.0).contains(&args.uniform_fraction) {
-            bail!("--uniform-fraction must be between 0 and 1, got {}", args.uniform_fraction);
+            bail!(
+                "--uniform-fraction must be between 0 and 1, got {}",
+                args.uniform_fraction
+            );
         }
     }
     if let Some(half) = args.cube {

@@ -31,13 +31,14 @@
 //!   1e-12, so it too only rejects what is certainly outside.
 
 mod cull;
+mod error;
 mod look_at;
 mod overlap;
 
 pub use cull::{Cull, PlaneMask};
+pub use error::FrustumError;
 pub use overlap::FrustumOverlap;
 
-use crate::error::FrustumError;
 use crate::math::{DMat4, DVec4, Mat4, Vec3};
 
 /// Names of the six planes, in the order [`Frustum::planes`] gives them.

@@ -43,6 +43,7 @@
 
 mod build;
 mod cells;
+mod error;
 mod hasher;
 mod insert;
 mod layout;
@@ -53,6 +54,7 @@ mod stats;
 mod traversal;
 mod voxelize;
 
+pub use error::GridError;
 pub use hasher::{ClassicHash, ClassicHasher, FastHash, FastHasher};
 pub use insert::{GridInsert, InsertParams};
 pub(crate) use layout::last_true;
@@ -61,7 +63,6 @@ pub use stats::GridStats;
 pub use traversal::{GridTraversal, TraversalConfig, TraversalStep};
 pub use voxelize::{VoxelConfig, VoxelGrid, voxelize};
 
-use crate::error::GridError;
 use crate::math::Vec3;
 use crate::query::Leaves;
 use std::collections::HashMap;

@@ -112,6 +112,7 @@
 //! parsed with `str::parse::<f32>` (correctly rounded, so a double written in
 //! the file becomes the nearest `f32`). Timings: `docs/perf-log.md`.
 
+mod error;
 mod glb;
 mod load_budget;
 mod obj;
@@ -122,9 +123,9 @@ mod read;
 mod stl;
 mod text;
 
+pub use error::{LoadError, LoadErrorKind};
 pub use points::{load_points, load_rays, parse_points, parse_rays};
 
-use crate::error::{LoadError, LoadErrorKind};
 use crate::mesh::Mesh;
 use std::io::Read;
 use std::path::Path;

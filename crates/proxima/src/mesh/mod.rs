@@ -1,13 +1,14 @@
 //! Polygon meshes and the primitives extracted from them.
 
+mod error;
 mod extract;
 pub mod generate;
 mod polygons;
 
+pub use error::{MeshError, PolygonError};
 pub use polygons::PolygonExtraction;
 
 use crate::aabb::Aabb;
-use crate::error::MeshError;
 use crate::math::Vec3;
 
 /// A polygon mesh: vertex positions and faces of three or more vertices.

@@ -39,7 +39,7 @@ pub use frustum::FrustumQuery;
 pub use knn::{KnnScratch, NearestAnswers, distinct_sources};
 pub use leaves::Leaves;
 pub use nearest::NearestQuery;
-pub use point::check_query_point;
+pub use point::{QueryError, check_query_point};
 pub use ray::{RayHit, RayQuery};
 pub use visitor::{Counter, NearestVisitor, QueryStats, RayVisitor};
 

@@ -1,7 +1,6 @@
 //! Query points: which ones the structures answer.
 
 use crate::build::MAX_QUERY_COORDINATE;
-use crate::error::QueryError;
 use crate::math::Vec3;
 
 /// Whether `p` is a point the queries answer: finite, and within
@@ -33,4 +32,20 @@ pub fn check_query_point(p: Vec3) -> Result<(), QueryError> {
 #[inline(always)]
 pub(crate) fn answerable(p: Vec3) -> bool {
     p.is_finite() && p.abs().max_element() <= MAX_QUERY_COORDINATE
+}
+
+/// A query point the trees cannot answer for.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum QueryError {
+    /// A coordinate is NaN or infinite.
+    #[error("query point has a non-finite coordinate")]
+    NonFinite,
+    /// A coordinate beyond the bound
+    /// ([`MAX_QUERY_COORDINATE`](crate::build::MAX_QUERY_COORDINATE)) where
+    /// squared distances overflow `f32`.
+    #[error("query point has a coordinate beyond ±{bound:e}, where squared distances overflow f32")]
+    CoordinateTooLarge {
+        /// The largest accepted magnitude.
+        bound: f32,
+    },
 }

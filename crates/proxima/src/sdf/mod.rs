@@ -15,12 +15,14 @@
 //! pseudonormals (`pseudonormal.rs`), the field and its batches
 //! (`field.rs`), grids and samples (`grid.rs`).
 
+mod error;
 mod field;
 mod grid;
 mod pseudonormal;
 mod solid_angle;
 mod winding;
 
+pub use error::SdfError;
 pub use field::{SdfConfig, Sign, SignedDistance, SignedDistanceField};
 pub use grid::{Samples, SdfGrid};
 pub use pseudonormal::{Feature, Pseudonormals};
