@@ -318,3 +318,85 @@ fn bench_measures_signed_distances_on_both_sets() {
     assert!(text.contains("uniform set") && !text.contains("near set"), "{text}");
     assert!(text.contains("pseudonormal takes"), "{text}");
 }
+
+/// `--cube H` and `--uniform-fraction F` (the options `proxima.dataset`
+/// samples with): the library's training samples in that cube, split as
+/// `training_sample_counts` says, and the grid over the cube; values out of
+/// range are refused in one line before the mesh is read.
+#[test]
+fn samples_and_grids_in_a_cube() {
+    let dir = temp_dir("sdf_cube");
+    let (samples, values) = (dir.join("s.npz"), dir.join("g.npy"));
+    let (samples, values) = (samples.to_str().unwrap(), values.to_str().unwrap());
+    fn bunny_args<'a>(extra: &[&'a str]) -> Vec<&'a str> {
+        [&["sdf", BUNNY][..], extra].concat()
+    }
+    proxima(&bunny_args(&[
+        "--sample",
+        "300",
+        "--near-sigma",
+        "0.01",
+        "--uniform-fraction",
+        "0.25",
+        "--cube",
+        "2",
+        "--seed",
+        "9",
+        "--out",
+        samples,
+    ]));
+    let mut archive = zip::ZipArchive::new(std::fs::File::open(samples).unwrap()).unwrap();
+    let mut read = |name: &str| {
+        let mut bytes = Vec::new();
+        std::io::Read::read_to_end(&mut archive.by_name(name).unwrap(), &mut bytes).unwrap();
+        read_npy(&bytes).2
+    };
+    let (points, sdf) = (read("points.npy"), read("sdf.npy"));
+    let points: Vec<Vec3> = points.chunks(3).map(Vec3::from_slice).collect();
+    let field = field(&bunny(), Sign::WindingNumber);
+    let (near, uniform) = proxima::sample::training_sample_counts(300, 0.25);
+    assert_eq!((near, uniform), (225, 75));
+    let cube = proxima::Aabb::new(Vec3::splat(-2.0), Vec3::splat(2.0));
+    let expected = field.training_samples(near, 0.01, uniform, &cube, 9).unwrap();
+    assert_eq!(points, expected.points);
+    assert_eq!(sdf, expected.signed_distances);
+    assert!(points[near..].iter().all(|p| p.abs().max_element() <= 2.0));
+    assert!(
+        points[near..].iter().any(|p| p.abs().max_element() > 1.9),
+        "the whole cube, not the box"
+    );
+
+    proxima(&bunny_args(&["--grid", "5", "--cube", "2", "--out", values]));
+    let (shape, fortran, grid) = read_npy(&std::fs::read(values).unwrap());
+    assert_eq!((shape, fortran), (vec![5, 5, 5], true));
+    let over = SdfGrid::over(&cube, [5; 3]).unwrap();
+    assert_eq!(grid, field.sdf_grid(&over, |_, _| {}).unwrap());
+
+    for (extra, message) in [
+        (
+            &["--sample", "10", "--uniform-fraction", "1.5"][..],
+            "--uniform-fraction must be between 0 and 1, got 1.5",
+        ),
+        (
+            &["--sample", "10", "--cube", "0"][..],
+            "--cube must be a finite number above 0, got 0",
+        ),
+        (
+            &["--grid", "4", "--cube", "-inf"][..],
+            "--cube must be a finite number above 0, got -inf",
+        ),
+    ] {
+        let args = [
+            &bunny_args(extra)[..],
+            &["--out", samples.strip_suffix(".npz").unwrap()],
+        ]
+        .concat();
+        let out = Command::new(env!("CARGO_BIN_EXE_proxima"))
+            .args(&args)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{err}");
+        assert_eq!(err.trim_end(), format!("proxima: {message}"));
+    }
+}

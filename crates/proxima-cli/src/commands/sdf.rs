@@ -139,8 +139,8 @@ const BYTES_PER_SAMPLE: u128 = 128;
 const CHUNK: usize = 1 << 20;
 
 /// The margin of grids and uniform samples around the bounding box, per side,
-/// as a fraction of its size.
-const MARGIN: f32 = 0.05;
+/// as a fraction of its size (the library's, which Python's use too).
+const MARGIN: f32 = SdfGrid::DEFAULT_MARGIN;
 
 /// Runs `proxima sdf`.
 pub fn run(args: Args) -> Result<()> {

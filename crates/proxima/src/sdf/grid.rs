@@ -34,6 +34,12 @@ pub struct SdfGrid {
 }
 
 impl SdfGrid {
+    /// The margin around a mesh's bounding box, per side as a fraction of
+    /// its size, of the grids and uniform samples of `proxima sdf` and of
+    /// Python's `Mesh.sdf_grid` and `Mesh.training_samples` when no cube is
+    /// given.
+    pub const DEFAULT_MARGIN: f32 = 0.05;
+
     /// `resolution` cells per axis dividing `bounds`. Fails on a zero
     /// resolution or a box that is empty or not finite.
     pub fn over(bounds: &Aabb, resolution: [usize; 3]) -> Result<Self, SdfError> {
@@ -57,7 +63,8 @@ impl SdfGrid {
     }
 
     /// The cube of `n` cells per axis over `bounds` grown by `margin` times
-    /// its size on every side (the CLI's `--grid N` uses 5%).
+    /// its size on every side (the CLI's `--grid N` uses
+    /// [`DEFAULT_MARGIN`](Self::DEFAULT_MARGIN)).
     pub fn around(bounds: &Aabb, n: usize, margin: f32) -> Result<Self, SdfError> {
         check_length("margin", margin)?;
         let grow = bounds.size() * margin;
