@@ -10,6 +10,7 @@
 #![forbid(unsafe_code)]
 
 mod arrays;
+mod budget;
 mod closest;
 mod errors;
 mod mesh;
@@ -47,25 +48,10 @@ fn noisy_icosphere(py: Python<'_>, frequency: u32, seed: u64) -> PyResult<PyMesh
         return Err(arrays::value_error("frequency", "0 is less than 1"));
     }
     // 20 f² triangles of 12 bytes of indices, f² vertices of 12 bytes, and the working copies.
-    mesh::check_budget("frequency", frequency, 20 * (frequency as u128).pow(2), 64)?;
+    budget::check_budget("frequency", frequency, 20 * (frequency as u128).pow(2), 64)?;
     Ok(PyMesh::wrap(
         py.detach(|| proxima::mesh::generate::noisy_icosphere(frequency, seed)),
     ))
-}
-
-/// The memory budget in bytes that every size is checked against before
-/// anything is allocated: `PROXIMA_MEMORY_BUDGET` (bytes, or with a K, M or G
-/// suffix) or the library's default (three quarters of the available
-/// memory, at most 2 GiB); `ValueError` when the variable is malformed.
-#[pyfunction]
-fn memory_budget() -> PyResult<u64> {
-    proxima::budget::memory_budget_from_env().map_err(pyo3::exceptions::PyValueError::new_err)
-}
-
-/// The largest `threads=` a batch call accepts: 4 per core, at least 8.
-#[pyfunction]
-fn max_threads() -> usize {
-    threads::max_threads()
 }
 
 /// The native module.
@@ -77,7 +63,10 @@ fn _proxima(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(load, m)?)?;
     m.add_function(wrap_pyfunction!(noisy_icosphere, m)?)?;
     m.add_function(wrap_pyfunction!(traverse::traverse, m)?)?;
-    m.add_function(wrap_pyfunction!(memory_budget, m)?)?;
-    m.add_function(wrap_pyfunction!(max_threads, m)?)?;
+    m.add_function(wrap_pyfunction!(budget::memory_budget, m)?)?;
+    m.add_function(wrap_pyfunction!(budget::max_threads, m)?)?;
+    m.add_function(wrap_pyfunction!(budget::check_fits_py, m)?)?;
+    m.add_function(wrap_pyfunction!(budget::training_sample_counts, m)?)?;
+    m.add_function(wrap_pyfunction!(budget::mesh_suffixes, m)?)?;
     Ok(())
 }

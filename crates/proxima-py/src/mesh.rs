@@ -1,16 +1,19 @@
 //! The Python `Mesh`: a mesh, the structures built on it, and every query.
 
 use crate::arrays::{self, Check, value_error};
+use crate::budget::check_budget;
 use crate::closest;
 use crate::threads;
 use crate::voxels::VoxelGrid;
-use numpy::{PyArray1, PyArray2};
+use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods};
 use proxima::index::{IndexError, MeshIndex};
 use proxima::prelude::*;
-use proxima::sdf::{Sign, SignedDistanceField};
+use proxima::sdf::{SdfGrid, Sign, SignedDistanceField};
+use proxima::{Aabb, SdfError};
 use pyo3::IntoPyObjectExt;
 use pyo3::prelude::*;
 use pyo3::types::PyList;
+use rayon::prelude::*;
 
 /// A polygon mesh and the structures that answer queries on it, each built
 /// on first use and kept (see the package's type stubs for the full
@@ -38,6 +41,8 @@ type ClosestArrays<'py> = (
 type NearestArrays<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<i64>>);
 /// Ray origins and directions (`sample_rays`).
 type RayArrays32<'py> = (Bound<'py, PyArray2<f32>>, Bound<'py, PyArray2<f32>>);
+/// Training points and their signed distances (`training_samples`).
+type SampleArrays<'py> = (Bound<'py, PyArray2<f32>>, Bound<'py, PyArray1<f32>>);
 /// Distances and indices, one per ray (`cast_rays`).
 type RayArrays<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<i64>>);
 
@@ -121,22 +126,13 @@ fn sign(text: &str) -> PyResult<Sign> {
     }
 }
 
-/// Fails unless `count` values of `bytes_each` bytes fit the memory budget
-/// (`PROXIMA_MEMORY_BUDGET` or the library's default).
-pub fn check_budget(name: &str, value: impl std::fmt::Display, count: u128, bytes_each: u128) -> PyResult<()> {
-    let budget = proxima::budget::memory_budget_from_env().map_err(pyo3::exceptions::PyValueError::new_err)?;
-    let bytes = count.saturating_mul(bytes_each);
-    if bytes > budget as u128 {
-        return Err(value_error(
-            name,
-            format!(
-                "{value} needs {} of memory, more than the budget of {} (set PROXIMA_MEMORY_BUDGET to change it)",
-                proxima::budget::human_bytes(bytes),
-                proxima::budget::human_bytes(budget as u128)
-            ),
-        ));
+/// The cube `[-half, half]³` of a `cube=` argument.
+fn cube_bounds(half: f64) -> PyResult<Aabb> {
+    let h = half as f32;
+    if !(h.is_finite() && h > 0.0) {
+        return Err(value_error("cube", format!("{half} is not a finite number > 0")));
     }
-    Ok(())
+    Ok(Aabb::new(Vec3::splat(-h), Vec3::splat(h)))
 }
 
 /// Face index lists from `faces` (an integer (F, k) array or a list of
@@ -528,5 +524,117 @@ impl PyMesh {
         }
         let points = py.detach(|| proxima::sample::uniform_in_box(self.mesh(), n, seed));
         arrays::matrix(py, points.iter().flat_map(|p| p.to_array()).collect(), 3)
+    }
+
+    /// Training samples, the recipe of ``proxima sdf --sample`` and
+    /// ``proxima.dataset``: ``n`` points, the first ``near`` of
+    /// ``training_sample_counts(n, uniform_fraction)`` near the surface
+    /// (uniform on the faces by area plus a gaussian offset per axis of
+    /// standard deviation ``near_sigma``, an absolute length in the mesh's
+    /// units), the rest uniform in the cube ``[-cube, cube]^3`` (or, when
+    /// ``cube`` is None, the bounding box grown by 5% per side), with their
+    /// signed distances: ``(points (n, 3) float32, sdf (n,) float32)``. The
+    /// same arguments give the same arrays on every machine and thread count.
+    #[pyo3(signature = (n, near_sigma, uniform_fraction = 0.5, cube = None, seed = 0, sign = "winding", threads = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn training_samples<'py>(
+        &self,
+        py: Python<'py>,
+        n: usize,
+        near_sigma: f64,
+        uniform_fraction: f64,
+        cube: Option<f64>,
+        seed: u64,
+        sign: &str,
+        threads: Option<i64>,
+    ) -> PyResult<SampleArrays<'py>> {
+        let sign = self::sign(sign)?;
+        let (near, uniform) = crate::budget::training_sample_counts(n, uniform_fraction)?;
+        if !(near_sigma.is_finite() && near_sigma >= 0.0) {
+            return Err(value_error(
+                "near_sigma",
+                format!("{near_sigma} is not a finite number >= 0"),
+            ));
+        }
+        let cube = cube.map(cube_bounds).transpose()?;
+        // The samples and their arrays: 16 bytes each, twice, and the batch's answers.
+        check_budget("n", n, n as u128, 128)?;
+        self.require_faces("training_samples")?;
+        if n == 0 {
+            return Ok((arrays::matrix(py, Vec::new(), 3)?, arrays::vector(py, Vec::new())));
+        }
+        let samples = threads::run(py, threads, || {
+            let field = self.index.field(sign).map_err(|e| value_error("training_samples", e))?;
+            let uniform_box = cube.unwrap_or_else(|| {
+                let b = field.bounds();
+                let grow = b.size() * SdfGrid::DEFAULT_MARGIN;
+                Aabb::new(b.min - grow, b.max + grow)
+            });
+            field
+                .training_samples(near, near_sigma as f32, uniform, &uniform_box, seed)
+                .map_err(|e| match e {
+                    SdfError::Parameter { option: "sigma", .. } | SdfError::TooFar { option: "sigma", .. } => {
+                        value_error("near_sigma", e)
+                    }
+                    SdfError::Parameter { option: "bounds", .. } | SdfError::TooFar { option: "bounds", .. } => {
+                        value_error("cube", e)
+                    }
+                    e => value_error("n", e),
+                })
+        })??;
+        if samples.points.len() != n {
+            return Err(value_error("training_samples", "the faces have no area"));
+        }
+        let points = samples.points.iter().flat_map(|p| p.to_array()).collect();
+        Ok((
+            arrays::matrix(py, points, 3)?,
+            arrays::vector(py, samples.signed_distances),
+        ))
+    }
+
+    /// The signed distances at the centres of ``resolution``^3 cells dividing
+    /// the cube ``[-cube, cube]^3`` (or, when ``cube`` is None, the bounding
+    /// box grown by 5% per side), as ``proxima sdf --grid`` computes them:
+    /// (N, N, N) float32, ``[i, j, k]`` at ``(x_i, y_j, z_k)``,
+    /// ``x_i = lo + cell * (i + 0.5)`` in float32 (``cell = (hi - lo) / N``).
+    #[pyo3(signature = (resolution, cube = None, sign = "winding", threads = None))]
+    fn sdf_grid<'py>(
+        &self,
+        py: Python<'py>,
+        resolution: i64,
+        cube: Option<f64>,
+        sign: &str,
+        threads: Option<i64>,
+    ) -> PyResult<Bound<'py, PyArray3<f32>>> {
+        let sign = self::sign(sign)?;
+        let n = usize::try_from(resolution)
+            .ok()
+            .filter(|&n| n >= 1)
+            .ok_or_else(|| value_error("resolution", format!("{resolution} is less than 1")))?;
+        let cube = cube.map(cube_bounds).transpose()?;
+        // The values in the library's order (x fastest) and in numpy's (C order).
+        check_budget("resolution", n, (n as u128).pow(3), 8)?;
+        self.require_faces("sdf_grid")?;
+        let values = threads::run(py, threads, || {
+            let field = self.index.field(sign).map_err(|e| value_error("sdf_grid", e))?;
+            let grid = match cube {
+                Some(cube) => SdfGrid::over(&cube, [n; 3]),
+                None => SdfGrid::around(&field.bounds(), n, SdfGrid::DEFAULT_MARGIN),
+            }
+            .map_err(|e| value_error("sdf_grid", e))?;
+            let values = field
+                .sdf_grid(&grid, |_, _| {})
+                .map_err(|e| value_error("resolution", e))?;
+            // [i, j, k] in C order from x fastest.
+            let mut out = vec![0f32; values.len()];
+            out.par_chunks_mut(n * n).enumerate().for_each(|(i, plane)| {
+                for (jk, value) in plane.iter_mut().enumerate() {
+                    let (j, k) = (jk / n, jk % n);
+                    *value = values[i + n * (j + n * k)];
+                }
+            });
+            Ok::<_, PyErr>(out)
+        })??;
+        arrays::vector(py, values).reshape([n, n, n])
     }
 }

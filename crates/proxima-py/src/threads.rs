@@ -8,16 +8,9 @@ use std::cell::RefCell;
 use std::collections::HashMap;
 use std::sync::Arc;
 
-/// The largest `threads` accepted: 4 per core, at least 8 (as the command
-/// line's `--threads`); more would only cost memory and scheduling.
-pub fn max_threads() -> usize {
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    (4 * cores).max(8)
-}
-
 /// The pool of `threads` workers, or `None` for rayon's global pool (all
 /// cores) when `threads` is `None`. Fails with a `ValueError` for 0 or more
-/// than [`max_threads`].
+/// than [`proxima::budget::max_threads`] (the command line's cap).
 ///
 /// Each calling (Python) thread has its own pools: `threads=k` means k
 /// workers for this call, so two Python threads that each ask for one run
@@ -26,7 +19,7 @@ pub fn pool(threads: Option<i64>) -> PyResult<Option<Arc<ThreadPool>>> {
     let Some(threads) = threads else {
         return Ok(None);
     };
-    let cap = max_threads();
+    let cap = proxima::budget::max_threads();
     let Some(threads) = usize::try_from(threads).ok().filter(|&t| (1..=cap).contains(&t)) else {
         return Err(PyValueError::new_err(format!(
             "threads: {threads} is not between 1 and {cap} (4 per core on this machine, at least 8), or None for all cores"

@@ -1,7 +1,7 @@
 //! `proxima.traverse`: the Amanatides & Woo walk of a ray through a grid.
 
 use crate::arrays::{self, value_error};
-use crate::mesh::check_budget;
+use crate::budget::check_budget;
 use numpy::{PyArray1, PyArray2};
 use proxima::prelude::*;
 use proxima::{GridTraversal, TraversalConfig};

@@ -1,7 +1,7 @@
 //! `Mesh.voxelize` and the `VoxelGrid` it returns.
 
 use crate::arrays::{self, value_error};
-use crate::mesh::check_budget;
+use crate::budget::check_budget;
 use crate::threads;
 use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods};
 use proxima::grid::{Cell, VoxelConfig, voxelize};

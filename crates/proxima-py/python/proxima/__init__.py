@@ -11,6 +11,30 @@ call releases the GIL and runs on all cores (``threads=1`` for one).
 >>> inside = mesh.signed_distance(points) < 0
 """
 
-from ._proxima import Mesh, VoxelGrid, __version__, load, max_threads, memory_budget, noisy_icosphere, traverse
+from ._proxima import (
+    Mesh,
+    VoxelGrid,
+    __version__,
+    check_fits,
+    load,
+    max_threads,
+    memory_budget,
+    mesh_suffixes,
+    noisy_icosphere,
+    training_sample_counts,
+    traverse,
+)
 
-__all__ = ["Mesh", "VoxelGrid", "__version__", "load", "max_threads", "memory_budget", "noisy_icosphere", "traverse"]
+__all__ = [
+    "Mesh",
+    "VoxelGrid",
+    "__version__",
+    "check_fits",
+    "load",
+    "max_threads",
+    "memory_budget",
+    "mesh_suffixes",
+    "noisy_icosphere",
+    "training_sample_counts",
+    "traverse",
+]

@@ -46,7 +46,38 @@ def memory_budget() -> int:
     """
 
 def max_threads() -> int:
-    """The largest ``threads=`` a batch call accepts: 4 per core, at least 8."""
+    """The largest ``threads=`` a batch call accepts: 4 per core, at least 8
+    (the command line's ``--threads`` cap: one policy, the library's)."""
+
+def check_fits(option: str, value: object, count: int, bytes_each: int) -> None:
+    """The library's memory check, as every call of the package makes it
+    before allocating: raises ``ValueError`` unless ``count`` items of
+    ``bytes_each`` bytes fit the memory budget (:func:`memory_budget`). The
+    message starts with ``option`` and ``value``, gives the bytes needed and
+    the budget, and says to set ``PROXIMA_MEMORY_BUDGET`` to change it
+    (``"grid 512: needs about 1.0 GiB (134217728 × 8 = 1073741824 bytes),
+    more than the memory budget of 512.0 MiB (536870912 bytes; set
+    PROXIMA_MEMORY_BUDGET to change it)"``); a malformed variable is a
+    ``ValueError`` naming it.
+
+    >>> proxima.check_fits("n", 1000, 1000, 12)
+    """
+
+def training_sample_counts(total: int, uniform_fraction: float) -> Tuple[int, int]:
+    """``(near, uniform)``: how many of ``total`` training samples
+    :meth:`Mesh.training_samples` draws near the surface and uniform in its
+    box when ``uniform_fraction`` (in [0, 1], else ``ValueError``) of them
+    are uniform: ``uniform`` the nearest whole number to
+    ``total * uniform_fraction``, halves rounded down.
+
+    >>> proxima.training_sample_counts(101, 0.5)
+    (51, 50)
+    """
+
+def mesh_suffixes() -> list[str]:
+    """The suffixes of the files :func:`load` reads, each also with ``.gz``
+    after it: ``[".obj", ".ply", ".stl", ".off", ".glb"]`` (the library's
+    formats)."""
 
 def traverse(
     origin: npt.ArrayLike,
@@ -235,3 +266,42 @@ class Mesh:
     def sample_uniform(self, n: int, seed: int = 0) -> npt.NDArray[np.float32]:
         """``n`` points uniform in the bounding box enlarged by 10% per side
         (the benchmarks' ``uniform`` set), (n, 3) float32."""
+    def training_samples(
+        self,
+        n: int,
+        near_sigma: float,
+        uniform_fraction: float = 0.5,
+        cube: Optional[float] = None,
+        seed: int = 0,
+        sign: Literal["winding", "pseudonormal"] = "winding",
+        threads: Optional[int] = None,
+    ) -> Tuple[npt.NDArray[np.float32], npt.NDArray[np.float32]]:
+        """Training samples, the recipe of ``proxima sdf --sample`` and
+        ``proxima.dataset``: ``(points (n, 3) float32, sdf (n,) float32)``.
+        The first ``near`` of ``training_sample_counts(n, uniform_fraction)``
+        points are uniform on the faces (by area) plus a gaussian offset per
+        axis of standard deviation ``near_sigma``, an absolute length in the
+        mesh's units (unlike :meth:`sample_near_surface`'s fraction of the
+        diagonal); the rest are uniform in the cube ``[-cube, cube]^3``
+        (``cube`` rounded to float32), or in the bounding box grown by 5% per
+        side when ``cube`` is None. ``sdf`` is the signed distance (negative
+        inside, the side by ``sign``). The same arguments give the same arrays
+        on every machine and thread count, and the same as ``proxima sdf MESH
+        --sample n --near-sigma near_sigma --uniform-fraction uniform_fraction
+        --cube cube --seed seed``. ``ValueError`` naming ``n`` (memory
+        budget), ``near_sigma``, ``uniform_fraction`` or ``cube`` when out of
+        range, and for a mesh without faces or without area."""
+    def sdf_grid(
+        self,
+        resolution: int,
+        cube: Optional[float] = None,
+        sign: Literal["winding", "pseudonormal"] = "winding",
+        threads: Optional[int] = None,
+    ) -> npt.NDArray[np.float32]:
+        """The signed distances at the centres of ``resolution``^3 cells
+        dividing the cube ``[-cube, cube]^3`` (or the bounding box grown by 5%
+        per side when ``cube`` is None), as ``proxima sdf --grid N [--cube
+        H]`` computes them: (N, N, N) float32 in C order, ``[i, j, k]`` at
+        ``(x_i, y_j, z_k)``, ``x_i = lo + cell * (i + 0.5)`` in float32
+        (``cell = (hi - lo) / N``). ``ValueError`` naming ``resolution``
+        (below 1, or 8 bytes a cell beyond the memory budget) or ``cube``."""
