@@ -117,6 +117,21 @@ CASES = [
     # --- sampling and generation
     ("noisy_icosphere 0", lambda: proxima.noisy_icosphere(0), ValueError, ["frequency"]),
     ("sample sigma<0", lambda: M.sample_near_surface(10, sigma=-1.0), ValueError, ["sigma"]),
+    # --- training samples and grids (the recipe of proxima sdf and proxima.dataset)
+    ("training_samples near_sigma<0", lambda: M.training_samples(10, -1.0), ValueError, ["near_sigma"]),
+    ("training_samples near_sigma NaN", lambda: M.training_samples(10, np.nan), ValueError, ["near_sigma"]),
+    ("training_samples near_sigma 1e30", lambda: M.training_samples(10, 1e30), ValueError, ["near_sigma"]),
+    ("training_samples uniform_fraction>1", lambda: M.training_samples(10, 0.01, uniform_fraction=1.5), ValueError, ["uniform_fraction"]),
+    ("training_samples cube 0", lambda: M.training_samples(10, 0.01, cube=0.0), ValueError, ["cube"]),
+    ("training_samples cube NaN", lambda: M.training_samples(10, 0.01, cube=np.nan), ValueError, ["cube"]),
+    ("training_samples cube 1e30", lambda: M.training_samples(10, 0.01, uniform_fraction=1.0, cube=1e30), ValueError, ["cube"]),
+    ("training_samples n beyond the budget", lambda: M.training_samples(2**62, 0.01), ValueError, ["n 4611686018427387904: needs about"]),
+    ("training_samples sign", lambda: M.training_samples(10, 0.01, sign="up"), ValueError, ["sign"]),
+    ("sdf_grid resolution 0", lambda: M.sdf_grid(0), ValueError, ["resolution"]),
+    ("sdf_grid resolution beyond the budget", lambda: M.sdf_grid(100_000), ValueError, ["resolution 100000: needs about"]),
+    ("sdf_grid cube<0", lambda: M.sdf_grid(4, cube=-1.0), ValueError, ["cube"]),
+    ("training_sample_counts fraction<0", lambda: proxima.training_sample_counts(10, -0.1), ValueError, ["uniform_fraction"]),
+    ("check_fits beyond the budget", lambda: proxima.check_fits("things", 5, 2**62, 8), ValueError, ["things 5: needs about"]),
 ]
 
 
@@ -155,7 +170,14 @@ def test_limits_are_the_ones_calls_enforce(monkeypatch):
     assert proxima.memory_budget() == 64 << 10
     with pytest.raises(ValueError, match="budget"):
         M.sample_uniform(64 << 10)  # 12 bytes a point: past 64 KiB
+    with pytest.raises(ValueError, match=r"^n 65536: needs about 768.0 KiB .*memory budget of 64.0 KiB"):
+        M.sample_uniform(64 << 10)
+    proxima.check_fits("n", 1, 64 << 10, 1)  # exactly the budget fits
+    with pytest.raises(ValueError, match=r"^n 1: needs about 64.0 KiB \(1 × 65537 = 65537 bytes\)"):
+        proxima.check_fits("n", 1, 1, (64 << 10) + 1)
     monkeypatch.setenv("PROXIMA_MEMORY_BUDGET", "64 apples")
+    with pytest.raises(ValueError, match="PROXIMA_MEMORY_BUDGET: '64 apples' is not a number"):
+        proxima.check_fits("n", 1, 1, 1)
     with pytest.raises(ValueError, match="PROXIMA_MEMORY_BUDGET"):
         proxima.memory_budget()
     monkeypatch.delenv("PROXIMA_MEMORY_BUDGET")

@@ -7,6 +7,7 @@ ray"``) and skip with a note when Ray Data is not installed
 (``pip install -r tests/requirements-ray.txt``)."""
 
 import json
+import os
 import re
 import shutil
 import signal
@@ -19,7 +20,8 @@ import numpy as np
 import pytest
 
 import proxima
-from conftest import DATA, DATA_NOTE, quad_grid_arrays
+import proxima.dataset
+from conftest import DATA, DATA_NOTE, REPO_ROOT, quad_grid_arrays
 from dataset_helpers import (
     assert_same_npz,
     env_without,
@@ -34,7 +36,8 @@ from dataset_helpers import (
     write_off,
 )
 from proxima.dataset import mesh_names, resolve_inputs, sample_corpus
-from proxima.dataset.sampling import CRASH_ENV, is_complete, Options
+from dataset_crash import CRASH_ENV, site_dir
+from proxima.dataset.sampling import is_complete, Options
 
 POINTS = 20_000
 GRID = 12
@@ -226,11 +229,14 @@ def test_sdf_equals_single_point_queries(corpus, local_out):
         pick = rng.choice(POINTS, 1000, replace=False)
         single = np.array([mesh.signed_distance(z["points"][i][None], threads=1)[0] for i in pick], dtype=np.float32)
         assert np.array_equal(single, z["sdf"][pick]), name
-        # The grid: cell (i, j, k) at (x_i, x_j, x_k), x_i = -volume + (i + 0.5) * 2 volume / N.
-        half = float(z["volume"])
-        centres = -half + (np.arange(GRID) + 0.5) * (2 * half / GRID)
+        # The grid: cell (i, j, k) at (x_i, x_j, x_k), x_i = -v + cell * (i + 0.5)
+        # in float32, v = float32(volume), cell = 2 v / N (format 2).
+        half = np.float32(z["volume"])
+        cell = (half - -half) / np.float32(GRID)
+        centres = -half + cell * (np.arange(GRID, dtype=np.float32) + np.float32(0.5))
         ijk = rng.integers(0, GRID, (50, 3))
-        at = centres[ijk].astype(np.float32)
+        at = centres[ijk]
+        assert at.dtype == np.float32
         assert np.array_equal(mesh.signed_distance(at).astype(np.float32), z["grid"][ijk[:, 0], ijk[:, 1], ijk[:, 2]]), name
 
 
@@ -304,7 +310,7 @@ BAD_OPTIONS = [
     ({"workers": 10**6}, "workers"),  # local: one thread each
     ({"local_pool": "fiber"}, "local_pool"),
     ({"deepsdf": "yes"}, "deepsdf"),
-    ({"n_points": 10**10}, "n_points: 10000000000 needs about"),  # 1.8 TiB at any default budget
+    ({"n_points": 10**10}, "n_points 10000000000 per mesh"),  # 1.8 TiB at any default budget
 ]
 
 
@@ -321,14 +327,14 @@ def test_sizes_are_checked_against_the_memory_budget(corpus, tmp_path, monkeypat
     monkeypatch.setenv("PROXIMA_MEMORY_BUDGET", "512M")
     assert proxima.memory_budget() == 512 << 20
     out = tmp_path / "out"
-    # A grid of 256^3 cells is 64 MiB of output and one 1M-cell chunk at a
-    # time (about 200 MiB): it fits; 512^3 is 512 MiB of output alone.
-    with pytest.raises(ValueError, match=r"^grid: 512 needs about .* more than the budget of 512.0 MiB"):
+    # A grid of 256^3 cells is 128 MiB (the values and their C-order copy): it
+    # fits; 512^3 is 1 GiB.
+    with pytest.raises(ValueError, match=r"^grid 512 per mesh.*: needs about .* more than the memory budget of 512.0 MiB"):
         sample_corpus(corpus, out, n_points=1000, grid=512, engine="local")
     # 2M points fit one mesh (about 381 MiB), not two side by side in one
     # process; the process pool (one mesh per process) and Ray's actors hold
     # one each.
-    with pytest.raises(ValueError, match=r"^n_points: 2000000 .* x 2 meshes at a time in one process \(workers\)"):
+    with pytest.raises(ValueError, match=r"^n_points 2000000 per mesh x 2 meshes at a time in one process \(workers\): needs about"):
         sample_corpus(corpus, out, n_points=2_000_000, engine="local", workers=2)
     assert not out.exists()
     from proxima.dataset import check_memory
@@ -349,7 +355,7 @@ def test_command_refuses_bad_options_in_one_line(corpus, tmp_path):
     )
     assert result.returncode == 2, result.stderr
     lines = result.stderr.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("error: n_points: 10000000000 needs about"), result.stderr
+    assert len(lines) == 1 and lines[0].startswith("error: n_points 10000000000 per mesh"), result.stderr
     assert result.stdout == "" and not (tmp_path / "out").exists()
 
 
@@ -402,11 +408,103 @@ def test_killed_job_resumes(tmp_path):
     assert all(is_complete(out / name, options) for name in after)
 
 
+def test_library_samples_and_grid_are_the_documented_ones():
+    """Mesh.training_samples and Mesh.sdf_grid, which the dataset writes: the
+    split, the boxes, the distances (against Mesh.signed_distance at the same
+    points) and the same arrays on any thread count."""
+    mesh = proxima.noisy_icosphere(8)
+    points, sdf = mesh.training_samples(3001, 0.01, uniform_fraction=0.25, cube=1.5, seed=3, threads=1)
+    near, uniform = proxima.training_sample_counts(3001, 0.25)
+    assert (near, uniform) == (2251, 750)
+    assert points.shape == (3001, 3) and points.dtype == np.float32 and sdf.dtype == np.float32
+    again = mesh.training_samples(3001, 0.01, uniform_fraction=0.25, cube=1.5, seed=3, threads=3)
+    np.testing.assert_array_equal(points, again[0])
+    np.testing.assert_array_equal(sdf, again[1])
+    np.testing.assert_array_equal(sdf, mesh.signed_distance(points).astype(np.float32))
+    assert np.abs(sdf[:near]).max() < 0.01 * 9  # a gaussian of 53-bit uniforms stays within 8.6 sigma
+    assert np.abs(points[near:]).max() <= 1.5 and np.abs(points[near:]).max() > 1.4
+    assert not np.array_equal(points, mesh.training_samples(3001, 0.01, 0.25, cube=1.5, seed=4)[0])
+    # Without a cube: the bounding box grown by 5% per side.
+    lo, hi = mesh.bounds
+    box = mesh.training_samples(100, 0.01, uniform_fraction=1.0, seed=3)[0]
+    assert np.all(box >= lo - 0.05 * (hi - lo) - 1e-6) and np.all(box <= hi + 0.05 * (hi - lo) + 1e-6)
+
+    n, half = 6, np.float32(1.25)
+    grid = mesh.sdf_grid(n, cube=1.25, threads=2)
+    assert grid.shape == (n, n, n) and grid.dtype == np.float32 and grid.flags["C_CONTIGUOUS"]
+    cell = (half - (-half)) / np.float32(n)
+    x = -half + cell * (np.arange(n, dtype=np.float32) + np.float32(0.5))
+    centres = np.stack(np.meshgrid(x, x, x, indexing="ij"), axis=-1).reshape(-1, 3)
+    np.testing.assert_array_equal(grid.ravel(), mesh.signed_distance(centres).astype(np.float32))
+    np.testing.assert_array_equal(grid, mesh.sdf_grid(n, cube=1.25, threads=1))
+
+
+def test_mesh_suffixes_are_the_library_formats():
+    from proxima.dataset.sampling import MESH_SUFFIXES, is_mesh_file, mesh_stem
+
+    assert MESH_SUFFIXES == (".obj", ".ply", ".stl", ".off", ".glb") == tuple(proxima.mesh_suffixes())
+    for suffix in MESH_SUFFIXES:
+        assert is_mesh_file(f"m{suffix}") and is_mesh_file(f"m{suffix.upper()}.gz") and mesh_stem(f"x/m{suffix}.gz") == "m"
+    assert not is_mesh_file("m.npz")
+
+
+def proxima_cli():
+    """The command line of this checkout: ``PROXIMA_CLI``, or ``proxima`` as
+    cargo builds it (at once when ``cargo test`` has built it already)."""
+    if os.environ.get("PROXIMA_CLI"):
+        return os.environ["PROXIMA_CLI"]
+    cargo = shutil.which("cargo")
+    if cargo is None:
+        pytest.skip("no cargo to build the proxima command line: set PROXIMA_CLI to it")
+    result = subprocess.run(
+        [cargo, "build", "-q", "-p", "proxima-cli", "--bin", "proxima", "--message-format", "json"],
+        cwd=REPO_ROOT, capture_output=True, text=True, timeout=3600, check=True,
+    )
+    for line in result.stdout.splitlines():
+        message = json.loads(line)
+        if message.get("reason") == "compiler-artifact" and message.get("executable"):
+            return message["executable"]
+    pytest.fail(f"cargo built no proxima executable: {result.stderr}")
+
+
+def test_command_line_samples_are_the_dataset_samples(corpus, tmp_path):
+    """One recipe: ``proxima sdf --sample`` (and ``--grid``) on the normalized
+    mesh, with the dataset's options and the mesh's ``sample_seed``, writes the
+    dataset's points, signed distances and grid, bit for bit."""
+    cli = proxima_cli()
+    path = next(p for p in resolve_inputs(corpus) if p.name == "open_ico.obj")
+    out = tmp_path / "out"
+    n, sigma, fraction, grid = 3001, 0.02, 0.3, 9
+    summary = sample_corpus([path], out, n_points=n, near_sigma=sigma, uniform_fraction=fraction, grid=grid, seed=5, engine="local")
+    assert summary["done"] == 1, summary
+    with np.load(out / "open_ico.npz") as z:
+        arrays = {k: z[k] for k in z.files}
+    meta = json.loads(str(arrays["meta"]))
+    assert meta["format"] == 2 and meta["sample_seed"] == proxima.dataset.sample_seed(5, "open_ico")
+    source = proxima.load(path)
+    normalized = proxima.dataset.normalize_vertices(source.vertices, float(arrays["scale"]), arrays["offset"])
+    mesh_file = write_obj(tmp_path / "normalized.obj", normalized, source.faces)
+    volume = float(arrays["volume"])
+    common = [cli, "sdf", str(mesh_file), "--cube", repr(volume)]
+    samples, values = tmp_path / "s.npz", tmp_path / "g.npy"
+    for extra in (
+        ["--sample", str(n), "--near-sigma", repr(sigma), "--uniform-fraction", repr(fraction), "--seed", str(meta["sample_seed"]), "--out", str(samples)],
+        ["--grid", str(grid), "--out", str(values)],
+    ):
+        result = subprocess.run(common + extra, capture_output=True, text=True, timeout=300)
+        assert result.returncode == 0, result.stderr
+    with np.load(samples) as cli_samples:
+        np.testing.assert_array_equal(cli_samples["points"], arrays["points"])
+        np.testing.assert_array_equal(cli_samples["sdf"], arrays["sdf"])
+    assert int(arrays["n_near"]) == proxima.training_sample_counts(n, fraction)[0] == n - round(n * fraction)
+    np.testing.assert_array_equal(np.load(values), arrays["grid"])
+
+
 # --- Ray -------------------------------------------------------------------------------
 
 
 @pytest.fixture(scope="module")
-def ray_local():
+def ray_local(tmp_path_factory):
     try:
         import ray
         import ray.data  # noqa: F401
@@ -414,9 +512,20 @@ def ray_local():
         pytest.skip(f"Ray Data is not installed ({error}); pip install -r tests/requirements-ray.txt")
     if ray.is_initialized():
         ray.shutdown()
-    ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
-    yield ray
-    ray.shutdown()
+    # The actors' processes start from the instance's: with the crash hook's
+    # folder on their path, those given CRASH_ENV install it (dataset_crash).
+    old_path = os.environ.get("PYTHONPATH")
+    hook = site_dir(tmp_path_factory.mktemp("crash_hook"))
+    os.environ["PYTHONPATH"] = os.pathsep.join([str(hook)] + ([old_path] if old_path else []))
+    try:
+        ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
+        yield ray
+    finally:
+        ray.shutdown()
+        if old_path is None:
+            os.environ.pop("PYTHONPATH", None)
+        else:
+            os.environ["PYTHONPATH"] = old_path
 
 
 @pytest.mark.ray

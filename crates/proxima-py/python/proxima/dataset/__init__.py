@@ -68,6 +68,7 @@ from .sampling import (
     output_path,
     process_mesh,
     sample_mesh,
+    sample_seed,
 )
 
 __all__ = [
@@ -81,6 +82,7 @@ __all__ = [
     "normalization",
     "normalize_vertices",
     "mesh_seed",
+    "sample_seed",
     "is_complete",
     "KINDS",
     "NORMALIZATIONS",

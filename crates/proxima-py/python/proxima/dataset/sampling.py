@@ -5,13 +5,20 @@ sampling options and the mesh's name (through :func:`mesh_seed`), never on
 the engine, the worker, the thread count or the order of the corpus: the local
 and Ray engines write the same arrays, bit for bit.
 
+The points, their signed distances and the grid come from the library, the
+recipe of ``proxima sdf --sample`` and ``--grid`` (``Mesh.training_samples``,
+``Mesh.sdf_grid``): ``proxima sdf NORMALIZED_MESH --sample n_points
+--near-sigma near_sigma --uniform-fraction uniform_fraction --cube volume
+--seed SEED``, ``SEED`` the mesh's ``sample_seed`` in ``meta``, writes the same
+``points`` and ``sdf``.
+
 The npz layout (``np.load(path)``):
 
 ``points``    float32 (n, 3), normalized coordinates. The first ``n_near`` rows
               are near the surface (a point uniform on the faces by area plus
               a gaussian offset per axis of standard deviation ``near_sigma``,
-              in normalized units), the rest uniform in the cube
-              ``[-volume, volume]^3``.
+              an absolute length in normalized units), the rest uniform in the
+              cube ``[-volume, volume]^3`` (``volume`` rounded to float32).
 ``sdf``       float32 (n,), the signed distance to the normalized mesh,
               negative inside; inside is where the generalized winding number
               exceeds 1/2 (right on open and self-intersecting meshes).
@@ -30,8 +37,10 @@ The npz layout (``np.load(path)``):
 ``grid``      float32 (N, N, N), only with ``grid=N``: the signed distance at
               the centres of the cells of the cube ``[-volume, volume]^3`` cut
               in N^3 cells; ``grid[i, j, k]`` is at
-              ``(x_i, x_j, x_k)``, ``x_i = -volume + (i + 0.5) * 2 * volume / N``
-              (x first: C order, ``indexing="ij"``).
+              ``(x_i, x_j, x_k)``, ``x_i = -v + cell * (i + 0.5)`` in float32
+              arithmetic, ``v = float32(volume)``, ``cell = (2 v) / N``
+              (x first: C order, ``indexing="ij"``; ``proxima sdf --grid N
+              --cube volume``'s values).
 ``scale``     float64 scalar and
 ``offset``    float64 (3,): the normalization,
               ``original = normalized * scale + offset``
@@ -39,7 +48,8 @@ The npz layout (``np.load(path)``):
 ``volume``    float64 scalar, the half side of the sampling cube.
 ``n_near``    int64 scalar, the number of near-surface rows of ``points``.
 ``meta``      str (0-d), JSON: format version, name, source path, options,
-              normalization and the convention above.
+              normalization, ``sample_seed`` (the library's seed of this
+              mesh's samples) and the convention above.
 
 Normalization (vertices that no face uses are ignored):
 
@@ -66,10 +76,13 @@ import numpy as np
 
 import proxima
 
-FORMAT_VERSION = 1
+#: 2: the samples and the grid from the library's recipe (``proxima sdf
+#: --sample``/``--grid``'s), with one seed per mesh (``sample_seed``); 1 drew
+#: the uniform points and grid centres with numpy.
+FORMAT_VERSION = 2
 
-#: Mesh file suffixes (each also with ``.gz``), as ``proxima.load`` reads them.
-MESH_SUFFIXES = (".obj", ".ply", ".stl", ".off", ".glb")
+#: Mesh file suffixes (each also with ``.gz``): the formats ``proxima.load`` reads.
+MESH_SUFFIXES = tuple(proxima.mesh_suffixes())
 
 #: The temporary name of an output being written: ``NAME.npz.tmp-<hex>``.
 TMP_MARKER = ".npz.tmp-"
@@ -82,23 +95,17 @@ NORMALIZATIONS = {
 
 KINDS = ("sdf", "occupancy")
 
-#: Rows of the grid's signed distances computed per batch call (memory bound).
-GRID_CHUNK = 1 << 20
-
-#: Peak bytes of one mesh's processing per signed distance computed (the
-#: points, their sdf and the query's per-point state and temporaries): at
-#: most 188 measured (VmHWM, 250k to 2M points, and grids of 64^3 to 160^3
-#: in chunks of GRID_CHUNK), rounded up. The mesh's own part (its
+#: Peak bytes of one mesh's processing per sample (the points, their sdf
+#: and the query's per-point state and temporaries): at most 188 measured
+#: (VmHWM, 250k to 2M points), rounded up. The mesh's own part (its
 #: triangles, tree and winding-number expansions) is checked by the loader.
 BYTES_PER_SAMPLE = 200
 
+#: Bytes per grid cell: the library's values (x fastest) and their C-order copy.
+BYTES_PER_GRID_CELL = 8
+
 #: The count of a mesh's attempts in a Ray run: ``NAME.npz.attempts``.
 ATTEMPTS_SUFFIX = ".npz.attempts"
-
-#: Testing hook: ``NAME=MARKER_PATH`` makes the process that writes NAME's
-#: output exit abruptly (``os._exit``) after writing the temporary file, the
-#: first time only (creating the marker file); ``NAME`` alone, every time.
-CRASH_ENV = "PROXIMA_DATASET_TEST_CRASH"
 
 
 @dataclass(frozen=True)
@@ -148,7 +155,8 @@ class Options:
 
     @property
     def n_uniform(self) -> int:
-        return int(round(self.n_points * self.uniform_fraction))
+        """The uniform samples: the library's split (``proxima.training_sample_counts``)."""
+        return proxima.training_sample_counts(int(self.n_points), float(self.uniform_fraction))[1]
 
     @property
     def n_near(self) -> int:
@@ -182,42 +190,26 @@ class Options:
 
 def memory_per_mesh(options: Options) -> Dict[str, int]:
     """The bytes one mesh's samples need at their peak, by the option that
-    sizes them: ``{"n_points": ..., "grid": ...}`` (see BYTES_PER_SAMPLE)."""
+    sizes them: ``{"n_points": ..., "grid": ...}`` (see BYTES_PER_SAMPLE and
+    BYTES_PER_GRID_CELL)."""
     cells = int(options.grid) ** 3 if options.grid is not None else 0
     # DeepSDF's rows: 16 bytes a sample, twice (the rows, then split), and a mask.
     per_point = BYTES_PER_SAMPLE + (48 if options.deepsdf else 0)
-    return {
-        "n_points": int(options.n_points) * per_point,
-        # The grid array itself, and one chunk of it being computed.
-        "grid": cells * 4 + min(cells, GRID_CHUNK) * BYTES_PER_SAMPLE,
-    }
+    return {"n_points": int(options.n_points) * per_point, "grid": cells * BYTES_PER_GRID_CELL}
 
 
 def check_memory(options: Options, meshes_at_once: int = 1) -> None:
     """Raises ``ValueError`` naming the option (``n_points`` or ``grid``, the
     larger part) when ``meshes_at_once`` meshes processed side by side in one
-    process would need more than the memory budget
-    (:func:`proxima.memory_budget`), before any mesh is read."""
-    budget = proxima.memory_budget()
+    process would need more than the memory budget, before any mesh is read:
+    the library's check (``proxima.check_fits``, ``PROXIMA_MEMORY_BUDGET``), as
+    every call of the package makes."""
     parts = memory_per_mesh(options)
-    need = sum(parts.values()) * int(meshes_at_once)
-    if need <= budget:
-        return
     name = max(parts, key=parts.get)
-    value = options.n_points if name == "n_points" else options.grid
-    at_once = f" x {meshes_at_once} meshes at a time in one process (workers)" if meshes_at_once > 1 else ""
-    raise ValueError(
-        f"{name}: {value} needs about {_human(need)} of memory per mesh{at_once}, more than the budget of "
-        f"{_human(budget)} (set PROXIMA_MEMORY_BUDGET to change it)"
-    )
-
-
-def _human(n: int) -> str:
-    value = float(n)
-    for unit in ("bytes", "KiB", "MiB", "GiB", "TiB", "PiB"):
-        if value < 1024 or unit == "PiB":
-            return f"{value:.0f} {unit}" if unit == "bytes" else f"{value:.1f} {unit}"
-        value /= 1024
+    value = f"{options.n_points if name == 'n_points' else options.grid} per mesh"
+    if meshes_at_once > 1:
+        value += f" x {meshes_at_once} meshes at a time in one process (workers)"
+    proxima.check_fits(name, value, int(meshes_at_once), sum(parts.values()))
 
 
 def mesh_stem(path) -> str:
@@ -245,13 +237,10 @@ def mesh_seed(seed: int, name: str) -> np.random.SeedSequence:
     return np.random.SeedSequence([int(seed), zlib.crc32(name.encode("utf-8"))])
 
 
-def uniform_cube(n: int, half: float, seed: int) -> np.ndarray:
-    """``n`` points uniform in ``[-half, half]^3``, float32 (n, 3), from PCG64's
-    raw 64-bit stream (stable across numpy versions, unlike ``Generator``'s
-    methods): 53 random bits per coordinate."""
-    raw = np.random.PCG64(seed).random_raw(3 * n)
-    unit = (raw >> np.uint64(11)).astype(np.float64) * (1.0 / (1 << 53))
-    return (half * (2.0 * unit - 1.0)).astype(np.float32).reshape(n, 3)
+def sample_seed(seed: int, name: str) -> int:
+    """The library's seed of a mesh's samples (``--seed`` of ``proxima sdf
+    --sample``): the first 64-bit word of :func:`mesh_seed`'s state."""
+    return int(mesh_seed(seed, name).generate_state(1, dtype=np.uint64)[0])
 
 
 def used_vertex_mask(n_vertices: int, faces) -> np.ndarray:
@@ -292,15 +281,6 @@ def normalize_vertices(vertices, scale: float, offset) -> np.ndarray:
     return ((v - np.asarray(offset, dtype=np.float64)) / float(scale)).astype(np.float32)
 
 
-def grid_points(n: int, half: float, start: int, stop: int) -> np.ndarray:
-    """Rows ``start:stop`` of the (n^3, 3) cell centres, x slowest (C order)."""
-    centres = -half + (np.arange(n, dtype=np.float64) + 0.5) * (2.0 * half / n)
-    index = np.arange(start, stop, dtype=np.int64)
-    i, rest = np.divmod(index, n * n)
-    j, k = np.divmod(rest, n)
-    return np.stack([centres[i], centres[j], centres[k]], axis=1).astype(np.float32)
-
-
 def output_path(output_dir, name) -> Path:
     return Path(output_dir) / f"{name}.npz"
 
@@ -317,23 +297,6 @@ def is_complete(path, options: Options) -> bool:
             return meta.get("format") == FORMAT_VERSION and meta.get("options") == options.as_meta()
     except Exception:  # noqa: BLE001 - anything unreadable is incomplete
         return False
-
-
-def _crash_point(name: str) -> None:
-    spec = os.environ.get(CRASH_ENV)
-    if not spec:
-        return
-    target, _, marker = spec.partition("=")
-    if target != name:
-        return
-    if marker:
-        try:
-            fd = os.open(marker, os.O_CREAT | os.O_EXCL | os.O_WRONLY)
-        except FileExistsError:
-            return
-        os.write(fd, f"{os.getpid()}\n".encode())
-        os.close(fd)
-    os._exit(70)
 
 
 def _attempts_path(out: Path) -> Path:
@@ -359,7 +322,7 @@ def _forget_attempts(out: Path) -> None:
         pass
 
 
-def write_npz_atomic(path, arrays: Dict[str, np.ndarray], compress: bool = False, name: str = "") -> None:
+def write_npz_atomic(path, arrays: Dict[str, np.ndarray], compress: bool = False) -> None:
     """``path`` appears complete or not at all: the arrays go to
     ``path.tmp-<random>``, which is fsynced and renamed over ``path``."""
     path = Path(path)
@@ -369,7 +332,6 @@ def write_npz_atomic(path, arrays: Dict[str, np.ndarray], compress: bool = False
             (np.savez_compressed if compress else np.savez)(f, **arrays)
             f.flush()
             os.fsync(f.fileno())
-        _crash_point(name)
         os.replace(tmp, path)
     except BaseException:
         try:
@@ -401,21 +363,23 @@ def sample_mesh(path, name: str, options: Options, threads: Optional[int] = None
     timings["load_s"] = time.perf_counter() - t
 
     t = time.perf_counter()
-    near_seed, uniform_seed = (int(s) for s in mesh_seed(options.seed, name).generate_state(2, dtype=np.uint64))
-    parts = []
-    if options.n_near > 0:
-        bounds = mesh.bounds
-        diagonal = float(np.linalg.norm(bounds[1] - bounds[0]))
-        # sample_near_surface's sigma is a fraction of the bounding-box diagonal.
-        fraction = options.near_sigma / diagonal if diagonal > 0 else 0.0
-        parts.append(mesh.sample_near_surface(options.n_near, sigma=fraction, seed=near_seed))
-    if options.n_uniform > 0:
-        parts.append(uniform_cube(options.n_uniform, options.volume, uniform_seed))
-    points = np.concatenate(parts) if parts else np.zeros((0, 3), np.float32)
+    seed = sample_seed(options.seed, name)
     timings["sample_s"] = time.perf_counter() - t
 
+    # The points and their signed distances in one library call (the sdf
+    # dominates): proxima sdf --sample's recipe.
     t = time.perf_counter()
-    sdf = mesh.signed_distance(points, threads=threads).astype(np.float32) if len(points) else np.zeros(0, np.float32)
+    if options.n_points > 0:
+        points, sdf = mesh.training_samples(
+            int(options.n_points),
+            near_sigma=float(options.near_sigma),
+            uniform_fraction=float(options.uniform_fraction),
+            cube=options.volume,
+            seed=seed,
+            threads=threads,
+        )
+    else:
+        points, sdf = np.zeros((0, 3), np.float32), np.zeros(0, np.float32)
     if not np.all(np.isfinite(sdf)):
         raise ValueError(f"{path}: signed distances that are not finite ({int((~np.isfinite(sdf)).sum())} of {len(sdf)})")
     timings["sdf_s"] = time.perf_counter() - t
@@ -440,13 +404,7 @@ def sample_mesh(path, name: str, options: Options, threads: Optional[int] = None
         arrays["neg"] = np.ascontiguousarray(rows[sdf < 0])
     if options.grid is not None:
         t = time.perf_counter()
-        n = int(options.grid)
-        total = n**3
-        grid = np.empty(total, dtype=np.float32)
-        for start in range(0, total, GRID_CHUNK):
-            stop = min(total, start + GRID_CHUNK)
-            grid[start:stop] = mesh.signed_distance(grid_points(n, options.volume, start, stop), threads=threads)
-        arrays["grid"] = grid.reshape(n, n, n)
+        arrays["grid"] = mesh.sdf_grid(int(options.grid), cube=options.volume, threads=threads)
         timings["grid_s"] = time.perf_counter() - t
     meta = {
         "format": FORMAT_VERSION,
@@ -454,7 +412,8 @@ def sample_mesh(path, name: str, options: Options, threads: Optional[int] = None
         "source": str(path),
         "options": options.as_meta(),
         "convention": "original = normalized * scale + offset",
-        "grid_layout": "grid[i, j, k] at (x_i, x_j, x_k), x_i = -volume + (i + 0.5) * 2 * volume / N",
+        "grid_layout": "grid[i, j, k] at (x_i, x_j, x_k), x_i = -v + cell * (i + 0.5) in float32, v = float32(volume), cell = 2 v / N",
+        "sample_seed": seed,
         "points_layout": "points[:n_near] near the surface, points[n_near:] uniform in [-volume, volume]^3",
         "occupancy": "sdf < 0",
         "sign": "winding number > 1/2 is inside (sdf < 0)",
@@ -511,7 +470,7 @@ def process_mesh(
                 )
         arrays = sample_mesh(path, name, options, threads=threads, timings=timings)
         t = time.perf_counter()
-        write_npz_atomic(out, arrays, compress=options.compress, name=name)
+        write_npz_atomic(out, arrays, compress=options.compress)
         timings["write_s"] = time.perf_counter() - t
     except (KeyboardInterrupt, SystemExit, GeneratorExit):
         raise
