@@ -8,9 +8,7 @@ use crate::budget::{BudgetError, check_fits};
 use crate::build::MAX_QUERY_COORDINATE;
 use crate::error::SdfError;
 use crate::math::Vec3;
-use crate::query::NearestQuery;
 use crate::sample::{near_triangles, uniform_in};
-use rayon::prelude::*;
 
 /// A dense grid of sample points: the centres of `resolution` cells per
 /// axis dividing a box.
@@ -102,6 +100,10 @@ pub struct Samples {
     pub signed_distances: Vec<f32>,
 }
 
+/// Cells of a grid answered by one batch: the points and the batch's answers
+/// (about 60 bytes a cell, some 16 MiB) stay bounded whatever the grid's size.
+const GRID_BATCH: usize = 1 << 18;
+
 /// What the seed of [`SignedDistanceField::training_samples`]' uniform
 /// samples is xor-ed with.
 const UNIFORM_STREAM: u64 = 0x5851_f42d_4c95_7f2d;
@@ -158,33 +160,26 @@ impl SignedDistanceField {
         // About a hundred progress reports, each a whole number of z slices.
         let slab = (nz / 100).max(1);
         let mut done = 0u64;
+        let mut points = Vec::with_capacity(GRID_BATCH.min(values.len()));
         for (s, slab_values) in values.chunks_mut(nx * ny * slab).enumerate() {
-            slab_values.par_chunks_mut(nx).enumerate().for_each(|(row, out)| {
-                let (j, k) = (row % ny, s * slab + row / ny);
-                self.sdf_row(grid, j, k, out);
-            });
+            let first = s * nx * ny * slab;
+            for (c, out) in slab_values.chunks_mut(GRID_BATCH).enumerate() {
+                let start = first + c * GRID_BATCH;
+                points.clear();
+                points.extend((start..start + out.len()).map(|index| {
+                    let (i, row) = (index % nx, index / nx);
+                    grid.point(i, row % ny, row / ny)
+                }));
+                // The batch (Morton order, each radius seeded by the previous
+                // answer) is faster than walking the rows one query at a time.
+                for (value, answer) in out.iter_mut().zip(self.signed_distance_batch(&points)) {
+                    *value = answer.map_or(f32::NAN, |a| a.distance);
+                }
+            }
             done += slab_values.len() as u64;
             progress(done, total);
         }
         Ok(values)
-    }
-
-    /// One row of a grid, each closest query bounded by the previous one's
-    /// distance plus the step between them.
-    fn sdf_row(&self, grid: &SdfGrid, j: usize, k: usize, out: &mut [f32]) {
-        let mut previous = f32::INFINITY;
-        for (i, value) in out.iter_mut().enumerate() {
-            let p = grid.point(i, j, k);
-            let bound = previous + grid.cell.x * 1.001;
-            let hit = self.tree().closest_within(p, bound).or_else(|| self.tree().closest(p));
-            *value = match hit {
-                Some(hit) => {
-                    previous = hit.distance;
-                    self.signed_answer(p, hit).distance
-                }
-                None => f32::NAN,
-            };
-        }
     }
 
     /// `n` points uniform on the surface (triangles picked by area) plus a
