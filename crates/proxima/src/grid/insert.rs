@@ -3,7 +3,8 @@
 //! As in the classic design: compute the primitive's bounding box, enumerate
 //! every cell of the box's cell range ([`GridLayout::cell_range`]), and keep
 //! those the primitive really overlaps by the exact closed test
-//! ([`BoxOverlap`]; for triangles the prepared [`TriangleBoxTest`], for
+//! ([`BoxOverlap`]; for triangles and convex polygons the prepared
+//! [`ConvexBoxTest`] (`visit_convex_cells`), for
 //! segments slab clipping, for points containment).
 //!
 //! One shortcut, exact for any connected primitive (points, segments,
@@ -24,7 +25,7 @@ use crate::math::DVec3;
 use crate::primitive::exact_sat::{self, box_magnitude, shape_bounds};
 use crate::primitive::sat::to64;
 use crate::primitive::segment_aabb::segment_overlaps as segment_aabb_overlap;
-use crate::primitive::{Bounded, BoxOverlap, LineSegment, Point, Triangle, TriangleBoxTest};
+use crate::primitive::{Bounded, BoxOverlap, ConvexBoxTest, LineSegment, Point, Triangle};
 
 /// What a primitive needs to list the cells it overlaps.
 #[derive(Clone, Copy, Debug)]
@@ -131,7 +132,7 @@ pub(crate) fn range_magnitude(layout: &GridLayout, range: &CellRange) -> f64 {
 
 // Inlined into the cell loops: the hot path is a few multiply-adds per axis,
 // and a call per cell costs more than the test (measured, see docs/perf-log.md).
-impl CellTest for TriangleBoxTest {
+impl<const N: usize> CellTest for ConvexBoxTest<N> {
     #[inline(always)]
     fn run(&self, q: usize, lo: [f64; 3], hi: [f64; 3]) -> bool {
         self.overlaps_run_axes(q, lo, hi)
@@ -140,6 +141,63 @@ impl CellTest for TriangleBoxTest {
     fn cell(&self, q: usize, lo: [f64; 3], hi: [f64; 3]) -> bool {
         self.overlaps_cell_axes(q, lo, hi)
     }
+}
+
+/// The one insertion routine of triangles (`N = 3`) and convex polygons (at
+/// most `N` vertices `v` in boundary order, bounding box `bounds`): the cells
+/// of the bounding box's range kept by the prepared separating axis test
+/// ([`ConvexBoxTest`]), split into the part shared by a run of cells and the
+/// per-cell part.
+///
+/// A range that is a line of cells is taken whole (exact for any connected
+/// primitive, see the module documentation). A triangle within one slab of
+/// cells, or lying in a plane of constant coordinate (as every triangle of a
+/// voxel mesh does), is a 2D problem ([`FlatTest`]): in the plane case every
+/// cell of the range touches that plane, and the normal and the other edge
+/// axes, parallel to it, decide nothing the range has not (and would all need
+/// the exact fallback). Scan-line insertion clips the shape slab by slab when
+/// the test is exact — always for a triangle, for a polygon when its vertices
+/// are coplanar in `f64`; for a polygon that is planar only within tolerance
+/// the test is conservative (it may accept a cell the polygon only comes very
+/// close to), so scan-line candidates might miss such a cell, and these
+/// polygons take the classic enumeration instead. Both methods therefore give
+/// the same cells.
+#[inline(always)]
+pub(crate) fn visit_convex_cells<const N: usize, F: FnMut(Cell)>(
+    bounds: &Aabb,
+    v: &[[f64; 3]],
+    params: &InsertParams<'_>,
+    visit: F,
+) -> Result<(), GridError> {
+    let Some((full, window)) = ranges(bounds, params)? else {
+        return Ok(());
+    };
+    if full.is_line() {
+        for_each_cell(&window, visit);
+        return Ok(());
+    }
+    let magnitude = range_magnitude(params.layout, &full);
+    if N == 3
+        && let Ok(tri) = <&[[f64; 3]; 3]>::try_from(v)
+        && let Some(s) = (0..3).find(|&a| full.extent(a) == 1 || (tri[0][a] == tri[1][a] && tri[1][a] == tri[2][a]))
+    {
+        let test = FlatTest::new(tri, s, magnitude);
+        match params.method {
+            InsertMethod::Classic => classic_cells(params.layout, &window, &test, visit),
+            InsertMethod::Scanline => scanline::scan(params.layout, &full, &window, v, &test, visit),
+        }
+        return Ok(());
+    }
+    // Cells of the range overlap the shape's box: the box normals cannot
+    // separate, only the other axes are tested.
+    let test = ConvexBoxTest::<N>::from_vertices(v).for_boxes_within(magnitude);
+    match params.method {
+        InsertMethod::Scanline if N == 3 || test.is_planar() => {
+            scanline::scan(params.layout, &full, &window, v, &test, visit)
+        }
+        _ => classic_cells(params.layout, &window, &test, visit),
+    }
+    Ok(())
 }
 
 /// A triangle whose bounding box lies within one slab of cells along `s`, or
@@ -156,7 +214,7 @@ pub(crate) struct FlatTest {
     min: [f64; 3],
     max: [f64; 3],
     /// The rounding bound of the three axes and the vertices, for the exact
-    /// fallback (as in [`TriangleBoxTest`]).
+    /// fallback (as in [`ConvexBoxTest`]).
     bound: f64,
     box_magnitude: f64,
     vertices: [[f64; 3]; 3],
@@ -187,7 +245,7 @@ impl FlatTest {
             let proj = v.map(|x| x[s1] * a1 + x[s2] * a2);
             (t.first[i], t.second[i]) = (a1, a2);
             (t.min[i], t.max[i]) = if a1 == 0.0 || a2 == 0.0 {
-                // Parallel to a rectangle side: decided by the range (see TriangleBoxTest).
+                // Parallel to a rectangle side: decided by the range (see ConvexBoxTest).
                 (f64::NEG_INFINITY, f64::INFINITY)
             } else {
                 (min(min(proj[0], proj[1]), proj[2]), max(max(proj[0], proj[1]), proj[2]))
@@ -273,35 +331,11 @@ impl GridInsert for LineSegment {
 impl GridInsert for Triangle {
     #[inline]
     fn visit_cells<F: FnMut(Cell)>(&self, params: &InsertParams<'_>, visit: F) -> Result<(), GridError> {
-        let Some((full, window)) = ranges(&self.bounds(), params)? else {
-            return Ok(());
-        };
-        if full.is_line() {
-            for_each_cell(&window, visit);
-            return Ok(());
-        }
-        let v = [to64(self.a), to64(self.b), to64(self.c)];
-        // Within one slab of cells, or lying in a plane of constant
-        // coordinate (as every triangle of a voxel mesh does): a 2D problem.
-        // In the plane case every cell of the range touches that plane, and
-        // the normal and the other edge axes, parallel to it, decide nothing
-        // the range has not (and would all need the exact fallback).
-        let in_plane = |a: usize| self.a[a] == self.b[a] && self.b[a] == self.c[a];
-        if let Some(s) = (0..3).find(|&a| full.extent(a) == 1 || in_plane(a)) {
-            let test = FlatTest::new(&v, s, range_magnitude(params.layout, &full));
-            match params.method {
-                InsertMethod::Classic => classic_cells(params.layout, &window, &test, visit),
-                InsertMethod::Scanline => scanline::scan(params.layout, &full, &window, &v, &test, visit),
-            }
-            return Ok(());
-        }
-        // Cells of the range overlap the triangle's box: the box normals
-        // cannot separate, only the ten other axes are tested.
-        let test = TriangleBoxTest::new(self).for_boxes_within(range_magnitude(params.layout, &full));
-        match params.method {
-            InsertMethod::Classic => classic_cells(params.layout, &window, &test, visit),
-            InsertMethod::Scanline => scanline::scan(params.layout, &full, &window, &v, &test, visit),
-        }
-        Ok(())
+        visit_convex_cells::<3, F>(
+            &self.bounds(),
+            &[to64(self.a), to64(self.b), to64(self.c)],
+            params,
+            visit,
+        )
     }
 }

@@ -8,6 +8,7 @@
 
 mod closest_polygon;
 pub(crate) mod closest_triangle;
+mod convex_box;
 pub(crate) mod exact_sat;
 mod point;
 mod point_aabb;
@@ -21,6 +22,7 @@ pub(crate) mod segment_aabb;
 mod triangle;
 mod triangle_aabb;
 
+pub use convex_box::ConvexBoxTest;
 pub use point::Point;
 pub use polygon::{ConvexPolygon, PolygonHit};
 pub use polygon_aabb::PolygonBoxTest;
