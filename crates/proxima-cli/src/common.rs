@@ -125,24 +125,8 @@ pub fn kind_parser() -> impl TypedValueParser<Value = PrimitiveKind> {
     PossibleValuesParser::new(kind_values()).map(|name| name.parse().expect("clap passes only the names it lists"))
 }
 
-/// How trees are split, on the command line.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum Split {
-    /// Classic median split (fastest build).
-    Median,
-    /// Binned surface area heuristic (fewer nodes visited per query).
-    Sah,
-}
-
-impl Split {
-    /// The build configuration this names.
-    pub fn config(self) -> BuildConfig {
-        match self {
-            Split::Median => BuildConfig::fast_build(),
-            Split::Sah => BuildConfig::fast_queries(),
-        }
-    }
-}
+/// How trees are split, on the command line (the benchmarks' option, shared).
+pub use proxima_bench::Split;
 
 /// The embedded default model (see `assets/README.md` for source and licence).
 pub const DEFAULT_MODEL_NAME: &str = "bunny-npm.obj (embedded)";
