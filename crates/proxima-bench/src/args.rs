@@ -107,25 +107,12 @@ pub struct Args {
     pub planarity: f32,
 }
 
-/// What `--help` says of each kind (the words of `proxima closest --help`).
-fn kind_help(kind: PrimitiveKind) -> &'static str {
-    match kind {
-        PrimitiveKind::Vertices => "Mesh vertices as points",
-        PrimitiveKind::Edges => "Unique undirected edges as segments",
-        PrimitiveKind::Faces => "Faces as triangles (polygons fan-triangulated)",
-        PrimitiveKind::Polygons => {
-            "Faces as convex polygons, as they are when convex and planar within tolerance \
-             (the others fan-triangulated; a note on stderr says how many)"
-        }
-    }
-}
-
 /// The parser of `--primitives`: one of [`PrimitiveKind::NAMES`], each
 /// listed with its help.
 fn kind_parser() -> impl TypedValueParser<Value = PrimitiveKind> {
     let values = PrimitiveKind::ALL
         .into_iter()
-        .map(|kind| PossibleValue::new(kind.name()).help(kind_help(kind)));
+        .map(|kind| PossibleValue::new(kind.name()).help(kind.description()));
     PossibleValuesParser::new(values).map(|name| name.parse().expect("clap passes only the names it lists"))
 }
 

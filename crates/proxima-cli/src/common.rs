@@ -100,24 +100,11 @@ pub fn check_query_point(p: Vec3, what: &str) -> Result<()> {
 /// (or, in `info`, when the mesh has faces of more than three vertices).
 pub const DEFAULT_KINDS: [PrimitiveKind; 3] = [PrimitiveKind::Vertices, PrimitiveKind::Edges, PrimitiveKind::Faces];
 
-/// What `--help` says of each kind.
-fn kind_help(kind: PrimitiveKind) -> &'static str {
-    match kind {
-        PrimitiveKind::Vertices => "Mesh vertices as points",
-        PrimitiveKind::Edges => "Unique undirected edges as segments",
-        PrimitiveKind::Faces => "Faces as triangles (polygons fan-triangulated)",
-        PrimitiveKind::Polygons => {
-            "Faces as convex polygons, as they are when convex and planar within tolerance \
-             (the others fan-triangulated; a note on stderr says how many)"
-        }
-    }
-}
-
 /// The values `--primitives` takes, each with its help, as `--help` lists them.
 pub fn kind_values() -> impl Iterator<Item = PossibleValue> {
     PrimitiveKind::ALL
         .into_iter()
-        .map(|kind| PossibleValue::new(kind.name()).help(kind_help(kind)))
+        .map(|kind| PossibleValue::new(kind.name()).help(kind.description()))
 }
 
 /// The parser of `--primitives`: one of [`PrimitiveKind::NAMES`].

@@ -48,6 +48,19 @@ impl PrimitiveKind {
         Self::NAMES[self as usize]
     }
 
+    /// What this kind is, in one line (the command line's `--help`).
+    pub fn description(self) -> &'static str {
+        match self {
+            Self::Vertices => "Mesh vertices as points",
+            Self::Edges => "Unique undirected edges as segments",
+            Self::Faces => "Faces as triangles (polygons fan-triangulated)",
+            Self::Polygons => {
+                "Faces as convex polygons, as they are when convex and planar within tolerance \
+                 (the others fan-triangulated; a note on stderr says how many)"
+            }
+        }
+    }
+
     /// How many primitives of this kind `mesh` gives, at most (edges and
     /// polygons come from faces: 0 faces, none of them).
     pub fn available(self, mesh: &Mesh) -> usize {
