@@ -50,6 +50,7 @@ pub mod linear;
 pub mod math;
 pub mod memory;
 pub mod mesh;
+pub mod pair;
 pub mod prelude;
 pub mod primitive;
 pub mod query;
