@@ -59,6 +59,25 @@ impl Mesh {
         )
     }
 
+    /// The vertex indices of each triangle of [`Mesh::triangles`], in the
+    /// same order: face `f`'s fan `(v0, vi, vi+1)`. Two triangles are
+    /// neighbours when they share an index (self-intersection tests).
+    ///
+    /// ```
+    /// use proxima::{Mesh, Vec3};
+    /// let quad = Mesh::from_faces(vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y], &[vec![0, 1, 2, 3]]).unwrap();
+    /// assert_eq!(quad.triangle_vertex_indices(), [[0, 1, 2], [0, 2, 3]]);
+    /// ```
+    pub fn triangle_vertex_indices(&self) -> Vec<[u32; 3]> {
+        let mut out = Vec::with_capacity(self.triangle_count());
+        for face in self.faces() {
+            for w in face[1..].windows(2) {
+                out.push([face[0], w[0], w[1]]);
+            }
+        }
+        out
+    }
+
     /// The faces fan-triangulated (v0, vi, vi+1); the source of each triangle is
     /// the index of its face.
     pub fn triangles(&self) -> PrimitiveSet<Triangle> {

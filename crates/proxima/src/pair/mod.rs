@@ -1,17 +1,85 @@
-//! Two meshes, or one mesh against itself: rigid poses and the exact
-//! triangle-pair tests and distances the pair queries are built on.
+//! Queries between two meshes placed by rigid poses, and within one mesh:
+//! distance, collision, face pairs in contact, self-intersections.
 //!
-//! - [`pose`]: [`RigidPose`], a rotation and a translation in `f64`.
-//! - [`triangle_intersection`]: exact closed-triangle intersection
-//!   ([`triangles_intersect`]) and the rule for faces of one mesh that share
-//!   vertices ([`neighbours_intersect`]).
-//! - [`triangle_distance`]: the distance between two triangles with its
-//!   closest points ([`triangle_distance()`]).
+//! Each mesh is a [`MeshIndex`]; its faces' 4-wide tree (built on first use
+//! and shared with every other query) is walked against the other mesh's
+//! tree in one descent ([`descent`]), pairs of subtrees opened four by four
+//! children, the second tree's boxes moved into the first's frame. At the
+//! leaves the triangles are placed in the world by [`RigidPose::apply`]
+//! (`f64`, a fixed order of operations), and
+//!
+//! - yes/no answers ([`intersects`], [`intersecting_pairs`],
+//!   [`self_intersections`], [`pairs_within`] with `0`) are **exact** for
+//!   those placed coordinates: orientation predicates evaluated exactly
+//!   ([`triangle_intersection`]); closed triangles, so touching counts;
+//! - distances ([`distance`], [`distance_below`], [`pairs_within`]) are the
+//!   `f64` minimum over the triangle pairs of [`triangle_distance`]: the
+//!   same value brute force over all pairs computes.
+//!
+//! Surfaces, not volumes: a mesh wholly inside another without their
+//! surfaces meeting does not intersect it. Ask whether one of its vertices
+//! is inside (the winding number, [`SignedDistanceField`](crate::SignedDistanceField)) for that.
+//!
+//! Faces are named by their index in the mesh ([`Mesh::face`](crate::Mesh::face));
+//! a polygon's fan triangles share it. docs/pairs.md has the algorithm, the
+//! contract and the measurements.
+//!
+//! ```
+//! use proxima::pair::{self, RigidPose};
+//! use proxima::{MeshIndex, Mesh, Vec3};
+//! let triangle = || Mesh::from_triangles(vec![Vec3::ZERO, Vec3::X, Vec3::Y], &[[0, 1, 2]]).unwrap();
+//! let (a, b) = (MeshIndex::new(triangle()), MeshIndex::new(triangle()));
+//! let lifted = RigidPose::translation_only(proxima::DVec3::new(0.0, 0.0, 2.0)).unwrap();
+//! let d = pair::distance(&a, &RigidPose::IDENTITY, &b, &lifted).unwrap();
+//! assert_eq!(d.distance, 2.0);
+//! assert!(!pair::intersects(&a, &RigidPose::IDENTITY, &b, &lifted).unwrap());
+//! assert!(pair::intersects(&a, &RigidPose::IDENTITY, &b, &RigidPose::IDENTITY).unwrap());
+//! ```
 
+mod collide;
+pub(crate) mod descent;
+mod distance;
+mod error;
 pub mod pose;
+mod self_intersection;
 pub mod triangle_distance;
 pub mod triangle_intersection;
 
+pub use collide::{intersecting_pairs, intersects, intersects_batch, pairs_within};
+pub use distance::{PairDistance, distance, distance_batch, distance_below};
+pub use error::{MAX_TRANSLATION, PairError};
 pub use pose::{PoseError, RigidPose};
+pub use self_intersection::self_intersections;
 pub use triangle_distance::{TrianglePairDistance, point_triangle_closest, segment_segment_closest, triangle_distance};
 pub use triangle_intersection::{neighbours_intersect, segment_meets_triangle, triangles_intersect};
+
+use crate::index::MeshIndex;
+use crate::{Triangle, WideTree};
+
+/// The faces' tree of `index`, or why it has none.
+pub(crate) fn faces_tree<'i>(index: &'i MeshIndex, mesh: &'static str) -> Result<&'i WideTree<Triangle>, PairError> {
+    index
+        .tree::<Triangle>()
+        .map_err(|source| PairError::Mesh { mesh, source })
+}
+
+/// Refuses a pose that places its mesh beyond [`MAX_TRANSLATION`].
+pub(crate) fn check_pose(pose: &RigidPose, name: impl FnOnce() -> String) -> Result<(), PairError> {
+    let t = pose.translation();
+    match t.to_array().into_iter().find(|v| v.abs() > MAX_TRANSLATION) {
+        Some(value) => Err(PairError::PoseOutOfRange { pose: name(), value }),
+        None => Ok(()),
+    }
+}
+
+/// Refuses a negative or NaN distance bound (infinity is allowed).
+pub(crate) fn check_distance(option: &'static str, value: f64) -> Result<(), PairError> {
+    if value >= 0.0 {
+        Ok(())
+    } else {
+        Err(PairError::BadDistance { option, value })
+    }
+}
+
+/// A face pair's faces as `[face in a, face in b]`.
+pub type FacePair = [u32; 2];

@@ -1,0 +1,167 @@
+//! Collision between two placed meshes: whether they meet, which face
+//! pairs meet, which face pairs are within a distance.
+
+use super::descent::{PairVisitor, PlacedPair, PlacedTriangle, Scratch, Task, Walk};
+use super::triangle_distance::triangle_distance;
+use super::triangle_intersection::triangles_intersect;
+use super::{FacePair, PairError, RigidPose, check_distance, check_pose, faces_tree};
+use crate::index::MeshIndex;
+use crate::query::SpatialIndex;
+use rayon::prelude::*;
+use std::ops::ControlFlow;
+
+/// `true` when the surface of mesh `a` placed by `pose_a` meets that of `b`
+/// placed by `pose_b` (closed triangles: touching counts), decided exactly
+/// for the placed coordinates; the walk stops at the first meeting pair.
+///
+/// ```
+/// use proxima::pair::{intersects, RigidPose};
+/// use proxima::{DVec3, Mesh, MeshIndex, Vec3};
+/// let triangle = MeshIndex::new(Mesh::from_triangles(vec![Vec3::ZERO, Vec3::X, Vec3::Y], &[[0, 1, 2]]).unwrap());
+/// // Moved by exactly its own width along x: the two touch at one edge's end.
+/// let touching = RigidPose::translation_only(DVec3::new(1.0, 0.0, 0.0)).unwrap();
+/// assert!(intersects(&triangle, &RigidPose::IDENTITY, &triangle, &touching).unwrap());
+/// let apart = RigidPose::translation_only(DVec3::new(1.0f64.next_up(), 0.0, 0.0)).unwrap();
+/// assert!(!intersects(&triangle, &RigidPose::IDENTITY, &triangle, &apart).unwrap());
+/// ```
+pub fn intersects(a: &MeshIndex, pose_a: &RigidPose, b: &MeshIndex, pose_b: &RigidPose) -> Result<bool, PairError> {
+    check_pose(pose_a, || "pose_a".into())?;
+    check_pose(pose_b, || "pose_b".into())?;
+    let (tree_a, tree_b) = (faces_tree(a, "a")?, faces_tree(b, "b")?);
+    let pair = PlacedPair::new(tree_a, *pose_a, tree_b, *pose_b);
+    Ok(first_meeting(&pair, &mut Scratch::default()))
+}
+
+/// [`intersects`] for `a` unmoved and `b` at each of `poses`, on all the
+/// threads of the current rayon pool, answers in the order of `poses`.
+pub fn intersects_batch(a: &MeshIndex, b: &MeshIndex, poses: &[RigidPose]) -> Result<Vec<bool>, PairError> {
+    for (i, pose) in poses.iter().enumerate() {
+        check_pose(pose, || format!("poses[{i}]"))?;
+    }
+    crate::budget::check_fits("poses", poses.len(), poses.len() as u128, 1)?;
+    let (tree_a, tree_b) = (faces_tree(a, "a")?, faces_tree(b, "b")?);
+    Ok(poses
+        .par_iter()
+        .map_init(Scratch::default, |scratch, pose| {
+            first_meeting(&PlacedPair::new(tree_a, RigidPose::IDENTITY, tree_b, *pose), scratch)
+        })
+        .collect())
+}
+
+/// Every pair of faces (face of `a`, face of `b`) whose surfaces meet,
+/// touching included, decided exactly; sorted, each pair once (a polygon
+/// face meets another if any of its fan triangles does).
+pub fn intersecting_pairs(
+    a: &MeshIndex,
+    pose_a: &RigidPose,
+    b: &MeshIndex,
+    pose_b: &RigidPose,
+) -> Result<Vec<FacePair>, PairError> {
+    pairs_within(a, pose_a, b, pose_b, 0.0)
+}
+
+/// Every pair of faces (face of `a`, face of `b`) at distance at most `d`
+/// ([`triangle_distance`], `f64`): contacts with a margin, clearance maps.
+/// `d = 0` gives exactly [`intersecting_pairs`] (decided by the exact test,
+/// not by a computed distance). Sorted, each pair once.
+pub fn pairs_within(
+    a: &MeshIndex,
+    pose_a: &RigidPose,
+    b: &MeshIndex,
+    pose_b: &RigidPose,
+    d: f64,
+) -> Result<Vec<FacePair>, PairError> {
+    check_distance("d", d)?;
+    check_pose(pose_a, || "pose_a".into())?;
+    check_pose(pose_b, || "pose_b".into())?;
+    let (tree_a, tree_b) = (faces_tree(a, "a")?, faces_tree(b, "b")?);
+    let pair = PlacedPair::new(tree_a, *pose_a, tree_b, *pose_b);
+    let visitor = |out: Vec<FacePair>| Within { pair: &pair, d, out };
+    Ok(collect_parallel(&pair, false, || visitor(Vec::new()), |v| v.out))
+}
+
+/// Whether any triangle pair of `pair` meets.
+fn first_meeting(pair: &PlacedPair<'_>, scratch: &mut Scratch) -> bool {
+    struct First(bool);
+    impl PairVisitor for First {
+        fn reach_squared(&self) -> f64 {
+            0.0
+        }
+        fn triangles(&mut self, a: &PlacedTriangle, b: &PlacedTriangle) -> ControlFlow<()> {
+            if triangles_intersect(&a.corners, &b.corners) {
+                self.0 = true;
+                return ControlFlow::Break(());
+            }
+            ControlFlow::Continue(())
+        }
+    }
+    let mut first = First(false);
+    let _ = Walk::new(pair, scratch).run(&mut first);
+    first.0
+}
+
+/// Collects the face pairs of every triangle pair within `d`.
+struct Within<'p, 't> {
+    pair: &'p PlacedPair<'t>,
+    d: f64,
+    out: Vec<FacePair>,
+}
+
+impl PairVisitor for Within<'_, '_> {
+    fn reach_squared(&self) -> f64 {
+        // Widened: a pair whose computed distance is d must not be skipped
+        // by the rounding of its boxes' distance.
+        self.d * self.d * (1.0 + 1e-9)
+    }
+
+    fn triangles(&mut self, a: &PlacedTriangle, b: &PlacedTriangle) -> ControlFlow<()> {
+        let near = if self.d == 0.0 {
+            triangles_intersect(&a.corners, &b.corners)
+        } else {
+            triangle_distance(&a.corners, &b.corners).distance <= self.d
+        };
+        if near {
+            let face_a = self.pair.a().leaves().sources()[a.slot as usize];
+            let face_b = self.pair.b().leaves().sources()[b.slot as usize];
+            self.out.push([face_a, face_b]);
+        }
+        ControlFlow::Continue(())
+    }
+}
+
+/// Runs a walk split into tasks on the current rayon pool, each task with
+/// its own visitor, and gathers what `take` gets from each: sorted,
+/// duplicates removed.
+pub(crate) fn collect_parallel<V: PairVisitor + Send>(
+    pair: &PlacedPair<'_>,
+    same: bool,
+    visitor: impl Fn() -> V + Sync,
+    take: impl Fn(V) -> Vec<FacePair> + Sync,
+) -> Vec<FacePair> {
+    let mut scratch = Scratch::default();
+    let tasks: Vec<Task> = {
+        let mut walk = if same {
+            Walk::same(pair, &mut scratch)
+        } else {
+            Walk::new(pair, &mut scratch)
+        };
+        walk.split(16 * rayon::current_num_threads(), &mut visitor())
+    };
+    let mut found: Vec<FacePair> = tasks
+        .into_par_iter()
+        .map_init(Scratch::default, |scratch, task| {
+            let mut v = visitor();
+            let mut walk = if same {
+                Walk::same(pair, scratch)
+            } else {
+                Walk::new(pair, scratch)
+            };
+            let _ = walk.run_from(task, &mut v);
+            take(v)
+        })
+        .flatten_iter()
+        .collect();
+    found.par_sort_unstable();
+    found.dedup();
+    found
+}

@@ -1,0 +1,484 @@
+//! The walk of two 4-wide trees at once: every pair of subtrees whose
+//! boxes may hold an answer, down to pairs of leaves, whose triangles are
+//! placed in the world and handed to a [`PairVisitor`].
+//!
+//! The boxes of the second tree are moved into the first tree's frame by
+//! the relative pose (Arvo's box of a rotated box: centre moved, half sizes
+//! by `|R|`), so each node pair costs one box transform per child of the
+//! second node and one 4-lane box distance per child of it against the
+//! first node's four children. A moved box is widened by
+//! [`PlacedPair::pad`], far more than the rounding of both placements, so a
+//! pair is skipped only when its triangles, placed in the world by
+//! [`RigidPose::apply`], certainly lie beyond the visitor's reach: the exact
+//! tests at the leaves then see every pair brute force would.
+//!
+//! When both trees are the same and unmoved ([`Walk::same`]), a node is
+//! paired with itself once and its children in unordered pairs, so each
+//! unordered pair of triangles is met once (self-intersections).
+
+use super::pose::RigidPose;
+use crate::math::{DMat3, DVec3};
+use crate::wide_tree::{WideChild, WideNode};
+use crate::{Triangle, WideTree};
+use std::ops::ControlFlow;
+use wide::f64x4;
+
+/// A triangle of one side placed in the world: its corners, their box, and
+/// its leaf-order slot in its tree.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PlacedTriangle {
+    /// The corners, placed by the side's pose.
+    pub(crate) corners: [DVec3; 3],
+    /// Smallest corner of their box.
+    pub(crate) lo: DVec3,
+    /// Largest corner of their box.
+    pub(crate) hi: DVec3,
+    /// The leaf-order slot of the triangle in its tree.
+    pub(crate) slot: u32,
+}
+
+impl PlacedTriangle {
+    const EMPTY: Self = Self {
+        corners: [DVec3::ZERO; 3],
+        lo: DVec3::ZERO,
+        hi: DVec3::ZERO,
+        slot: 0,
+    };
+
+    /// Squared distance between the boxes of two placed triangles.
+    #[inline]
+    pub(crate) fn box_distance_squared(&self, other: &Self) -> f64 {
+        let gap = (self.lo - other.hi).max(other.lo - self.hi).max(DVec3::ZERO);
+        gap.length_squared()
+    }
+}
+
+/// What a walk does with the pairs of triangles it reaches.
+pub(crate) trait PairVisitor {
+    /// Pairs of subtrees whose boxes lie farther apart than this (squared
+    /// distance, in the world) are skipped; `0` keeps only overlapping ones.
+    fn reach_squared(&self) -> f64;
+
+    /// Tests one pair of triangles, `a` from the first tree, `b` from the
+    /// second; `Break` ends the walk.
+    fn triangles(&mut self, a: &PlacedTriangle, b: &PlacedTriangle) -> ControlFlow<()>;
+
+    /// Whether nearer subtree pairs should be opened first (distance
+    /// queries, whose reach shrinks as answers come).
+    fn nearest_first(&self) -> bool {
+        false
+    }
+}
+
+/// A subtree of one side: a wide node, or a leaf's slots.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Part {
+    Node(u32),
+    Leaf { first: u32, len: u32 },
+}
+
+/// A box in the first tree's frame, as `[min, max]`.
+type Box64 = [DVec3; 2];
+
+/// A pair of subtrees waiting to be opened, with both boxes in the first
+/// tree's frame and the squared distance between them.
+#[derive(Clone, Copy, Debug)]
+struct Pending {
+    a: Part,
+    a_box: Box64,
+    b: Part,
+    b_box: Box64,
+    key: f64,
+    /// Both parts are the same subtree of the same tree ([`Walk::same`]).
+    same: bool,
+}
+
+/// Two trees of triangles, each placed in the world by a pose.
+pub(crate) struct PlacedPair<'t> {
+    a: &'t WideTree<Triangle>,
+    pose_a: RigidPose,
+    b: &'t WideTree<Triangle>,
+    pose_b: RigidPose,
+    /// The second tree's frame to the first's.
+    rotation: DMat3,
+    abs_rotation: DMat3,
+    translation: DVec3,
+    /// How much a moved box is widened (see the module documentation).
+    pad: f64,
+    /// The relative pose is the identity (then boxes are not moved, only
+    /// widened, and placed coordinates equal the first frame's when `pose_a`
+    /// is the identity too).
+    same_frame: bool,
+}
+
+impl<'t> PlacedPair<'t> {
+    /// The pair of `a` placed by `pose_a` and `b` placed by `pose_b`.
+    pub(crate) fn new(
+        a: &'t WideTree<Triangle>,
+        pose_a: RigidPose,
+        b: &'t WideTree<Triangle>,
+        pose_b: RigidPose,
+    ) -> Self {
+        use crate::query::SpatialIndex;
+        let relative = pose_b.then(&pose_a.inverse());
+        let rotation = relative.rotation();
+        let magnitude = |bounds: crate::Aabb| f64::from(bounds.min.abs().max(bounds.max.abs()).max_element());
+        // Every coordinate handled is at most about this large; rounding
+        // errors of the placements and of the moved boxes are ~1e-16 of it.
+        let scale = magnitude(a.bounds())
+            + magnitude(b.bounds())
+            + pose_a.translation().abs().max_element()
+            + pose_b.translation().abs().max_element();
+        Self {
+            a,
+            pose_a,
+            b,
+            pose_b,
+            rotation,
+            abs_rotation: DMat3::from_cols(rotation.x_axis.abs(), rotation.y_axis.abs(), rotation.z_axis.abs()),
+            translation: relative.translation(),
+            pad: scale * 1e-9,
+            same_frame: relative.is_identity(),
+        }
+    }
+
+    /// The first tree.
+    pub(crate) fn a(&self) -> &'t WideTree<Triangle> {
+        self.a
+    }
+
+    /// The second tree.
+    pub(crate) fn b(&self) -> &'t WideTree<Triangle> {
+        self.b
+    }
+
+    /// The box `[lo, hi]` of the second tree moved into the first's frame and widened.
+    #[inline]
+    fn move_box(&self, lo: DVec3, hi: DVec3) -> Box64 {
+        let pad = DVec3::splat(self.pad);
+        if self.same_frame {
+            return [lo - pad, hi + pad];
+        }
+        let centre = (lo + hi) * 0.5;
+        let half = (hi - lo) * 0.5;
+        let centre = self.rotation * centre + self.translation;
+        let half = self.abs_rotation * half + pad;
+        [centre - half, centre + half]
+    }
+
+    /// Places the triangles of the leaf slots `first..first + len` of
+    /// `tree` by `pose` into `out`, returning how many.
+    #[inline]
+    fn place(
+        tree: &WideTree<Triangle>,
+        pose: &RigidPose,
+        first: u32,
+        len: u32,
+        out: &mut [PlacedTriangle; 8],
+    ) -> usize {
+        use crate::query::SpatialIndex;
+        let primitives = tree.leaves().primitives();
+        let mut n = 0;
+        for slot in first..first + len {
+            let t = &primitives[slot as usize];
+            let corners = [pose.apply(t.a), pose.apply(t.b), pose.apply(t.c)];
+            out[n] = PlacedTriangle {
+                corners,
+                lo: corners[0].min(corners[1]).min(corners[2]),
+                hi: corners[0].max(corners[1]).max(corners[2]),
+                slot,
+            };
+            n += 1;
+        }
+        n
+    }
+}
+
+/// The root part of a tree and its box (`None` for an empty tree).
+fn root(tree: &WideTree<Triangle>) -> Option<(Part, Box64)> {
+    use crate::query::SpatialIndex;
+    if tree.nodes().is_empty() {
+        return None;
+    }
+    let bounds = tree.bounds();
+    Some((Part::Node(0), [DVec3::from(bounds.min), DVec3::from(bounds.max)]))
+}
+
+/// The children of wide node `node`: its parts and their boxes (in the
+/// tree's own frame), empty lanes left out.
+#[inline]
+fn children(tree: &WideTree<Triangle>, node: u32) -> ([(Part, Box64); 4], usize) {
+    let n: &WideNode = &tree.nodes()[node as usize];
+    let mut out = [(Part::Node(0), [DVec3::ZERO; 2]); 4];
+    let mut count = 0;
+    for lane in 0..4 {
+        let part = match tree.child(node as usize, lane) {
+            WideChild::Empty => continue,
+            WideChild::Inner(i) => Part::Node(i as u32),
+            WideChild::Leaf(range) => Part::Leaf {
+                first: range.start as u32,
+                len: range.len() as u32,
+            },
+        };
+        let lo = DVec3::new(n.min_x[lane].into(), n.min_y[lane].into(), n.min_z[lane].into());
+        let hi = DVec3::new(n.max_x[lane].into(), n.max_y[lane].into(), n.max_z[lane].into());
+        out[count] = (part, [lo, hi]);
+        count += 1;
+    }
+    (out, count)
+}
+
+/// Squared distances between the box `b` and the four boxes `a` (given as
+/// structure of arrays; unused lanes hold empty boxes, at infinite distance).
+#[inline]
+fn distances_squared(a: &[f64x4; 6], b: &Box64) -> f64x4 {
+    let zero = f64x4::ZERO;
+    let axis = |a_lo: f64x4, a_hi: f64x4, b_lo: f64, b_hi: f64| {
+        let gap = (f64x4::splat(b_lo) - a_hi).max(a_lo - f64x4::splat(b_hi)).max(zero);
+        gap * gap
+    };
+    axis(a[0], a[3], b[0].x, b[1].x) + axis(a[1], a[4], b[0].y, b[1].y) + axis(a[2], a[5], b[0].z, b[1].z)
+}
+
+/// Up to four boxes as structure of arrays, unused lanes empty.
+fn soa(boxes: &[(Part, Box64)]) -> [f64x4; 6] {
+    let mut lanes = [
+        [f64::INFINITY; 4],
+        [f64::INFINITY; 4],
+        [f64::INFINITY; 4],
+        [f64::NEG_INFINITY; 4],
+        [f64::NEG_INFINITY; 4],
+        [f64::NEG_INFINITY; 4],
+    ];
+    for (i, (_, [lo, hi])) in boxes.iter().enumerate() {
+        lanes[0][i] = lo.x;
+        lanes[1][i] = lo.y;
+        lanes[2][i] = lo.z;
+        lanes[3][i] = hi.x;
+        lanes[4][i] = hi.y;
+        lanes[5][i] = hi.z;
+    }
+    lanes.map(f64x4::new)
+}
+
+/// The pending pairs of a walk, kept between walks so that a batch of
+/// walks on one thread allocates once.
+#[derive(Default)]
+pub(crate) struct Scratch(Vec<Pending>);
+
+/// One walk over a [`PlacedPair`].
+pub(crate) struct Walk<'p, 't, 's> {
+    pair: &'p PlacedPair<'t>,
+    /// The two trees are one, unmoved: unordered pairs only.
+    same: bool,
+    stack: &'s mut Vec<Pending>,
+}
+
+impl<'p, 't, 's> Walk<'p, 't, 's> {
+    /// A walk over `pair`'s two trees.
+    pub(crate) fn new(pair: &'p PlacedPair<'t>, scratch: &'s mut Scratch) -> Self {
+        Self {
+            pair,
+            same: false,
+            stack: &mut scratch.0,
+        }
+    }
+
+    /// A walk over the unordered pairs of one tree (`pair` holds the same
+    /// tree twice, both unmoved).
+    pub(crate) fn same(pair: &'p PlacedPair<'t>, scratch: &'s mut Scratch) -> Self {
+        debug_assert!(std::ptr::eq(pair.a, pair.b) && pair.same_frame);
+        Self {
+            pair,
+            same: true,
+            stack: &mut scratch.0,
+        }
+    }
+
+    /// The pair of roots, or `None` when either tree is empty.
+    fn start(&self) -> Option<Pending> {
+        let (a, a_box) = root(self.pair.a)?;
+        let (b, [lo, hi]) = root(self.pair.b)?;
+        let b_box = self.pair.move_box(lo, hi);
+        let key = distances_squared(&soa(&[(a, a_box)]), &b_box).as_array()[0];
+        Some(Pending {
+            a,
+            a_box,
+            b,
+            b_box,
+            key,
+            same: self.same,
+        })
+    }
+
+    /// Splits the walk into at least `tasks` independent pending pairs (fewer
+    /// when the trees run out), for threads to take one each; all of them
+    /// together meet the same triangle pairs as [`run`](Self::run).
+    pub(crate) fn split<V: PairVisitor>(&mut self, tasks: usize, visitor: &mut V) -> Vec<Task> {
+        let mut queue: std::collections::VecDeque<Pending> = self.start().into_iter().collect();
+        let mut done = Vec::new();
+        while queue.len() < tasks {
+            let Some(next) = queue.pop_front() else { break };
+            if matches!((next.a, next.b), (Part::Leaf { .. }, Part::Leaf { .. })) {
+                done.push(next);
+                continue;
+            }
+            self.stack.clear();
+            let _ = self.open(next, visitor);
+            queue.extend(self.stack.drain(..));
+        }
+        queue.extend(done);
+        queue.into_iter().map(Task).collect()
+    }
+
+    /// Walks every pair of subtrees in reach, from the roots.
+    pub(crate) fn run<V: PairVisitor>(&mut self, visitor: &mut V) -> ControlFlow<()> {
+        match self.start() {
+            Some(start) => self.run_from(Task(start), visitor),
+            None => ControlFlow::Continue(()),
+        }
+    }
+
+    /// Walks every pair of subtrees in reach under `task`.
+    pub(crate) fn run_from<V: PairVisitor>(&mut self, task: Task, visitor: &mut V) -> ControlFlow<()> {
+        self.stack.clear();
+        self.stack.push(task.0);
+        while let Some(next) = self.stack.pop() {
+            if next.key > visitor.reach_squared() {
+                continue;
+            }
+            self.open(next, visitor)?;
+        }
+        ControlFlow::Continue(())
+    }
+
+    /// Opens one pending pair: its child pairs in reach go on the stack
+    /// (nearest on top when the visitor asks), or, for two leaves, its
+    /// triangle pairs go to the visitor.
+    fn open<V: PairVisitor>(&mut self, next: Pending, visitor: &mut V) -> ControlFlow<()> {
+        let pair = self.pair;
+        let reach = visitor.reach_squared();
+        let base = self.stack.len();
+        match (next.a, next.b) {
+            (Part::Leaf { first: fa, len: na }, Part::Leaf { first: fb, len: nb }) => {
+                return self.leaves(fa, na, fb, nb, next.same, visitor);
+            }
+            (Part::Node(na), Part::Node(nb)) => {
+                let (a_children, a_count) = children(pair.a, na);
+                let a_soa = soa(&a_children[..a_count]);
+                let (b_children, b_count) = children(pair.b, nb);
+                for (j, &(b, [lo, hi])) in b_children[..b_count].iter().enumerate() {
+                    let b_box = pair.move_box(lo, hi);
+                    let keys = distances_squared(&a_soa, &b_box);
+                    for (i, &key) in keys.as_array()[..a_count].iter().enumerate() {
+                        // The same node twice: child i with child j once, i <= j.
+                        if next.same && i > j {
+                            continue;
+                        }
+                        if key <= reach {
+                            let (a, a_box) = a_children[i];
+                            let same = next.same && i == j;
+                            self.stack.push(Pending {
+                                a,
+                                a_box,
+                                b,
+                                b_box,
+                                key,
+                                same,
+                            });
+                        }
+                    }
+                }
+            }
+            (Part::Node(na), b @ Part::Leaf { .. }) => {
+                let (a_children, a_count) = children(pair.a, na);
+                let keys = distances_squared(&soa(&a_children[..a_count]), &next.b_box);
+                for (i, &key) in keys.as_array()[..a_count].iter().enumerate() {
+                    if key <= reach {
+                        let (a, a_box) = a_children[i];
+                        self.stack.push(Pending {
+                            a,
+                            a_box,
+                            b,
+                            b_box: next.b_box,
+                            key,
+                            same: false,
+                        });
+                    }
+                }
+            }
+            (a @ Part::Leaf { .. }, Part::Node(nb)) => {
+                let a_soa = soa(&[(a, next.a_box)]);
+                let (b_children, b_count) = children(pair.b, nb);
+                for &(b, [lo, hi]) in &b_children[..b_count] {
+                    let b_box = pair.move_box(lo, hi);
+                    let key = distances_squared(&a_soa, &b_box).as_array()[0];
+                    if key <= reach {
+                        self.stack.push(Pending {
+                            a,
+                            a_box: next.a_box,
+                            b,
+                            b_box,
+                            key,
+                            same: false,
+                        });
+                    }
+                }
+            }
+        }
+        if visitor.nearest_first() {
+            // Farthest at the bottom, nearest on top.
+            self.stack[base..].sort_unstable_by(|x, y| y.key.total_cmp(&x.key));
+        }
+        ControlFlow::Continue(())
+    }
+
+    /// The triangle pairs of two leaves (unordered pairs within one leaf
+    /// when `same`), each pair whose boxes are in reach.
+    fn leaves<V: PairVisitor>(
+        &mut self,
+        fa: u32,
+        na: u32,
+        fb: u32,
+        nb: u32,
+        same: bool,
+        visitor: &mut V,
+    ) -> ControlFlow<()> {
+        let pair = self.pair;
+        let mut a = [PlacedTriangle::EMPTY; 8];
+        let mut b = [PlacedTriangle::EMPTY; 8];
+        // Leaves hold at most 8 triangles; larger ones (not built by this
+        // crate's builders) are taken 8 at a time.
+        for a_first in (fa..fa + na).step_by(8) {
+            let a_len = (fa + na - a_first).min(8);
+            let a_count = PlacedPair::place(pair.a, &pair.pose_a, a_first, a_len, &mut a);
+            for b_first in (fb..fb + nb).step_by(8) {
+                if same && b_first < a_first {
+                    continue;
+                }
+                let b_len = (fb + nb - b_first).min(8);
+                let b_count = if same && b_first == a_first {
+                    b[..a_count].copy_from_slice(&a[..a_count]);
+                    a_count
+                } else {
+                    PlacedPair::place(pair.b, &pair.pose_b, b_first, b_len, &mut b)
+                };
+                for ta in &a[..a_count] {
+                    for tb in &b[..b_count] {
+                        if same && tb.slot <= ta.slot {
+                            continue;
+                        }
+                        if ta.box_distance_squared(tb) <= visitor.reach_squared() {
+                            visitor.triangles(ta, tb)?;
+                        }
+                    }
+                }
+            }
+        }
+        ControlFlow::Continue(())
+    }
+}
+
+/// A pending pair of subtrees handed to one thread by [`Walk::split`].
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Task(Pending);
