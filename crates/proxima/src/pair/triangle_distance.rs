@@ -82,7 +82,9 @@ pub fn triangle_distance(a: &[DVec3; 3], b: &[DVec3; 3]) -> TrianglePairDistance
 /// The closest point of triangle `t` to `p` and its barycentric coordinates
 /// (weights of `t[0]`, `t[1]`, `t[2]`, non-negative, summing to 1).
 ///
-/// Ericson's Voronoi-region walk; when the face region is reached with a
+/// Ericson's Voronoi-region walk. An edge region is entered only when that
+/// edge has a length (`|ab|² = d1 - d3 > 0`: a zero-length edge would answer
+/// its endpoint for any point); when the face region is reached with a
 /// weight that rounding made non-positive (a degenerate or nearly degenerate
 /// triangle) the closest of the three edges' points is taken instead, so the
 /// answer is finite for finite input.
@@ -103,7 +105,7 @@ pub fn point_triangle_closest(p: DVec3, t: &[DVec3; 3]) -> (DVec3, [f64; 3]) {
         return (b, [0.0, 1.0, 0.0]);
     }
     let vc = d1 * d4 - d3 * d2;
-    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 && d1 > d3 {
         let v = ratio(d1, d1 - d3);
         return (a + ab * v, [1.0 - v, v, 0.0]);
     }
@@ -114,12 +116,12 @@ pub fn point_triangle_closest(p: DVec3, t: &[DVec3; 3]) -> (DVec3, [f64; 3]) {
         return (c, [0.0, 0.0, 1.0]);
     }
     let vb = d5 * d2 - d1 * d6;
-    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 && d2 > d6 {
         let w = ratio(d2, d2 - d6);
         return (a + ac * w, [1.0 - w, 0.0, w]);
     }
     let va = d3 * d6 - d5 * d4;
-    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 && (d4 - d3) + (d5 - d6) > 0.0 {
         let w = ratio(d4 - d3, (d4 - d3) + (d5 - d6));
         return (b + (c - b) * w, [0.0, 1.0 - w, w]);
     }
@@ -244,30 +246,35 @@ fn common_point(a: &[DVec3; 3], b: &[DVec3; 3]) -> TrianglePairDistance {
     }
 }
 
-/// Where segment `pq` meets triangle `t`, in `f64`, when it does (exactly).
+/// Where segment `pq` meets triangle `t`, in `f64`, when it does (exactly):
+/// of the point where the segment crosses the triangle's plane (when the
+/// rounded heights of its ends have opposite signs) and the closest points of
+/// the segment to the triangle's boundary and of its ends to the triangle,
+/// the one nearest to the triangle. Both are needed: a segment piercing the
+/// face meets no edge, and one nearly in the plane crosses it anywhere along
+/// its length as far as rounded heights tell.
 fn edge_hit(p: DVec3, q: DVec3, t: &[DVec3; 3]) -> Option<DVec3> {
     if !segment_meets_triangle(p, q, t) {
         return None;
     }
+    let mut best = p;
+    let mut best_d = f64::INFINITY;
+    let mut offer_point = |x: DVec3, best: &mut DVec3, best_d: &mut f64| {
+        let (y, _) = point_triangle_closest(x, t);
+        let d = (x - y).length_squared();
+        if d < *best_d {
+            (*best, *best_d) = (x, d);
+        }
+    };
     let n = (t[1] - t[0]).cross(t[2] - t[0]);
     let dp = n.dot(p - t[0]);
     let dq = n.dot(q - t[0]);
-    if dp != dq && (dp * dq <= 0.0) {
-        // Crossing the plane: the point at the interpolated height 0.
+    if dp != dq && dp * dq <= 0.0 {
         let s = clamp01(ratio(dp, dp - dq));
-        return Some(p + (q - p) * s);
+        offer_point(p + (q - p) * s, &mut best, &mut best_d);
     }
-    // In the plane (or degenerate): the closest point of the segment to the
-    // triangle, found through the sub-distances of a segment and a triangle.
-    let mut best = p;
-    let mut best_d = f64::INFINITY;
-    for x in [p, q] {
-        let (y, _) = point_triangle_closest(x, t);
-        let d = (x - y).length_squared();
-        if d < best_d {
-            (best, best_d) = (x, d);
-        }
-    }
+    offer_point(p, &mut best, &mut best_d);
+    offer_point(q, &mut best, &mut best_d);
     for i in 0..3 {
         let (x, y, _, _) = segment_segment_closest(p, q, t[i], t[(i + 1) % 3]);
         let d = (x - y).length_squared();
