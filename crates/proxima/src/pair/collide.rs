@@ -82,20 +82,25 @@ pub fn pairs_within(
 
 /// Whether any triangle pair of `pair` meets.
 fn first_meeting(pair: &PlacedPair<'_>, scratch: &mut Scratch) -> bool {
-    struct First(bool);
+    meeting_pair(pair, scratch).is_some()
+}
+
+/// The first pair of triangles of `pair` the walk finds meeting, if any.
+pub(crate) fn meeting_pair(pair: &PlacedPair<'_>, scratch: &mut Scratch) -> Option<(PlacedTriangle, PlacedTriangle)> {
+    struct First(Option<(PlacedTriangle, PlacedTriangle)>);
     impl PairVisitor for First {
         fn reach_squared(&self) -> f64 {
             0.0
         }
         fn triangles(&mut self, a: &PlacedTriangle, b: &PlacedTriangle) -> ControlFlow<()> {
             if triangles_intersect(&a.corners, &b.corners) {
-                self.0 = true;
+                self.0 = Some((*a, *b));
                 return ControlFlow::Break(());
             }
             ControlFlow::Continue(())
         }
     }
-    let mut first = First(false);
+    let mut first = First(None);
     let _ = Walk::new(pair, scratch).run(&mut first);
     first.0
 }

@@ -261,10 +261,33 @@ fn soa(boxes: &[(Part, Box64)]) -> [f64x4; 6] {
     lanes.map(f64x4::new)
 }
 
+/// A [`Pending`] ordered by its key, nearest first in a max-heap.
+struct Nearest(Pending);
+
+impl PartialEq for Nearest {
+    fn eq(&self, other: &Self) -> bool {
+        self.0.key == other.0.key
+    }
+}
+impl Eq for Nearest {}
+impl PartialOrd for Nearest {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for Nearest {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        other.0.key.total_cmp(&self.0.key)
+    }
+}
+
 /// The pending pairs of a walk, kept between walks so that a batch of
 /// walks on one thread allocates once.
 #[derive(Default)]
-pub(crate) struct Scratch(Vec<Pending>);
+pub(crate) struct Scratch {
+    stack: Vec<Pending>,
+    heap: std::collections::BinaryHeap<Nearest>,
+}
 
 /// One walk over a [`PlacedPair`].
 pub(crate) struct Walk<'p, 't, 's> {
@@ -272,6 +295,7 @@ pub(crate) struct Walk<'p, 't, 's> {
     /// The two trees are one, unmoved: unordered pairs only.
     same: bool,
     stack: &'s mut Vec<Pending>,
+    heap: &'s mut std::collections::BinaryHeap<Nearest>,
 }
 
 impl<'p, 't, 's> Walk<'p, 't, 's> {
@@ -280,7 +304,8 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
         Self {
             pair,
             same: false,
-            stack: &mut scratch.0,
+            stack: &mut scratch.stack,
+            heap: &mut scratch.heap,
         }
     }
 
@@ -291,7 +316,8 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
         Self {
             pair,
             same: true,
-            stack: &mut scratch.0,
+            stack: &mut scratch.stack,
+            heap: &mut scratch.heap,
         }
     }
 
@@ -343,6 +369,21 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
     pub(crate) fn run_from<V: PairVisitor>(&mut self, task: Task, visitor: &mut V) -> ControlFlow<()> {
         self.stack.clear();
         self.stack.push(task.0);
+        if visitor.nearest_first() {
+            // Best first over the whole walk: the pair with the least box
+            // distance is opened next, and the walk ends when even that one
+            // is out of reach.
+            self.heap.clear();
+            self.heap.extend(self.stack.drain(..).map(Nearest));
+            while let Some(Nearest(next)) = self.heap.pop() {
+                if next.key > visitor.reach_squared() {
+                    break;
+                }
+                self.open(next, visitor)?;
+                self.heap.extend(self.stack.drain(..).map(Nearest));
+            }
+            return ControlFlow::Continue(());
+        }
         while let Some(next) = self.stack.pop() {
             if next.key > visitor.reach_squared() {
                 continue;
@@ -358,7 +399,6 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
     fn open<V: PairVisitor>(&mut self, next: Pending, visitor: &mut V) -> ControlFlow<()> {
         let pair = self.pair;
         let reach = visitor.reach_squared();
-        let base = self.stack.len();
         match (next.a, next.b) {
             (Part::Leaf { first: fa, len: na }, Part::Leaf { first: fb, len: nb }) => {
                 return self.leaves(fa, na, fb, nb, next.same, visitor);
@@ -425,10 +465,6 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
                     }
                 }
             }
-        }
-        if visitor.nearest_first() {
-            // Farthest at the bottom, nearest on top.
-            self.stack[base..].sort_unstable_by(|x, y| y.key.total_cmp(&x.key));
         }
         ControlFlow::Continue(())
     }

@@ -1,7 +1,8 @@
 //! The distance between two placed meshes: the nearest pair of faces.
 
+use super::collide::meeting_pair;
 use super::descent::{PairVisitor, PlacedPair, PlacedTriangle, Scratch, Walk};
-use super::triangle_distance::{TrianglePairDistance, triangle_distance};
+use super::triangle_distance::{TrianglePairDistance, separated_triangle_distance, triangle_distance};
 use super::{PairError, RigidPose, check_distance, check_pose, faces_tree};
 use crate::index::MeshIndex;
 use crate::math::DVec3;
@@ -37,8 +38,8 @@ pub struct PairDistance {
 /// The distance between mesh `a` placed by `pose_a` and mesh `b` placed by
 /// `pose_b`: the smallest [`triangle_distance`] over all pairs of their
 /// triangles. Ties go to the lowest `(triangle_a, triangle_b)`; when the
-/// surfaces meet, the distance is 0 and the pair is the first meeting pair
-/// the walk finds.
+/// surfaces meet (decided exactly, first), the distance is 0 and the pair
+/// is the first meeting pair the walk finds, the points a common point.
 ///
 /// ```
 /// use proxima::pair::{distance, RigidPose};
@@ -119,15 +120,24 @@ fn nearest(
     scratch: &mut Scratch,
 ) -> Option<PairDistance> {
     let pair = PlacedPair::new(a, pose_a, b, pose_b);
-    let mut visitor = Nearest {
-        a: a.leaves(),
-        b: b.leaves(),
-        best: None,
-        distance: d_max,
-        reach_squared: d_max * d_max,
+    // Whether the surfaces meet is settled first, by the cheap walk of the
+    // overlapping boxes only: then the distance walk knows that no pair
+    // meets and measures each without the exact intersection test.
+    let (found, slot_a, slot_b) = match meeting_pair(&pair, scratch) {
+        Some((ta, tb)) if d_max > 0.0 => (triangle_distance(&ta.corners, &tb.corners), ta.slot, tb.slot),
+        Some(_) => return None,
+        None => {
+            let mut visitor = Nearest {
+                a: a.leaves(),
+                b: b.leaves(),
+                best: None,
+                distance: d_max,
+                reach_squared: d_max * d_max,
+            };
+            let _ = Walk::new(&pair, scratch).run(&mut visitor);
+            visitor.best?
+        }
     };
-    let _ = Walk::new(&pair, scratch).run(&mut visitor);
-    let (found, slot_a, slot_b) = visitor.best?;
     let (la, lb) = (a.leaves(), b.leaves());
     Some(PairDistance {
         distance: found.distance,
@@ -171,7 +181,8 @@ impl PairVisitor for Nearest<'_> {
     }
 
     fn triangles(&mut self, a: &PlacedTriangle, b: &PlacedTriangle) -> ControlFlow<()> {
-        let found = triangle_distance(&a.corners, &b.corners);
+        // No pair meets (settled before the walk).
+        let found = separated_triangle_distance(&a.corners, &b.corners);
         let better = match &self.best {
             None => found.distance < self.distance,
             Some((best, sa, sb)) => {
@@ -183,9 +194,6 @@ impl PairVisitor for Nearest<'_> {
             self.distance = found.distance;
             self.reach_squared = found.distance * found.distance * (1.0 + 1e-9);
             self.best = Some((found, a.slot, b.slot));
-            if found.distance == 0.0 {
-                return ControlFlow::Break(());
-            }
         }
         ControlFlow::Continue(())
     }

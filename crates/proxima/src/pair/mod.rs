@@ -50,7 +50,10 @@ pub use distance::{PairDistance, distance, distance_batch, distance_below};
 pub use error::{MAX_TRANSLATION, PairError};
 pub use pose::{PoseError, RigidPose};
 pub use self_intersection::self_intersections;
-pub use triangle_distance::{TrianglePairDistance, point_triangle_closest, segment_segment_closest, triangle_distance};
+pub use triangle_distance::{
+    TrianglePairDistance, point_triangle_closest, segment_segment_closest, separated_triangle_distance,
+    triangle_distance,
+};
 pub use triangle_intersection::{neighbours_intersect, segment_meets_triangle, triangles_intersect};
 
 use crate::index::MeshIndex;

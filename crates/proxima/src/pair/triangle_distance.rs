@@ -54,6 +54,14 @@ pub fn triangle_distance(a: &[DVec3; 3], b: &[DVec3; 3]) -> TrianglePairDistance
     if triangles_intersect(a, b) {
         return common_point(a, b);
     }
+    separated_triangle_distance(a, b)
+}
+
+/// [`triangle_distance`] for two triangles known not to intersect (their
+/// boxes are apart, or an exact test said so): the least of the 15
+/// sub-distances, without the intersection test. For triangles that do
+/// intersect the answer is meaningless (not 0).
+pub fn separated_triangle_distance(a: &[DVec3; 3], b: &[DVec3; 3]) -> TrianglePairDistance {
     let mut best: Option<TrianglePairDistance> = None;
     let mut offer = |candidate: TrianglePairDistance| {
         if best.is_none_or(|b| candidate.distance < b.distance) {
@@ -259,7 +267,7 @@ fn edge_hit(p: DVec3, q: DVec3, t: &[DVec3; 3]) -> Option<DVec3> {
     }
     let mut best = p;
     let mut best_d = f64::INFINITY;
-    let mut offer_point = |x: DVec3, best: &mut DVec3, best_d: &mut f64| {
+    let offer_point = |x: DVec3, best: &mut DVec3, best_d: &mut f64| {
         let (y, _) = point_triangle_closest(x, t);
         let d = (x - y).length_squared();
         if d < *best_d {

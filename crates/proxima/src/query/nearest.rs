@@ -43,14 +43,20 @@ pub trait NearestQuery<T: ClosestPoint>: SpatialIndex<T> {
     #[inline]
     fn closest_within(&self, p: Vec3, max_distance: f32) -> Option<ClosestHit> {
         let best = best_within(self, p, max_distance, &mut ())?;
-        Some(self.leaves().hit(best.slot, best.index(), best.point, best.distance_squared))
+        Some(
+            self.leaves()
+                .hit(best.slot, best.index(), best.point, best.distance_squared),
+        )
     }
 
     /// [`closest`](Self::closest), also counting the nodes and primitives visited.
     fn closest_with_stats(&self, p: Vec3) -> (Option<ClosestHit>, QueryStats) {
         let mut stats = QueryStats::default();
         let best = best_within(self, p, f32::INFINITY, &mut stats);
-        let hit = best.map(|best| self.leaves().hit(best.slot, best.index(), best.point, best.distance_squared));
+        let hit = best.map(|best| {
+            self.leaves()
+                .hit(best.slot, best.index(), best.point, best.distance_squared)
+        });
         (hit, stats)
     }
 
