@@ -4,9 +4,11 @@
 //!
 //! The boxes of the second tree are moved into the first tree's frame by
 //! the relative pose (Arvo's box of a rotated box: centre moved, half sizes
-//! by `|R|`), so each node pair costs one box transform per child of the
-//! second node and one 4-lane box distance per child of it against the
-//! first node's four children. A moved box is widened by
+//! by `|R|`), and those of the first into the second's: a node pair costs
+//! one box transform per child of either node and, per child of the second,
+//! two 4-lane box distances against the first node's four children, the
+//! larger of which (both are lower bounds) is the pair's key. A moved box
+//! is widened by
 //! [`PlacedPair::pad`], far more than the rounding of both placements, so a
 //! pair is skipped only when its triangles, placed in the world by
 //! [`RigidPose::apply`], certainly lie beyond the visitor's reach: the exact
@@ -19,7 +21,7 @@
 use super::pose::RigidPose;
 use crate::math::{DMat3, DVec3};
 use crate::wide_tree::{WideChild, WideNode};
-use crate::{Triangle, WideTree};
+use crate::{Aabb, Triangle, WideTree};
 use std::ops::ControlFlow;
 use wide::f64x4;
 
@@ -77,17 +79,18 @@ enum Part {
     Leaf { first: u32, len: u32 },
 }
 
-/// A box in the first tree's frame, as `[min, max]`.
+/// A box as `[min, max]`, in `f64`.
 type Box64 = [DVec3; 2];
 
-/// A pair of subtrees waiting to be opened, with both boxes in the first
-/// tree's frame and the squared distance between them.
+/// A pair of subtrees waiting to be opened, each with its box in its own
+/// tree's frame (as the tree stores it), and a lower bound of the squared
+/// distance between them.
 #[derive(Clone, Copy, Debug)]
 struct Pending {
     a: Part,
-    a_box: Box64,
+    a_box: Aabb,
     b: Part,
-    b_box: Box64,
+    b_box: Aabb,
     key: f64,
     /// Both parts are the same subtree of the same tree ([`Walk::same`]).
     same: bool,
@@ -103,6 +106,10 @@ pub(crate) struct PlacedPair<'t> {
     rotation: DMat3,
     abs_rotation: DMat3,
     translation: DVec3,
+    /// The first tree's frame to the second's.
+    inverse_rotation: DMat3,
+    abs_inverse_rotation: DMat3,
+    inverse_translation: DVec3,
     /// How much a moved box is widened (see the module documentation).
     pad: f64,
     /// The relative pose is the identity (then boxes are not moved, only
@@ -121,6 +128,7 @@ impl<'t> PlacedPair<'t> {
     ) -> Self {
         use crate::query::SpatialIndex;
         let relative = pose_b.then(&pose_a.inverse());
+        let inverse = relative.inverse();
         let rotation = relative.rotation();
         let magnitude = |bounds: crate::Aabb| f64::from(bounds.min.abs().max(bounds.max.abs()).max_element());
         // Every coordinate handled is at most about this large; rounding
@@ -135,8 +143,11 @@ impl<'t> PlacedPair<'t> {
             b,
             pose_b,
             rotation,
-            abs_rotation: DMat3::from_cols(rotation.x_axis.abs(), rotation.y_axis.abs(), rotation.z_axis.abs()),
+            abs_rotation: abs(rotation),
             translation: relative.translation(),
+            inverse_rotation: inverse.rotation(),
+            abs_inverse_rotation: abs(inverse.rotation()),
+            inverse_translation: inverse.translation(),
             pad: scale * 1e-9,
             same_frame: relative.is_identity(),
         }
@@ -152,18 +163,49 @@ impl<'t> PlacedPair<'t> {
         self.b
     }
 
-    /// The box `[lo, hi]` of the second tree moved into the first's frame and widened.
+    /// A box of the second tree moved into the first's frame and widened.
     #[inline]
-    fn move_box(&self, lo: DVec3, hi: DVec3) -> Box64 {
+    fn move_b(&self, b: &Aabb) -> Box64 {
+        self.moved(b, &self.rotation, &self.abs_rotation, self.translation)
+    }
+
+    /// A box of the first tree moved into the second's frame and widened.
+    #[inline]
+    fn move_a(&self, a: &Aabb) -> Box64 {
+        self.moved(
+            a,
+            &self.inverse_rotation,
+            &self.abs_inverse_rotation,
+            self.inverse_translation,
+        )
+    }
+
+    #[inline]
+    fn moved(&self, b: &Aabb, rotation: &DMat3, abs_rotation: &DMat3, translation: DVec3) -> Box64 {
+        let (lo, hi) = (DVec3::from(b.min), DVec3::from(b.max));
         let pad = DVec3::splat(self.pad);
         if self.same_frame {
             return [lo - pad, hi + pad];
         }
         let centre = (lo + hi) * 0.5;
         let half = (hi - lo) * 0.5;
-        let centre = self.rotation * centre + self.translation;
-        let half = self.abs_rotation * half + pad;
+        let centre = *rotation * centre + translation;
+        let half = *abs_rotation * half + pad;
         [centre - half, centre + half]
+    }
+
+    /// A lower bound of the squared distance between box `a` of the first
+    /// tree and box `b` of the second: the larger of the two gaps measured
+    /// in either frame (each box moved into the other's frame grows, so
+    /// each alone is a lower bound, and together they are tighter).
+    #[inline]
+    fn key(&self, a: &Aabb, b: &Aabb) -> f64 {
+        let one = distances_squared(&soa(&[own(a)]), &self.move_b(b)).as_array()[0];
+        if self.same_frame {
+            return one;
+        }
+        let other = distances_squared(&soa(&[self.move_a(a)]), &own(b)).as_array()[0];
+        one.max(other)
     }
 
     /// Places the triangles of the leaf slots `first..first + len` of
@@ -194,22 +236,32 @@ impl<'t> PlacedPair<'t> {
     }
 }
 
+/// The matrix of the absolute values of `m`'s entries.
+fn abs(m: DMat3) -> DMat3 {
+    DMat3::from_cols(m.x_axis.abs(), m.y_axis.abs(), m.z_axis.abs())
+}
+
 /// The root part of a tree and its box (`None` for an empty tree).
-fn root(tree: &WideTree<Triangle>) -> Option<(Part, Box64)> {
+fn root(tree: &WideTree<Triangle>) -> Option<(Part, Aabb)> {
     use crate::query::SpatialIndex;
     if tree.nodes().is_empty() {
         return None;
     }
-    let bounds = tree.bounds();
-    Some((Part::Node(0), [DVec3::from(bounds.min), DVec3::from(bounds.max)]))
+    Some((Part::Node(0), tree.bounds()))
+}
+
+/// A box of a tree in `f64`, in its own frame.
+#[inline]
+fn own(b: &Aabb) -> Box64 {
+    [DVec3::from(b.min), DVec3::from(b.max)]
 }
 
 /// The children of wide node `node`: its parts and their boxes (in the
 /// tree's own frame), empty lanes left out.
 #[inline]
-fn children(tree: &WideTree<Triangle>, node: u32) -> ([(Part, Box64); 4], usize) {
+fn children(tree: &WideTree<Triangle>, node: u32) -> ([(Part, Aabb); 4], usize) {
     let n: &WideNode = &tree.nodes()[node as usize];
-    let mut out = [(Part::Node(0), [DVec3::ZERO; 2]); 4];
+    let mut out = [(Part::Node(0), Aabb::default()); 4];
     let mut count = 0;
     for lane in 0..4 {
         let part = match tree.child(node as usize, lane) {
@@ -220,9 +272,7 @@ fn children(tree: &WideTree<Triangle>, node: u32) -> ([(Part, Box64); 4], usize)
                 len: range.len() as u32,
             },
         };
-        let lo = DVec3::new(n.min_x[lane].into(), n.min_y[lane].into(), n.min_z[lane].into());
-        let hi = DVec3::new(n.max_x[lane].into(), n.max_y[lane].into(), n.max_z[lane].into());
-        out[count] = (part, [lo, hi]);
+        out[count] = (part, n.child_bounds(lane));
         count += 1;
     }
     (out, count)
@@ -241,7 +291,8 @@ fn distances_squared(a: &[f64x4; 6], b: &Box64) -> f64x4 {
 }
 
 /// Up to four boxes as structure of arrays, unused lanes empty.
-fn soa(boxes: &[(Part, Box64)]) -> [f64x4; 6] {
+#[inline]
+fn soa(boxes: &[Box64]) -> [f64x4; 6] {
     let mut lanes = [
         [f64::INFINITY; 4],
         [f64::INFINITY; 4],
@@ -250,7 +301,7 @@ fn soa(boxes: &[(Part, Box64)]) -> [f64x4; 6] {
         [f64::NEG_INFINITY; 4],
         [f64::NEG_INFINITY; 4],
     ];
-    for (i, (_, [lo, hi])) in boxes.iter().enumerate() {
+    for (i, [lo, hi]) in boxes.iter().enumerate() {
         lanes[0][i] = lo.x;
         lanes[1][i] = lo.y;
         lanes[2][i] = lo.z;
@@ -324,15 +375,13 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
     /// The pair of roots, or `None` when either tree is empty.
     fn start(&self) -> Option<Pending> {
         let (a, a_box) = root(self.pair.a)?;
-        let (b, [lo, hi]) = root(self.pair.b)?;
-        let b_box = self.pair.move_box(lo, hi);
-        let key = distances_squared(&soa(&[(a, a_box)]), &b_box).as_array()[0];
+        let (b, b_box) = root(self.pair.b)?;
         Some(Pending {
             a,
             a_box,
             b,
             b_box,
-            key,
+            key: self.pair.key(&a_box, &b_box),
             same: self.same,
         })
     }
@@ -405,11 +454,20 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
             }
             (Part::Node(na), Part::Node(nb)) => {
                 let (a_children, a_count) = children(pair.a, na);
-                let a_soa = soa(&a_children[..a_count]);
                 let (b_children, b_count) = children(pair.b, nb);
-                for (j, &(b, [lo, hi])) in b_children[..b_count].iter().enumerate() {
-                    let b_box = pair.move_box(lo, hi);
-                    let keys = distances_squared(&a_soa, &b_box);
+                let mut a_own = [[DVec3::ZERO; 2]; 4];
+                let mut a_moved = [[DVec3::ZERO; 2]; 4];
+                for (i, (_, bounds)) in a_children[..a_count].iter().enumerate() {
+                    a_own[i] = own(bounds);
+                    a_moved[i] = pair.move_a(bounds);
+                }
+                let a_own = soa(&a_own[..a_count]);
+                let a_moved = soa(&a_moved[..a_count]);
+                for (j, &(b, b_box)) in b_children[..b_count].iter().enumerate() {
+                    let mut keys = distances_squared(&a_own, &pair.move_b(&b_box));
+                    if !pair.same_frame {
+                        keys = keys.max(distances_squared(&a_moved, &own(&b_box)));
+                    }
                     for (i, &key) in keys.as_array()[..a_count].iter().enumerate() {
                         // The same node twice: child i with child j once, i <= j.
                         if next.same && i > j {
@@ -432,10 +490,9 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
             }
             (Part::Node(na), b @ Part::Leaf { .. }) => {
                 let (a_children, a_count) = children(pair.a, na);
-                let keys = distances_squared(&soa(&a_children[..a_count]), &next.b_box);
-                for (i, &key) in keys.as_array()[..a_count].iter().enumerate() {
+                for &(a, a_box) in &a_children[..a_count] {
+                    let key = pair.key(&a_box, &next.b_box);
                     if key <= reach {
-                        let (a, a_box) = a_children[i];
                         self.stack.push(Pending {
                             a,
                             a_box,
@@ -448,11 +505,9 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
                 }
             }
             (a @ Part::Leaf { .. }, Part::Node(nb)) => {
-                let a_soa = soa(&[(a, next.a_box)]);
                 let (b_children, b_count) = children(pair.b, nb);
-                for &(b, [lo, hi]) in &b_children[..b_count] {
-                    let b_box = pair.move_box(lo, hi);
-                    let key = distances_squared(&a_soa, &b_box).as_array()[0];
+                for &(b, b_box) in &b_children[..b_count] {
+                    let key = pair.key(&next.a_box, &b_box);
                     if key <= reach {
                         self.stack.push(Pending {
                             a,
