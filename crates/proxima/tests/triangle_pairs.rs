@@ -83,12 +83,12 @@ fn random_pair(rng: &mut Rng) -> (Tri, Tri) {
 fn random_pairs_match_the_exact_oracles() {
     let mut rng = Rng::new(36);
     let mut hits = 0;
-    for _ in 0..400 {
+    for _ in 0..250 {
         let (a, b) = random_pair(&mut rng);
         hits += check_pair(&a, &b) as usize;
     }
     // Both answers are well represented.
-    assert!((40..=360).contains(&hits), "{hits} of 400 intersect");
+    assert!((25..=225).contains(&hits), "{hits} of 250 intersect");
 }
 
 /// Exactly touching constructions on the lattice, and each nudged by 1..3 ulps.
@@ -134,10 +134,10 @@ fn touching_case(kind: usize, rng: &mut Rng) -> (Tri, Tri) {
 fn touching_pairs_and_their_nudges_match_the_oracle() {
     let mut rng = Rng::new(7);
     let mut touching = [0usize; 7];
-    for kind in 0..7 {
+    for (kind, count) in touching.iter_mut().enumerate() {
         for _ in 0..50 {
             let (a, b) = touching_case(kind, &mut rng);
-            touching[kind] += check_pair(&a, &b) as usize;
+            *count += check_pair(&a, &b) as usize;
             let nudged = nudge(&b, &mut rng);
             check_pair(&a, &nudged);
             check_pair(&nudge(&a, &mut rng), &b);

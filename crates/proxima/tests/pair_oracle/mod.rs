@@ -78,12 +78,12 @@ fn solve_unique(m: &[Vec<Q>], rhs: &[Q]) -> Option<Vec<Q>> {
         for v in rows[pivot_row].iter_mut() {
             *v = &*v / &pivot;
         }
-        for r in 0..rows.len() {
-            if r != pivot_row && !rows[r][col].is_zero() {
-                let factor = rows[r][col].clone();
-                for c in 0..=cols {
-                    let delta = &factor * &rows[pivot_row][c];
-                    rows[r][c] = &rows[r][c] - &delta;
+        let pivot_values = rows[pivot_row].clone();
+        for (r, row) in rows.iter_mut().enumerate() {
+            if r != pivot_row && !row[col].is_zero() {
+                let factor = row[col].clone();
+                for (v, p) in row.iter_mut().zip(&pivot_values) {
+                    *v -= &factor * p;
                 }
             }
         }
@@ -294,14 +294,23 @@ pub fn segment_segment_d2(p0: &Q3, p1: &Q3, q0: &Q3, q1: &Q3) -> Q {
     dot(&x, &x).min(ends)
 }
 
-/// The exact squared distance of two closed triangles: 0 when they meet,
+/// The exact squared distance of two closed triangles: 0 when they meet
+/// (separating axes, or the barycentric system for degenerate triangles),
 /// otherwise the least of the 15 sub-distances.
 pub fn distance_squared(a: &[DVec3; 3], b: &[DVec3; 3]) -> Q {
-    if meet(a, b) {
-        return Q::zero();
-    }
     let qa = a.map(q3);
     let qb = b.map(q3);
+    let proper = |t: &[Q3; 3]| !is_zero(&cross(&sub(&t[1], &t[0]), &sub(&t[2], &t[0])));
+    // Separating axes are the cheaper exact test; the barycentric system
+    // covers degenerate triangles.
+    let touching = if proper(&qa) && proper(&qb) {
+        !separated(a, b)
+    } else {
+        meet(a, b)
+    };
+    if touching {
+        return Q::zero();
+    }
     let mut best: Vec<Q> = Vec::new();
     for p in &qa {
         best.push(point_triangle_d2(p, &qb));
