@@ -415,6 +415,12 @@ fn neighbour_rules_by_hand() {
     // The shared edge of zero length (two indices at one point).
     assert!(check_neighbours(&[o, o, x], [0, 1, 2], &[o, o, x * 2.0], [1, 0, 3]));
     assert!(!check_neighbours(&[o, o, x], [0, 1, 2], &[o, o, y], [1, 0, 3]));
+    assert!(!check_neighbours(&[o, o, x], [0, 1, 2], &[o, o, -x], [1, 0, 3]));
+    // Segments ending at the shared vertex, along one line: beyond it only
+    // when they leave it the same way.
+    assert!(!check_neighbours(&[o, -x, o], [0, 5, 6], &[o, o, x], [0, 7, 8]));
+    assert!(check_neighbours(&[o, -x, o], [0, 5, 6], &[o, o, -x * 0.5], [0, 7, 8]));
+    assert!(!check_neighbours(&[o, -x, o], [0, 5, 6], &[o, x, y], [0, 7, 8]));
 }
 
 #[test]
@@ -426,15 +432,17 @@ fn degenerate_neighbours_match_the_oracle() {
         let mut point = || lattice(&mut rng, 4);
         let (b1, c1, e1) = (point(), point(), point());
         // a: proper, a segment through A, a segment ending at A, or the point A.
-        let a: Tri = match round % 4 {
+        let a: Tri = match round % 5 {
             0 => [apex, b1, c1],
             1 => [apex, apex + d, apex - d * 0.5],
             2 => [apex, apex + d, apex + d * 2.0],
+            3 => [apex, apex - d, apex],
             _ => [apex, apex, apex],
         };
-        let b: Tri = match (round / 4) % 3 {
+        let b: Tri = match (round / 5) % 4 {
             0 => [apex, e1, apex + d * 0.25],
             1 => [apex, apex - d, e1],
+            2 => [apex, apex, apex + d * (rng.below(5) as f64 - 2.0)],
             _ => [apex, apex + d * 0.5, apex - d],
         };
         check_neighbours(&a, [0, 1, 2], &b, [0, 3, 4]);

@@ -36,8 +36,8 @@
 //! signs. In-plane: the four points are projected onto the coordinate plane in
 //! which the triangle's projection is not degenerate (`orient2d ≠ 0`, exact),
 //! an affine bijection of the common plane that keeps every incidence; there
-//! the segment meets the closed triangle iff an endpoint is inside or it meets
-//! an edge. A degenerate triangle is tested as its three edges.
+//! the segment meets the closed triangle iff `p` is inside or it meets an
+//! edge (from `p` outside to a point inside it crosses the boundary). A degenerate triangle is tested as its three edges.
 //!
 //! **Segment against segment** (closed, possibly points): non-coplanar
 //! (`orient3d ≠ 0`) segments miss. Coplanar ones are projected like above onto
@@ -71,10 +71,18 @@ pub fn triangles_intersect(a: &[DVec3; 3], b: &[DVec3; 3]) -> bool {
     }
     // The common case first: one triangle strictly on one side of the
     // other's plane (a degenerate triangle gives zeros and never exits here).
-    if strictly_one_side(a, b) || strictly_one_side(b, a) {
+    let sb = plane_signs(a, b);
+    if strictly_one_side(sb) {
         return false;
     }
-    (0..3).any(|i| segment_meets(a[i], a[(i + 1) % 3], b)) || (0..3).any(|i| segment_meets(b[i], b[(i + 1) % 3], a))
+    let sa = plane_signs(b, a);
+    if strictly_one_side(sa) {
+        return false;
+    }
+    // The signs of each edge's ends against the other plane are known: each
+    // edge test needs three more orientations at most.
+    (0..3).any(|i| segment_meets_signed(a[i], a[(i + 1) % 3], b, sa[i], sa[(i + 1) % 3]))
+        || (0..3).any(|i| segment_meets_signed(b[i], b[(i + 1) % 3], a, sb[i], sb[(i + 1) % 3]))
 }
 
 /// `true` when the closed segment `pq` meets the closed triangle `t`; exact,
@@ -294,25 +302,33 @@ fn same_ray(a: DVec3, b: DVec3, c: DVec3) -> bool {
     b != a && c != a && collinear(a, b, c) && (0..3).all(|k| b[k].partial_cmp(&a[k]) == c[k].partial_cmp(&a[k]))
 }
 
-/// `t` strictly on one side of the plane of `plane` (never for a degenerate
-/// `plane`: its orientations are all zero).
-fn strictly_one_side(plane: &[DVec3; 3], t: &[DVec3; 3]) -> bool {
-    let s0 = o3(plane[0], plane[1], plane[2], t[0]);
-    s0 != Ordering::Equal
-        && s0 == o3(plane[0], plane[1], plane[2], t[1])
-        && s0 == o3(plane[0], plane[1], plane[2], t[2])
+/// The orientations of `t`'s vertices against the plane of `plane` (all
+/// zero when `plane` is degenerate).
+fn plane_signs(plane: &[DVec3; 3], t: &[DVec3; 3]) -> [Ordering; 3] {
+    t.map(|p| o3(plane[0], plane[1], plane[2], p))
+}
+
+/// All three strictly on one side.
+fn strictly_one_side(s: [Ordering; 3]) -> bool {
+    s[0] != Ordering::Equal && s[0] == s[1] && s[0] == s[2]
 }
 
 /// Closed segment `pq` against closed triangle `t`, finite inputs.
 fn segment_meets(p: DVec3, q: DVec3, t: &[DVec3; 3]) -> bool {
-    let Some(axis) = axis_of(t[0], t[1], t[2]) else {
-        // A degenerate triangle is the union of its edges.
-        return (0..3).any(|i| segments_meet(p, q, t[i], t[(i + 1) % 3]));
-    };
     let sp = o3(t[0], t[1], t[2], p);
     let sq = o3(t[0], t[1], t[2], q);
+    segment_meets_signed(p, q, t, sp, sq)
+}
+
+/// [`segment_meets`] given `sp`, `sq`, the orientations of `p` and `q`
+/// against `t`'s plane (both zero when `t` is degenerate).
+fn segment_meets_signed(p: DVec3, q: DVec3, t: &[DVec3; 3], sp: Ordering, sq: Ordering) -> bool {
     if sp == Ordering::Equal && sq == Ordering::Equal {
-        return segment_meets_in_plane(axis, p, q, t);
+        return match axis_of(t[0], t[1], t[2]) {
+            Some(axis) => segment_meets_in_plane(axis, p, q, t),
+            // A degenerate triangle is the union of its edges.
+            None => (0..3).any(|i| segments_meet(p, q, t[i], t[(i + 1) % 3])),
+        };
     }
     if sp == sq {
         return false;
@@ -321,17 +337,20 @@ fn segment_meets(p: DVec3, q: DVec3, t: &[DVec3; 3]) -> bool {
     // have the signs of these volumes (one common factor, not zero).
     let v0 = o3(p, q, t[1], t[2]);
     let v1 = o3(p, q, t[2], t[0]);
+    if v0 != Ordering::Equal && v1 != Ordering::Equal && v0 != v1 {
+        return false;
+    }
     let v2 = o3(p, q, t[0], t[1]);
     let has_less = [v0, v1, v2].contains(&Ordering::Less);
     let has_greater = [v0, v1, v2].contains(&Ordering::Greater);
     !(has_less && has_greater)
 }
 
-/// Coplanar segment and non-degenerate triangle, projected dropping `axis`.
+/// Coplanar segment and non-degenerate triangle, projected dropping `axis`:
+/// `p` inside, or the segment meets an edge (a segment from outside to `q`
+/// inside crosses the boundary, so `q` needs no test of its own).
 fn segment_meets_in_plane(axis: usize, p: DVec3, q: DVec3, t: &[DVec3; 3]) -> bool {
-    point_in_triangle_2d(axis, p, t)
-        || point_in_triangle_2d(axis, q, t)
-        || (0..3).any(|i| segments_meet_2d(axis, p, q, t[i], t[(i + 1) % 3]))
+    point_in_triangle_2d(axis, p, t) || (0..3).any(|i| segments_meet_2d(axis, p, q, t[i], t[(i + 1) % 3]))
 }
 
 /// `x` in the closed projected triangle (not degenerate in that projection).

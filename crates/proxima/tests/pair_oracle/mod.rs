@@ -99,6 +99,16 @@ fn solve_unique(m: &[Vec<Q>], rhs: &[Q]) -> Option<Vec<Q>> {
 /// The vertices of the closed `A ∩ B` (with repetitions), empty when the
 /// triangles do not meet.
 pub fn common_vertices(a: &[DVec3; 3], b: &[DVec3; 3]) -> Vec<Q3> {
+    vertices_of_intersection(a, b, usize::MAX)
+}
+
+/// The closed triangles share a point (barycentric feasibility, exact).
+pub fn meet(a: &[DVec3; 3], b: &[DVec3; 3]) -> bool {
+    !vertices_of_intersection(a, b, 1).is_empty()
+}
+
+/// Up to `limit` vertices of `A ∩ B`.
+fn vertices_of_intersection(a: &[DVec3; 3], b: &[DVec3; 3], limit: usize) -> Vec<Q3> {
     let qa = a.map(q3);
     let qb = b.map(q3);
     // Columns: λ0..λ2 (a's vertices), μ0..μ2 (minus b's vertices).
@@ -137,13 +147,11 @@ pub fn common_vertices(a: &[DVec3; 3], b: &[DVec3; 3]) -> Vec<Q3> {
             }
         }
         out.push(point);
+        if out.len() >= limit {
+            break;
+        }
     }
     out
-}
-
-/// The closed triangles share a point (barycentric feasibility, exact).
-pub fn meet(a: &[DVec3; 3], b: &[DVec3; 3]) -> bool {
-    !common_vertices(a, b).is_empty()
 }
 
 /// `x` lies on the closed segment `pq` (a point when `p == q`).
