@@ -1,6 +1,6 @@
 //! Typed errors, one enum per boundary, each beside what raises it (the mesh,
-//! the loaders, the trees' build, the grid, rays, frusta, signed distance and
-//! query points); re-exported here, so that `proxima::error::X` names every
+//! the loaders, the trees' build, the grid, rays, frusta, signed distance,
+//! query points, poses and two-mesh queries); re-exported here, so that `proxima::error::X` names every
 //! one.
 
 pub use crate::build_error::BuildError;
@@ -8,6 +8,7 @@ pub use crate::frustum::FrustumError;
 pub use crate::grid::GridError;
 pub use crate::io::{LoadError, LoadErrorKind};
 pub use crate::mesh::{MeshError, PolygonError};
+pub use crate::pair::{PairError, PoseError};
 pub use crate::query::QueryError;
 pub use crate::ray::RayError;
 pub use crate::sdf::SdfError;
