@@ -1,7 +1,7 @@
 //! Typed errors, one enum per boundary, each beside what raises it (the mesh,
 //! the loaders, the trees' build, the grid, rays, frusta, signed distance,
-//! query points, poses and two-mesh queries); re-exported here, so that `proxima::error::X` names every
-//! one.
+//! query points, poses and two-mesh queries); re-exported here, so that
+//! `proxima::error::X` names every one.
 
 pub use crate::build_error::BuildError;
 pub use crate::frustum::FrustumError;
