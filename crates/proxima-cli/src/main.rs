@@ -1,5 +1,6 @@
 //! `proxima`: closest points, frustum queries, rays, signed distances, hash
-//! grids, voxelization, grid walks, tree statistics, benchmarks and the
+//! grids, voxelization, grid walks, distances and collisions between two
+//! meshes, self-intersections, tree statistics, benchmarks and the
 //! viewer on meshes, from the command line.
 //!
 //! Every failure on user input prints one line (`proxima: <file>:<line>: what`)
@@ -8,6 +9,8 @@
 mod commands;
 mod common;
 mod npy;
+mod poses;
+mod two_meshes;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -43,6 +46,12 @@ enum Command {
     Raycast(commands::raycast::Args),
     /// Signed distances (negative inside) at points as CSV, on an N³ grid as .npy, or at training samples as .npz.
     Sdf(commands::sdf::Args),
+    /// The distance between two meshes placed by rigid poses, with the nearest points and faces, as CSV.
+    Distance(commands::distance::Args),
+    /// Whether two meshes placed by rigid poses meet, or which of their faces meet (`--pairs`), as CSV.
+    Collide(commands::collide::Args),
+    /// The pairs of faces of one mesh that cross or touch beyond what they share, as CSV.
+    SelfIntersections(commands::self_intersections::Args),
     /// Interactive viewer (needs a display); `--screenshot` renders one frame to a PNG.
     View(commands::view::Args),
 }
@@ -61,6 +70,9 @@ fn main() -> ExitCode {
         Command::Traverse(args) => commands::traverse::run(args),
         Command::Raycast(args) => commands::raycast::run(args),
         Command::Sdf(args) => commands::sdf::run(args),
+        Command::Distance(args) => commands::distance::run(args),
+        Command::Collide(args) => commands::collide::run(args),
+        Command::SelfIntersections(args) => commands::self_intersections::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

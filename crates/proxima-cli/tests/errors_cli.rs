@@ -992,6 +992,223 @@ fn cases() -> Vec<Case> {
         )
         .triangle()
         .then(|_, dir| assert!(!dir.join("s.npz").exists(), "nothing written")),
+        // ------------------------------------------------- two meshes ---
+        // A pose on the command line: 16 numbers (clap's usage error, as
+        // `--point` with a wrong count), then a rigid motion (the library's
+        // PoseError after the option's name).
+        case(
+            "pair_pose_bad_count",
+            &["distance", "{dir}/ok.obj", "{dir}/ok.obj", "--pose-b", "1,0,0,0,0,1,0,0,0,0,1,0"],
+            2,
+            &["--pose-b", "expected 16 numbers (a 4x4 matrix [R t; 0 0 0 1] by rows), got 12"],
+        )
+        .triangle(),
+        case(
+            "pair_pose_bad_count",
+            &["collide", "{dir}/ok.obj", "{dir}/ok.obj", "--pose-a", "1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,one"],
+            2,
+            &["--pose-a", "'one' is not a number"],
+        )
+        .triangle(),
+        case(
+            "pair_pose_not_rigid",
+            &["distance", "{dir}/ok.obj", "{dir}/ok.obj", "--pose-b", "2,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1"],
+            1,
+            &["proxima: --pose-b: the pose is not a rotation: R^T R differs from the identity by 3.0e0 (tolerance 1e-6)"],
+        )
+        .triangle(),
+        case(
+            "pair_pose_not_rigid",
+            &["collide", "{dir}/ok.obj", "{dir}/ok.obj", "--pose-a", "-1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1"],
+            1,
+            &["proxima: --pose-a: the pose is a reflection, not a rotation"],
+        )
+        .triangle(),
+        case(
+            "pair_pose_not_rigid",
+            &["distance", "{dir}/ok.obj", "{dir}/ok.obj", "--pose-b", "1,0,0,nan,0,1,0,0,0,0,1,0,0,0,0,1"],
+            1,
+            &["proxima: --pose-b: the pose has an entry that is not a finite number"],
+        )
+        .triangle(),
+        case(
+            "pair_pose_not_rigid",
+            &["collide", "{dir}/ok.obj", "{dir}/ok.obj", "--pose-b", "1,0,0,0,0,1,0,0,0,0,1,0,5,0,0,1"],
+            1,
+            &["--pose-b: the bottom row of a 4x4 pose matrix must be [0, 0, 0, 1], not [5.0, 0.0, 0.0, 1.0]"],
+        )
+        .triangle(),
+        // Either side of the rotation tolerance (1e-6 on R^T R - I): a scale
+        // of 1 + 4e-7 deviates by about 8e-7, one of 1 + 6e-7 by 1.2e-6.
+        case(
+            "pair_pose_not_rigid",
+            &["distance", "{dir}/ok.obj", "{dir}/ok.obj", "--pose-b", "1.0000004,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1"],
+            0,
+            &[],
+        )
+        .triangle(),
+        case(
+            "pair_pose_not_rigid",
+            &["distance", "{dir}/ok.obj", "{dir}/ok.obj", "--pose-b", "1.0000006,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1"],
+            1,
+            &["--pose-b: the pose is not a rotation: R^T R differs from the identity by 1.2e-6"],
+        )
+        .triangle(),
+        // A poses file: the line and what is wrong with it, nothing on
+        // standard output.
+        case(
+            "pair_poses_file_bad_line",
+            &["distance", "{dir}/ok.obj", "{dir}/ok.obj", "--poses", "{dir}/bad.poses"],
+            1,
+            &["bad.poses:4: expected 16 numbers (a 4x4 matrix [R t; 0 0 0 1] by rows), got 15"],
+        )
+        .triangle()
+        .file("bad.poses", b"# pose of B\n1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n\n1 0 0 0 0 1 0 0 0 0 1 0 0 0 0\n")
+        .then(|out, _| assert!(out.stdout.is_empty(), "no partial output")),
+        case(
+            "pair_poses_file_bad_line",
+            &["collide", "{dir}/ok.obj", "{dir}/ok.obj", "--poses", "{dir}/bad.poses"],
+            1,
+            &["bad.poses:2: '0;5' is not a number"],
+        )
+        .triangle()
+        .file("bad.poses", b"1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1\n1 0 0 0 0 1 0 0 0 0 1 0 0 0 0;5 1\n"),
+        case(
+            "pair_poses_file_bad_line",
+            &["distance", "{dir}/ok.obj", "{dir}/ok.obj", "--poses", "{dir}/bad.poses"],
+            1,
+            &["bad.poses:2: the pose is not a rotation: R^T R differs from the identity by 3.0e0"],
+        )
+        .triangle()
+        .file("bad.poses", b"1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1\n1,0,0,0,0,2,0,0,0,0,1,0,0,0,0,1\n"),
+        case(
+            "pair_poses_file_bad_line",
+            &["collide", "{dir}/ok.obj", "{dir}/ok.obj", "--poses", "{dir}/bad.poses", "--pairs"],
+            1,
+            &["bad.poses:1: a translation coordinate of -2e38 is beyond the supported 1e38"],
+        )
+        .triangle()
+        .file("bad.poses", b"1,0,0,0,0,1,0,0,0,0,1,-2e38,0,0,0,1\n"),
+        case(
+            "pair_poses_file_bad_line",
+            &["distance", "{dir}/ok.obj", "{dir}/ok.obj", "--poses", "{dir}/long.poses"],
+            1,
+            &["long.poses:1: the line is longer than 65536 bytes"],
+        )
+        .triangle()
+        .made("long.poses", || vec![b'1'; 1 << 20]),
+        // --pose-a moves A, but a poses file moves B with A unmoved.
+        case(
+            "pair_poses_file_bad_line",
+            &["distance", "{dir}/ok.obj", "{dir}/ok.obj", "--poses", "{dir}/p", "--pose-a", "1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1"],
+            2,
+            &["--pose-a", "cannot be used with", "--poses"],
+        )
+        .triangle(),
+        case(
+            "pair_mesh_without_faces",
+            &["distance", "{dir}/verts.obj", "{dir}/ok.obj"],
+            1,
+            &["verts.obj: the mesh has no faces to search (2 vertices, 0 faces)"],
+        )
+        .triangle()
+        .file("verts.obj", b"v 0 0 0\nv 1 0 0\n"),
+        case(
+            "pair_mesh_without_faces",
+            &["collide", "{dir}/ok.obj", "{dir}/verts.obj", "--pairs"],
+            1,
+            &["verts.obj: the mesh has no faces to search"],
+        )
+        .triangle()
+        .file("verts.obj", b"v 0 0 0\nv 1 0 0\n"),
+        case(
+            "pair_mesh_without_faces",
+            &["self-intersections", "{dir}/verts.obj"],
+            1,
+            &["verts.obj: the mesh has no faces to search"],
+        )
+        .file("verts.obj", b"v 0 0 0\nv 1 0 0\n"),
+        case("pair_mesh_without_faces", &["self-intersections", "{dir}/empty.obj"], 1, &["empty.obj"])
+            .file("empty.obj", b""),
+        // Translations up to 1e38 (exact products of the predicates stay finite).
+        case(
+            "pair_translation_beyond_bound",
+            &["distance", "{dir}/ok.obj", "{dir}/ok.obj", "--pose-b", "1,0,0,0,0,1,0,2e38,0,0,1,0,0,0,0,1"],
+            1,
+            &["proxima: --pose-b: a translation coordinate of 2e38 is beyond the supported 1e38"],
+        )
+        .triangle(),
+        case(
+            "pair_translation_beyond_bound",
+            &["collide", "{dir}/ok.obj", "{dir}/ok.obj", "--pose-a", "1,0,0,0,0,1,0,0,0,0,1,-1.0000000000000002e38,0,0,0,1"],
+            1,
+            &["--pose-a: a translation coordinate of -1.0000000000000002e38 is beyond"],
+        )
+        .triangle(),
+        case(
+            "pair_translation_beyond_bound",
+            &["distance", "{dir}/ok.obj", "{dir}/ok.obj", "--pose-b", "1,0,0,0,0,1,0,1e38,0,0,1,0,0,0,0,1"],
+            0,
+            &[],
+        )
+        .triangle()
+        .then(|out, _| assert!(String::from_utf8_lossy(&out.stdout).contains(",100000000000000000000000000000000000000,"))),
+        case(
+            "pair_translation_beyond_bound",
+            &["collide", "{dir}/ok.obj", "{dir}/ok.obj", "--pose-b", "1,0,0,0,0,1,0,-1e38,0,0,1,1e38,0,0,0,1"],
+            0,
+            &[],
+        )
+        .triangle()
+        .then(|out, _| assert_eq!(String::from_utf8_lossy(&out.stdout), "pose,intersects\n0,0\n")),
+        // Poses counted before they are stored: 3 poses at 216 or more bytes
+        // each are beyond a budget of 500 bytes.
+        case(
+            "pair_poses_beyond_the_memory_budget",
+            &["distance", "{dir}/ok.obj", "{dir}/ok.obj", "--poses", "{dir}/three.poses"],
+            1,
+            &["--poses ", "three.poses: needs about", "more than the memory budget of 500 bytes"],
+        )
+        .triangle()
+        .file("three.poses", b"1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n")
+        .env(&[("PROXIMA_MEMORY_BUDGET", "500")]),
+        case(
+            "pair_poses_beyond_the_memory_budget",
+            &["collide", "{dir}/ok.obj", "{dir}/ok.obj", "--poses", "{dir}/three.poses"],
+            1,
+            &["--poses ", "three.poses: needs about", "more than the memory budget of 200 bytes"],
+        )
+        .triangle()
+        .file("three.poses", b"1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n")
+        .env(&[("PROXIMA_MEMORY_BUDGET", "200")]),
+        case(
+            "pair_bad_distance_bound",
+            &["distance", "{dir}/ok.obj", "{dir}/ok.obj", "--max-distance", "-1"],
+            2,
+            &["'-1' is not a number >= 0"],
+        )
+        .triangle(),
+        case(
+            "pair_bad_distance_bound",
+            &["distance", "{dir}/ok.obj", "{dir}/ok.obj", "--max-distance", "nan"],
+            2,
+            &["'nan' is not a number >= 0"],
+        )
+        .triangle(),
+        case(
+            "pair_bad_distance_bound",
+            &["collide", "{dir}/ok.obj", "{dir}/ok.obj", "--within", "inf"],
+            2,
+            &["'inf' is not a finite number >= 0"],
+        )
+        .triangle(),
+        case(
+            "pair_bad_distance_bound",
+            &["collide", "{dir}/ok.obj", "{dir}/ok.obj", "--within", "-0.5"],
+            2,
+            &["'-0.5' is not a finite number >= 0"],
+        )
+        .triangle(),
     ]
 }
 
