@@ -20,6 +20,8 @@
 //! - [`frustum_view`]: a second camera's frustum and the primitives its
 //!   frustum query selects;
 //! - [`spheres`]: the sphere tree's nodes at a depth as great circles;
+//! - [`pair_view`]: the model's self-intersections, or a second mesh placed
+//!   by a rigid pose (meeting faces, closest points);
 //! - [`slice`]: the signed-distance slice (values, colours, zero contour)
 //!   and the query point's signed distance;
 //! - [`settings`]: what the side panel edits;
@@ -41,6 +43,7 @@ mod gl;
 mod job;
 mod memo;
 pub mod model;
+pub mod pair_view;
 pub mod scene;
 pub mod screenshot;
 pub mod settings;
@@ -52,7 +55,7 @@ pub use model::{Model, ModelSource};
 /// The library's primitive kinds, re-exported for the command line.
 pub use proxima::PrimitiveKind;
 pub use screenshot::{ScreenshotOptions, ScreenshotReport};
-pub use settings::{Axis, Settings};
+pub use settings::{Axis, PairMode, Settings};
 
 use eframe::egui;
 use proxima::math::Vec3;

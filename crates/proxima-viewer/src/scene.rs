@@ -56,6 +56,15 @@ pub mod colors {
     pub const SLICE_ZERO: [u8; 4] = [255, 255, 255, 255];
     /// The zero contour of the slice: where the sign changes.
     pub const ZERO_CONTOUR: [u8; 4] = [10, 10, 10, 255];
+    /// Faces of the model that meet the second mesh, or meet other faces of
+    /// the model (self-intersections): hot pink, a colour nothing else uses.
+    pub const PAIR_MEETING: [u8; 4] = [255, 0, 128, 255];
+    /// Faces of the second mesh that meet the model (violet).
+    pub const PAIR_MEETING_SECOND: [u8; 4] = [120, 40, 255, 255];
+    /// The second mesh's face outlines (sand).
+    pub const SECOND_MESH: [u8; 4] = [230, 200, 140, 255];
+    /// The segment between the closest points of the two meshes and its ends.
+    pub const PAIR_CLOSEST: [u8; 4] = [0, 255, 128, 255];
 }
 
 /// Diameter in pixels of the query and closest-point markers.

@@ -1,6 +1,6 @@
 //! The viewer's settings: what the side panel edits. Plain data.
 
-use proxima::{Aabb, PrimitiveKind, Sign, Vec3};
+use proxima::{Aabb, DVec3, PrimitiveKind, Sign, Vec3};
 
 /// A coordinate axis: the normal of the signed-distance slice.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -37,6 +37,46 @@ impl std::str::FromStr for Axis {
             "y" | "Y" => Ok(Axis::Y),
             "z" | "Z" => Ok(Axis::Z),
             _ => Err(format!("expected the axis x, y or z, got '{s}'")),
+        }
+    }
+}
+
+/// What the "Pairs" section shows: nothing, the faces of the model that meet
+/// other faces of it, or a moved copy of the model against the model.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum PairMode {
+    /// Nothing.
+    #[default]
+    Off,
+    /// The model's self-intersections.
+    SelfIntersections,
+    /// A second mesh (a copy of the model, or the file given with
+    /// `--second`) placed by the pose of the settings.
+    SecondMesh,
+}
+
+impl PairMode {
+    /// The three modes in the panel's order.
+    pub const ALL: [PairMode; 3] = [PairMode::Off, PairMode::SelfIntersections, PairMode::SecondMesh];
+
+    /// The panel's label.
+    pub fn name(self) -> &'static str {
+        match self {
+            PairMode::Off => "off",
+            PairMode::SelfIntersections => "self-intersections",
+            PairMode::SecondMesh => "second mesh",
+        }
+    }
+}
+
+impl std::str::FromStr for PairMode {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.trim() {
+            "off" => Ok(PairMode::Off),
+            "self" | "self-intersections" => Ok(PairMode::SelfIntersections),
+            "second" | "copy" | "second-mesh" => Ok(PairMode::SecondMesh),
+            _ => Err(format!("expected off, self or second, got '{s}'")),
         }
     }
 }
@@ -101,6 +141,13 @@ pub struct Settings {
     pub slice_sign: Sign,
     /// Hide the part of the mesh between the slice and the camera.
     pub slice_cut_mesh: bool,
+    /// The "Pairs" section's mode.
+    pub pair_mode: PairMode,
+    /// Where the second mesh is moved to, after its rotation (world units).
+    pub pair_translation: DVec3,
+    /// The second mesh's rotation: angles about the fixed x, y and z axes, in
+    /// degrees, applied in that order (see `pair_view::rotation_from_angles`).
+    pub pair_angles: DVec3,
 }
 
 impl Default for Settings {
@@ -150,7 +197,19 @@ impl Settings {
             slice_position: b.center().z,
             slice_sign: Sign::WindingNumber,
             slice_cut_mesh: true,
+            pair_mode: PairMode::Off,
+            // Half the model's width along x: the copy overlaps the model,
+            // so its surface crosses the model's.
+            pair_translation: DVec3::new(0.5 * size.x as f64, 0.0, 0.0),
+            pair_angles: DVec3::ZERO,
         }
+    }
+
+    /// Range of each translation slider of the second mesh: ± the bounding
+    /// box's diagonal (1 for an empty or non-finite box).
+    pub fn pair_translation_range(bounds: &Aabb) -> f64 {
+        let d = bounds.diagonal() as f64;
+        if d.is_finite() && d > 0.0 { d } else { 1.0 }
     }
 
     /// Range of the slice position along `axis`: the bounding box grown by
