@@ -38,6 +38,8 @@ fn bad_view_arguments_are_usage_errors() {
         vec!["view", "--slice", "z,inf"],
         vec!["view", "--slice-sign", "parity"],
         vec!["view", "--camera", "0,120"],
+        vec!["view", "--pairs", "both"],
+        vec!["view", "--pair-pose", "1,2,3"],
     ] {
         let out = proxima().args(&args).output().unwrap();
         assert_eq!(

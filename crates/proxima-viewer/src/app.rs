@@ -16,16 +16,17 @@ use crate::gl::Renderer;
 use crate::job::{Background, Job, Poll};
 use crate::memo::Memo;
 use crate::model::{Model, ModelSource, Progress, QueryResult};
+use crate::pair_view::{self, PairAnswer};
 use crate::scene::{BoxSet, Overlay};
 use crate::screenshot::{FrameTimer, ScreenshotReport};
-use crate::settings::{Axis, Settings};
+use crate::settings::{Axis, PairMode, Settings};
 use crate::slice::{SLICE_RESOLUTION, SdfReadout, SdfSlice, SlicePlane, signed_distance_field};
 use crate::spheres::spheres_overlay;
 use crate::{InitialView, ViewerOptions};
 use eframe::egui;
 use eframe::egui::mutex::Mutex;
 use eframe::glow;
-use proxima::{ClosestHit, PrimitiveKind, Sign, SignedDistanceField, Vec3};
+use proxima::{ClosestHit, DVec3, MeshIndex, PrimitiveKind, Sign, SignedDistanceField, Vec3};
 use script::Script;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -87,6 +88,35 @@ struct RayKey {
     grid: Option<GridKey>,
 }
 
+/// Inputs of the "Pairs" answer: the mode and, for the second mesh, its
+/// translation and angles (self-intersections do not depend on them, so
+/// moving the pose does not ask again).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct PairKey {
+    mode: PairMode,
+    translation: DVec3,
+    angles: DVec3,
+}
+
+impl PairKey {
+    /// The key of what the settings ask, `None` when the section is off.
+    fn of(s: &Settings) -> Option<Self> {
+        let (translation, angles) = match s.pair_mode {
+            PairMode::Off => return None,
+            PairMode::SelfIntersections => (DVec3::ZERO, DVec3::ZERO),
+            PairMode::SecondMesh => (s.pair_translation, s.pair_angles),
+        };
+        Some(Self {
+            mode: s.pair_mode,
+            translation,
+            angles,
+        })
+    }
+}
+
+/// A mesh index for the pair queries, or why there is none.
+type IndexResult = Result<Arc<MeshIndex>, String>;
+
 /// The keys of the values derived from the settings, computed in one place.
 /// The derived values are dropped with the model, so no key names it.
 struct Keys {
@@ -140,6 +170,12 @@ struct Derived {
     slice: Background<SliceKey, Result<Arc<SdfSlice>, String>>,
     readout: Memo<ReadoutKey, SdfReadout>,
     pick_message: Option<String>,
+    /// The model's mesh indexed for the pair queries (a copy of the mesh;
+    /// its faces' tree is built by the first pair query, on the worker).
+    pair_index: Option<Arc<MeshIndex>>,
+    /// Self-intersections or the second mesh's answer, on a worker thread
+    /// (the queries take seconds on meshes of a million faces).
+    pairs: Background<PairKey, Result<Arc<PairAnswer>, String>>,
 }
 
 /// The viewer application.
@@ -164,6 +200,11 @@ pub struct ViewerApp {
     /// Camera yaw and pitch in degrees from the command line, applied when
     /// the first model is fitted.
     camera_angles: Option<[f32; 2]>,
+    /// The second mesh's file (`--second`); a copy of the model when `None`.
+    second_path: Option<PathBuf>,
+    /// That file, loaded and indexed on a worker thread when first needed
+    /// (kept across models).
+    second: Background<PathBuf, IndexResult>,
 }
 
 impl ViewerApp {
@@ -184,6 +225,7 @@ impl ViewerApp {
             ModelSource::Mesh { .. } => String::new(),
         };
         let camera_angles = options.initial.camera;
+        let second_path = options.initial.second.clone();
         let mut app = Self {
             renderer,
             gl_error: Arc::new(Mutex::new(renderer_error)),
@@ -201,6 +243,8 @@ impl ViewerApp {
             frame_ms: 0.0,
             script: options.screenshot.map(|s| Script::new(s, outcome)),
             camera_angles,
+            second_path,
+            second: Background::default(),
         };
         app.start_load(options.source, &cc.egui_ctx);
         app
@@ -255,6 +299,11 @@ impl ViewerApp {
         self.derived
             .slice
             .poll(|| Some(Err("computing the slice failed".to_string())));
+        self.derived
+            .pairs
+            .poll(|| Some(Err("the pair query failed".to_string())));
+        self.second
+            .poll(|| Some(Err("loading the second mesh failed".to_string())));
         if self.busy() {
             ctx.request_repaint_after(Duration::from_millis(100));
         }
@@ -281,6 +330,8 @@ impl ViewerApp {
             settings.slice_axis = s.slice_axis;
             settings.slice_sign = s.slice_sign;
             settings.slice_cut_mesh = s.slice_cut_mesh;
+            settings.pair_mode = s.pair_mode;
+            settings.pair_angles = s.pair_angles;
             let (lo, hi) = Settings::slice_range(&model.bounds, s.slice_axis);
             settings.slice_position = 0.5 * (lo + hi);
         }
@@ -359,6 +410,70 @@ impl ViewerApp {
             });
         }
         self.update_signed_distance(&model, ctx);
+        self.update_pairs(&model, ctx);
+    }
+
+    /// Starts the "Pairs" query the settings ask for, once its meshes are
+    /// at hand: the model's index (made now, cheap: its tree is built by the
+    /// query) and, with `--second`, the second file (loaded on a worker).
+    fn update_pairs(&mut self, model: &Arc<Model>, ctx: &egui::Context) {
+        let Some(key) = PairKey::of(&self.settings) else {
+            return;
+        };
+        let d = &mut self.derived;
+        let first = d
+            .pair_index
+            .get_or_insert_with(|| Arc::new(MeshIndex::new(model.mesh.clone())))
+            .clone();
+        let second = match (&self.second_path, key.mode) {
+            (Some(path), PairMode::SecondMesh) => {
+                let started = self.second.request("second", path.clone(), ctx, |path| {
+                    proxima::io::load(&path)
+                        .map(|mesh| Arc::new(MeshIndex::new(mesh)))
+                        .map_err(|e| e.to_string())
+                });
+                if let Err(e) = started {
+                    self.second.memo.set(path.clone(), Err(e));
+                }
+                match self.second.memo.get(path) {
+                    Some(Ok(index)) => index.clone(),
+                    // Loading, or failed (the panel says which).
+                    _ => return,
+                }
+            }
+            _ => first.clone(),
+        };
+        let started = d.pairs.request("pairs", key, ctx, move |k| {
+            match k.mode {
+                PairMode::SecondMesh => pair_view::pose_from_angles(k.translation, k.angles)
+                    .and_then(|pose| pair_view::second_mesh_view(&first, &second, &pose)),
+                _ => pair_view::self_intersection_view(&first),
+            }
+            .map(Arc::new)
+        });
+        if let Err(e) = started {
+            d.pairs.memo.set(key, Err(e));
+        }
+    }
+
+    /// The latest "Pairs" answer in the mode shown (a pose drag shows the
+    /// last one until the next is in).
+    fn current_pairs(&self) -> Option<&Arc<PairAnswer>> {
+        let mode = self.settings.pair_mode;
+        let answer = self.derived.pairs.memo.latest()?.as_ref().ok()?;
+        (mode != PairMode::Off && answer.mode == mode).then_some(answer)
+    }
+
+    /// The error of the "Pairs" query asked for, if it failed.
+    fn pairs_error(&self) -> Option<&String> {
+        let key = PairKey::of(&self.settings)?;
+        if key.mode == PairMode::SecondMesh
+            && let Some(path) = &self.second_path
+            && let Some(Err(e)) = self.second.memo.get(path)
+        {
+            return Some(e);
+        }
+        self.derived.pairs.memo.get(&key)?.as_ref().err()
     }
 
     /// Starts what the signed distance readout and the slice need: the
@@ -448,6 +563,8 @@ impl ViewerApp {
             || self.derived.linear.running()
             || self.building_field()
             || self.derived.slice.running()
+            || self.derived.pairs.running()
+            || self.second.running()
     }
 
     /// The brute-force answer for the current query, if it is in.

@@ -5,8 +5,9 @@ use crate::camera::{OrbitCamera, Viewport};
 use crate::cells::{CellGrid, RayWalk};
 use crate::frustum_view::FrustumSelection;
 use crate::model::{Model, QueryResult, query_overlay};
+use crate::pair_view::PairAnswer;
 use crate::scene::{BoxLayer, BoxSet, DrawFrame, Overlay, colors};
-use crate::settings::Settings;
+use crate::settings::{PairMode, Settings};
 use crate::slice::SdfSlice;
 use std::sync::Arc;
 
@@ -37,6 +38,9 @@ pub struct FrameInputs<'a> {
     pub slice: Option<&'a SdfSlice>,
     /// Whether the query point is inside the mesh, when known.
     pub query_inside: Option<bool>,
+    /// The latest "Pairs" answer (drawn when its mode is the one asked, so
+    /// a pose drag shows the last one until the next is in).
+    pub pairs: Option<&'a PairAnswer>,
 }
 
 /// The draw data of one frame.
@@ -105,6 +109,12 @@ pub fn compose_frame(inputs: &FrameInputs<'_>) -> DrawFrame {
         if s.slice_cut_mesh {
             frame.clip_plane = cut_towards(frame.eye, slice.plane.axis.index(), slice.plane.position);
         }
+    }
+    if s.pair_mode != PairMode::Off
+        && let Some(pairs) = inputs.pairs
+        && pairs.mode == s.pair_mode
+    {
+        frame.overlay.append(pairs.overlay.clone());
     }
     if let Some(result) = inputs.result {
         frame.overlay.append(query_overlay(model, result, inputs.query_inside));
@@ -183,6 +193,9 @@ mod tests {
         let field = crate::slice::signed_distance_field(&m.mesh, proxima::Sign::WindingNumber).unwrap();
         let plane = crate::slice::SlicePlane::through(&m.bounds, crate::settings::Axis::Z, 0.2, 16).unwrap();
         let slice = crate::slice::SdfSlice::compute(&field, plane);
+        let index = proxima::MeshIndex::new(m.mesh.clone());
+        let pose = crate::pair_view::settings_pose(&settings).unwrap();
+        let pairs = crate::pair_view::second_mesh_view(&index, &index, &pose).unwrap();
         let frame = |settings: &Settings| {
             compose_frame(&FrameInputs {
                 camera: &camera,
@@ -197,6 +210,7 @@ mod tests {
                 frustum: Some(&selection),
                 slice: Some(&slice),
                 query_inside: Some(true),
+                pairs: Some(&pairs),
             })
         };
         let plain = frame(&settings);
@@ -262,6 +276,23 @@ mod tests {
         assert!(sphere_lines > 0);
         settings.show_spheres = false;
 
+        // The pairs' overlay, only in the mode it was computed for.
+        let pair_lines = |f: &DrawFrame| {
+            f.overlay
+                .lines
+                .iter()
+                .filter(|v| v.color == colors::SECOND_MESH)
+                .count()
+        };
+        assert_eq!(pair_lines(&frame(&settings)), 0);
+        settings.pair_mode = PairMode::SelfIntersections;
+        assert_eq!(pair_lines(&frame(&settings)), 0);
+        settings.pair_mode = PairMode::SecondMesh;
+        let paired = frame(&settings);
+        assert_eq!(pair_lines(&paired), 2 * 3 * m.mesh.face_count());
+        assert!(paired.overlay.lines.iter().any(|v| v.color == colors::PAIR_CLOSEST));
+        settings.pair_mode = PairMode::Off;
+
         // A grid of another cell size or kind is not drawn (a rebuild is pending).
         settings.cell_size *= 2.0;
         assert_eq!(frame(&settings).boxes.len(), 3);
@@ -280,6 +311,7 @@ mod tests {
             frustum: None,
             slice: Some(&slice),
             query_inside: None,
+            pairs: Some(&pairs),
         });
         assert!(empty.mesh.is_none() && empty.boxes.is_empty() && empty.overlay.is_empty());
         assert!(empty.slice.is_none());

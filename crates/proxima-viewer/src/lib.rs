@@ -59,7 +59,8 @@ pub use settings::{Axis, PairMode, Settings};
 
 use eframe::egui;
 use proxima::math::Vec3;
-use proxima::{Aabb, Sign};
+use proxima::{Aabb, DVec3, Sign};
+use std::path::PathBuf;
 use std::sync::Arc;
 
 /// Settings given on the command line, applied when the first model is
@@ -92,6 +93,14 @@ pub struct InitialView {
     /// The camera's yaw about +y and pitch, in degrees (yaw 0 looks along
     /// −z, pitch 90 looks straight down); the default view when `None`.
     pub camera: Option<[f32; 2]>,
+    /// The "Pairs" mode (off when not given, the second mesh when `second`
+    /// is given).
+    pub pairs: Option<PairMode>,
+    /// The second mesh's file (a copy of the model when `None`); loaded once,
+    /// kept when another model is loaded.
+    pub second: Option<PathBuf>,
+    /// The second mesh's translation and angles in degrees about x, y, z.
+    pub pair_pose: Option<(DVec3, DVec3)>,
 }
 
 impl InitialView {
@@ -142,6 +151,16 @@ impl InitialView {
         }
         if let Some(sign) = self.slice_sign {
             settings.slice_sign = sign;
+        }
+        if self.second.is_some() {
+            settings.pair_mode = PairMode::SecondMesh;
+        }
+        if let Some(mode) = self.pairs {
+            settings.pair_mode = mode;
+        }
+        if let Some((translation, angles)) = self.pair_pose {
+            settings.pair_translation = translation;
+            settings.pair_angles = angles;
         }
     }
 }
@@ -259,6 +278,9 @@ mod tests {
             slice: Some((Axis::Y, None)),
             slice_sign: Some(Sign::Pseudonormal),
             camera: Some([0.0, 90.0]),
+            pairs: Some(PairMode::SelfIntersections),
+            second: None,
+            pair_pose: Some((DVec3::new(1.0, 2.0, 3.0), DVec3::new(0.0, 90.0, -180.0))),
         };
         v.apply(&mut s, &bounds);
         assert_eq!(s.query, Vec3::ONE);
@@ -271,6 +293,16 @@ mod tests {
         assert!(crate::frustum_view::settings_frustum(&s).is_ok());
         assert!(s.show_slice && s.slice_axis == Axis::Y && s.slice_sign == Sign::Pseudonormal);
         assert!((s.slice_position - 2.0).abs() < 1e-6, "{}", s.slice_position);
+        assert_eq!(s.pair_mode, PairMode::SelfIntersections);
+        assert_eq!(s.pair_translation, DVec3::new(1.0, 2.0, 3.0));
+        assert_eq!(s.pair_angles, DVec3::new(0.0, 90.0, -180.0));
+        // A second file asks for the second mesh unless a mode is given.
+        let second = InitialView {
+            second: Some("other.obj".into()),
+            ..Default::default()
+        };
+        second.apply(&mut s, &bounds);
+        assert_eq!(s.pair_mode, PairMode::SecondMesh);
         let at = InitialView {
             slice: Some((Axis::X, Some(-0.25))),
             ..Default::default()

@@ -11,6 +11,7 @@
 //! filled, so that a frame's overlay stays small. The answers themselves
 //! (pairs, faces, distance) are always complete.
 
+use crate::camera::{OrbitCamera, Viewport};
 use crate::scene::{MARKER_SIZE, Overlay, Shape, colors};
 use crate::settings::{PairMode, Settings};
 use proxima::math::{DMat3, DVec3, Vec3};
@@ -47,6 +48,16 @@ pub fn pose_from_angles(translation: DVec3, degrees: DVec3) -> Result<RigidPose,
 /// The second mesh's pose from the settings' translation and angles.
 pub fn settings_pose(s: &Settings) -> Result<RigidPose, String> {
     pose_from_angles(s.pair_translation, s.pair_angles)
+}
+
+/// The translation that makes a point at the camera's target depth follow a
+/// mouse drag of `dx, dy` pixels (x right, y down) in the view plane: how a
+/// modifier-drag moves the second mesh.
+pub fn drag_translation(camera: &OrbitCamera, dx: f32, dy: f32, viewport: &Viewport) -> DVec3 {
+    let height = viewport.size[1].max(1.0);
+    let world_per_pixel = 2.0 * camera.distance * (0.5 * camera.fov_y).tan() / height;
+    let (right, up, _) = camera.axes();
+    ((dx * right - dy * up) * world_per_pixel).as_dvec3()
 }
 
 /// The answer of one "Pairs" question and what it draws.
@@ -459,6 +470,22 @@ mod tests {
         s.pair_angles = DVec3::ZERO;
         s.pair_translation = DVec3::new(f64::INFINITY, 0.0, 0.0);
         assert!(settings_pose(&s).is_err());
+    }
+
+    #[test]
+    fn a_drag_moves_the_second_mesh_with_the_mouse() {
+        let bounds = proxima::Aabb::new(Vec3::splat(-1.0), Vec3::splat(1.0));
+        let camera = OrbitCamera::fit(&bounds, 1.5);
+        let viewport = Viewport::new([10.0, 20.0], [600.0, 400.0]);
+        let p = camera.target;
+        let before = camera.project(p, &viewport).unwrap();
+        for (dx, dy) in [(30.0, -20.0), (-5.0, 0.0), (0.0, 12.5)] {
+            let moved = p + drag_translation(&camera, dx, dy, &viewport).as_vec3();
+            let after = camera.project(moved, &viewport).unwrap();
+            assert!((after[0] - before[0] - dx).abs() < 0.05, "{before:?} {after:?}");
+            assert!((after[1] - before[1] - dy).abs() < 0.05, "{before:?} {after:?}");
+        }
+        assert_eq!(drag_translation(&camera, 0.0, 0.0, &viewport), DVec3::ZERO);
     }
 
     #[test]

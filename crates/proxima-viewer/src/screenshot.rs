@@ -113,6 +113,10 @@ pub struct ScreenshotReport {
     pub slice_cells: usize,
     /// Of those, the cells inside the mesh.
     pub slice_inside: usize,
+    /// Face pairs of the "Pairs" answer shown (0 when none).
+    pub pairs: usize,
+    /// Distinct faces in those pairs: on the model, on the second mesh.
+    pub pair_faces: [usize; 2],
 }
 
 impl ScreenshotReport {
@@ -123,7 +127,7 @@ impl ScreenshotReport {
         format!(
             "{{\n  \"image_size\": [{}, {}],\n  \"pixels_per_point\": {:?},\n  \"viewport\": [{:?}, {:?}, {:?}, {:?}],\n  \
              \"frame_ms_mean\": {},\n  \"frame_ms_median\": {},\n  \"frame_ms_max\": {},\n  \"frames_measured\": {},\n  \
-             \"model\": {:?},\n  \"triangles\": {},\n  \"cells\": {},\n  \"slice_cells\": {},\n  \"slice_inside\": {}\n}}\n",
+             \"model\": {:?},\n  \"triangles\": {},\n  \"cells\": {},\n  \"slice_cells\": {},\n  \"slice_inside\": {},\n  \"pairs\": {},\n  \"pair_faces\": [{}, {}]\n}}\n",
             self.image_size[0],
             self.image_size[1],
             self.pixels_per_point,
@@ -140,6 +144,9 @@ impl ScreenshotReport {
             self.cells,
             self.slice_cells,
             self.slice_inside,
+            self.pairs,
+            self.pair_faces[0],
+            self.pair_faces[1],
         )
     }
 }
@@ -187,12 +194,14 @@ mod tests {
             cells: 0,
             slice_cells: 12,
             slice_inside: 5,
+            pairs: 7,
+            pair_faces: [4, 6],
         };
         let json = report.to_json();
         assert!(json.contains("\"viewport\": [300.5, 0.0, 339.5, 480.0]"), "{json}");
         assert!(json.contains("\"frame_ms_mean\": null"));
         assert!(
-            json.contains("\"slice_cells\": 12,\n  \"slice_inside\": 5\n}"),
+            json.contains("\"slice_cells\": 12,\n  \"slice_inside\": 5,\n  \"pairs\": 7,\n  \"pair_faces\": [4, 6]\n}"),
             "{json}"
         );
         assert!(json.contains(r#""model": "a \"b\"""#), "{json}");

@@ -27,7 +27,7 @@ use proxima::prelude::*;
 use proxima::{AabbTree, BuildConfig, Mesh, Sign};
 use proxima_viewer::scene::colors;
 use proxima_viewer::{
-    Axis, InitialView, ModelSource, OrbitCamera, PrimitiveKind, ScreenshotOptions, ViewerOptions, Viewport,
+    Axis, InitialView, ModelSource, OrbitCamera, PairMode, PrimitiveKind, ScreenshotOptions, ViewerOptions, Viewport,
 };
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode, Stdio};
@@ -48,6 +48,8 @@ struct Scenario {
     frustum: Option<(Vec3, Vec3)>,
     /// A signed-distance slice: its axis, position and sign method.
     slice: Option<(Axis, Option<f32>, Sign)>,
+    /// The "Pairs" mode (a second mesh: a copy at the default pose).
+    pairs: Option<PairMode>,
     frames: u32,
 }
 
@@ -68,6 +70,7 @@ fn scenarios() -> Vec<Scenario> {
             ray: None,
             frustum: None,
             slice: None,
+            pairs: None,
             frames: 5,
         },
         Scenario {
@@ -79,6 +82,7 @@ fn scenarios() -> Vec<Scenario> {
             ray: Some((Vec3::new(-6.0, 1.0, -4.0), Vec3::new(1.0, 0.45, 0.7))),
             frustum: None,
             slice: None,
+            pairs: None,
             frames: 5,
         },
         Scenario {
@@ -90,6 +94,7 @@ fn scenarios() -> Vec<Scenario> {
             ray: None,
             frustum: Some((Vec3::new(-15.0, 5.0, 0.0), Vec3::new(0.0, 6.0, 0.0))),
             slice: None,
+            pairs: None,
             frames: 3,
         },
         Scenario {
@@ -101,6 +106,7 @@ fn scenarios() -> Vec<Scenario> {
             ray: None,
             frustum: None,
             slice: Some((Axis::Z, None, Sign::WindingNumber)),
+            pairs: None,
             frames: 3,
         },
         Scenario {
@@ -112,6 +118,19 @@ fn scenarios() -> Vec<Scenario> {
             ray: None,
             frustum: None,
             slice: Some((Axis::X, Some(0.5), Sign::Pseudonormal)),
+            pairs: None,
+            frames: 3,
+        },
+        Scenario {
+            name: "bunny_second_copy",
+            mesh: BUNNY.into(),
+            kind: PrimitiveKind::Faces,
+            query: Vec3::new(3.0, 6.0, 4.0),
+            cells: None,
+            ray: None,
+            frustum: None,
+            slice: None,
+            pairs: Some(PairMode::SecondMesh),
             frames: 3,
         },
         Scenario {
@@ -123,6 +142,7 @@ fn scenarios() -> Vec<Scenario> {
             ray: None,
             frustum: None,
             slice: Some((Axis::Z, None, Sign::WindingNumber)),
+            pairs: None,
             frames: 3,
         },
         Scenario {
@@ -134,6 +154,7 @@ fn scenarios() -> Vec<Scenario> {
             ray: None,
             frustum: None,
             slice: None,
+            pairs: None,
             frames: 3,
         },
     ];
@@ -147,6 +168,7 @@ fn scenarios() -> Vec<Scenario> {
             ray: None,
             frustum: None,
             slice: None,
+            pairs: None,
             frames: 8,
         });
     } else {
@@ -252,6 +274,7 @@ fn child(name: &str) -> ExitCode {
             frustum: scenario.frustum,
             slice: scenario.slice.map(|(axis, position, _)| (axis, position)),
             slice_sign: scenario.slice.map(|(_, _, sign)| sign),
+            pairs: scenario.pairs,
             ..Default::default()
         },
         screenshot: Some(ScreenshotOptions {
@@ -526,8 +549,39 @@ fn run_scenario(s: &Scenario, dir: &Path, xvfb: Option<&Path>) -> Result<String,
             &format!("{slice_blue} slice-blue pixels and {slice_cells} slice cells without a slice"),
         )?;
     }
+    // The pairs: the meeting faces of both meshes and the second mesh's
+    // outlines in their colours exactly when asked for; the sidecar's counts
+    // equal the library's answer for the same pose.
+    let colour = |c: [u8; 4]| count(&|p| near(p[0], c[0], 30) && near(p[1], c[1], 30) && near(p[2], c[2], 30)).0;
+    let (meeting, meeting_second, outlines) = (
+        colour(colors::PAIR_MEETING),
+        colour(colors::PAIR_MEETING_SECOND),
+        colour(colors::SECOND_MESH),
+    );
+    let sidecar_pairs = sidecar["pairs"].as_u64().unwrap_or(0);
+    if s.pairs == Some(PairMode::SecondMesh) {
+        let index = proxima::MeshIndex::new(mesh_data.clone());
+        let settings = proxima_viewer::Settings::for_bounds(&mesh_data.bounds());
+        let pose = proxima_viewer::pair_view::settings_pose(&settings)?;
+        let pairs = proxima::pair::intersecting_pairs(&index, &proxima::pair::RigidPose::IDENTITY, &index, &pose)
+            .map_err(|e| e.to_string())?;
+        check(
+            !pairs.is_empty() && sidecar_pairs == pairs.len() as u64,
+            &format!("pairs: the sidecar says {sidecar_pairs}, the library {}", pairs.len()),
+        )?;
+        check(
+            meeting > 50 && meeting_second > 50 && outlines as f64 > 0.005 * view_pixels,
+            &format!("pairs: {meeting} and {meeting_second} meeting-face pixels, {outlines} outline pixels"),
+        )?;
+    } else {
+        // The slice's map passes through the outlines' sand between red and white.
+        check(
+            sidecar_pairs == 0 && meeting < 10 && meeting_second < 10 && (s.slice.is_some() || outlines < 10),
+            &format!("{meeting}, {meeting_second} and {outlines} pair pixels without pairs"),
+        )?;
+    }
     let frames = format!(
-        "frame {} ms mean, {} ms max; {} triangles, {} cells; mesh {:.1}% of the view, marker {:.1} px from the projection, {} frustum-highlight pixels, slice {}/{} cells inside, {} blue and {} red pixels",
+        "frame {} ms mean, {} ms max; {} triangles, {} cells; mesh {:.1}% of the view, marker {:.1} px from the projection, {} frustum-highlight pixels, slice {}/{} cells inside, {} blue and {} red pixels, {} face pairs ({} and {} meeting-face pixels)",
         sidecar["frame_ms_mean"],
         sidecar["frame_ms_max"],
         sidecar["triangles"],
@@ -538,7 +592,10 @@ fn run_scenario(s: &Scenario, dir: &Path, xvfb: Option<&Path>) -> Result<String,
         slice_inside,
         slice_cells,
         slice_blue,
-        slice_red
+        slice_red,
+        sidecar_pairs,
+        meeting,
+        meeting_second
     );
     Ok(frames)
 }

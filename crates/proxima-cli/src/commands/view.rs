@@ -3,8 +3,8 @@
 
 use crate::common::{DEFAULT_MODEL_NAME, kind_parser, load_or_default, parse_vec3};
 use anyhow::Result;
-use proxima::{PrimitiveKind, Sign, Vec3};
-use proxima_viewer::{Axis, InitialView, ModelSource, ScreenshotOptions, ViewerOptions};
+use proxima::{DVec3, PrimitiveKind, Sign, Vec3};
+use proxima_viewer::{Axis, InitialView, ModelSource, PairMode, ScreenshotOptions, ViewerOptions};
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -61,6 +61,17 @@ pub struct Args {
     /// the default view is 29,17).
     #[arg(long, value_name = "YAW,PITCH", value_parser = parse_angles, allow_hyphen_values = true)]
     camera: Option<[f32; 2]>,
+    /// Show pairs: self (the model's self-intersections), second (a second mesh placed by
+    /// --pair-pose against the model) or off.
+    #[arg(long, value_name = "MODE", value_parser = parse_pairs)]
+    pairs: Option<PairMode>,
+    /// The second mesh (a copy of the model when omitted); implies --pairs second.
+    #[arg(long, value_name = "PATH")]
+    second: Option<PathBuf>,
+    /// The second mesh's pose: a translation, then angles in degrees about x, y and z
+    /// (applied in that order).
+    #[arg(long, value_name = "TX,TY,TZ,AX,AY,AZ", value_parser = parse_pair_pose, allow_hyphen_values = true)]
+    pair_pose: Option<(DVec3, DVec3)>,
     /// Window size in points.
     #[arg(long, value_name = "WxH", default_value = "1280x800", value_parser = parse_size)]
     size: [f32; 2],
@@ -97,6 +108,21 @@ fn parse_frustum(text: &str) -> Result<(Vec3, Vec3), String> {
         return Err("the frustum's eye and target must differ".into());
     }
     Ok((eye, target))
+}
+
+fn parse_pairs(text: &str) -> Result<PairMode, String> {
+    text.parse()
+}
+
+fn parse_pair_pose(text: &str) -> Result<(DVec3, DVec3), String> {
+    let numbers: Vec<&str> = text.split([',', ' ', '\t']).filter(|s| !s.is_empty()).collect();
+    let values: Vec<f64> = numbers.iter().filter_map(|s| s.parse::<f64>().ok()).collect();
+    match values[..] {
+        [tx, ty, tz, ax, ay, az] if numbers.len() == 6 && values.iter().all(|v| v.is_finite()) => {
+            Ok((DVec3::new(tx, ty, tz), DVec3::new(ax, ay, az)))
+        }
+        _ => Err(format!("expected six finite numbers TX,TY,TZ,AX,AY,AZ, got '{text}'")),
+    }
 }
 
 fn parse_fov(text: &str) -> Result<f32, String> {
@@ -180,6 +206,9 @@ pub fn run(args: Args) -> Result<()> {
             slice: args.slice,
             slice_sign: args.slice_sign,
             camera: args.camera,
+            pairs: args.pairs,
+            second: args.second,
+            pair_pose: args.pair_pose,
         },
         screenshot: args.screenshot.map(|path| ScreenshotOptions {
             path,
@@ -250,5 +279,19 @@ mod tests {
         assert_eq!(parse_angles("-30 10").unwrap(), [-30.0, 10.0]);
         assert!(parse_angles("0,91").is_err() && parse_angles("1").is_err() && parse_angles("1,x").is_err());
         assert!(parse_angles("inf,0").is_err() && parse_angles("1,2,3").is_err());
+    }
+
+    #[test]
+    fn pair_arguments() {
+        assert_eq!(parse_pairs("self").unwrap(), PairMode::SelfIntersections);
+        assert_eq!(parse_pairs("second").unwrap(), PairMode::SecondMesh);
+        assert_eq!(parse_pairs("off").unwrap(), PairMode::Off);
+        assert!(parse_pairs("both").is_err());
+        assert_eq!(
+            parse_pair_pose("0.5,0,-1, 0 90 -180").unwrap(),
+            (DVec3::new(0.5, 0.0, -1.0), DVec3::new(0.0, 90.0, -180.0))
+        );
+        assert!(parse_pair_pose("1,2,3").is_err() && parse_pair_pose("1,2,3,4,5,nan").is_err());
+        assert!(parse_pair_pose("1,2,3,4,5,6,7").is_err() && parse_pair_pose("1,2,3,4,5,x").is_err());
     }
 }

@@ -3,7 +3,8 @@
 
 use super::{Keys, ViewerApp};
 use crate::model::{Model, ModelSource};
-use crate::settings::{Axis, Settings, nice_size};
+use crate::pair_view::SECOND_MESH_FACE_LIMIT;
+use crate::settings::{Axis, PairMode, Settings, nice_size};
 use crate::slice::sign_name;
 use eframe::egui::{self, Color32, RichText};
 use proxima::{PrimitiveKind, Sign, Vec3};
@@ -37,6 +38,9 @@ impl ViewerApp {
         egui::CollapsingHeader::new("Frustum query")
             .default_open(true)
             .show(ui, |ui| self.frustum_section(ui, &model));
+        egui::CollapsingHeader::new("Pairs")
+            .default_open(true)
+            .show(ui, |ui| self.pairs_section(ui, &model));
         egui::CollapsingHeader::new("Statistics")
             .default_open(true)
             .show(ui, |ui| self.stats_section(ui, &model));
@@ -426,6 +430,118 @@ impl ViewerApp {
                 }
                 Err(e) => {
                     ui.colored_label(Color32::from_rgb(255, 110, 110), e);
+                }
+            }
+        }
+    }
+
+    /// The "Pairs" section: the mode, the second mesh's pose and the answers.
+    fn pairs_section(&mut self, ui: &mut egui::Ui, model: &Model) {
+        let running = self.derived.pairs.running() || self.second.running();
+        let s = &mut self.settings;
+        ui.horizontal(|ui| {
+            for mode in PairMode::ALL {
+                ui.radio_value(&mut s.pair_mode, mode, mode.name());
+            }
+        });
+        if s.pair_mode == PairMode::SecondMesh {
+            let second = match &self.second_path {
+                Some(path) => path.display().to_string(),
+                None => "a copy of the model".to_string(),
+            };
+            ui.label(format!("second mesh: {second}"));
+            let reach = Settings::pair_translation_range(&model.bounds);
+            for (axis, name) in ["x", "y", "z"].into_iter().enumerate() {
+                let mut v = s.pair_translation[axis];
+                let slider = egui::Slider::new(&mut v, -reach..=reach)
+                    .text(format!("move {name}"))
+                    .clamping(egui::SliderClamping::Never)
+                    .drag_value_speed(reach / 500.0);
+                if ui.add(slider).changed() && v.is_finite() {
+                    s.pair_translation[axis] = v;
+                }
+            }
+            for (axis, name) in ["x", "y", "z"].into_iter().enumerate() {
+                let mut v = s.pair_angles[axis];
+                let slider = egui::Slider::new(&mut v, -180.0..=180.0).text(format!("turn about {name} (°)"));
+                if ui.add(slider).changed() && v.is_finite() {
+                    s.pair_angles[axis] = v;
+                }
+            }
+            ui.horizontal(|ui| {
+                if ui.button("reset pose").clicked() {
+                    let defaults = Settings::for_bounds(&model.bounds);
+                    (s.pair_translation, s.pair_angles) = (defaults.pair_translation, defaults.pair_angles);
+                }
+                ui.label(RichText::new("ctrl-drag moves it in the view plane").weak());
+            });
+        }
+        if s.pair_mode == PairMode::Off {
+            return;
+        }
+        if running {
+            ui.horizontal(|ui| {
+                ui.spinner();
+                ui.label(if self.second.running() {
+                    "loading the second mesh…"
+                } else {
+                    "computing…"
+                });
+            });
+        }
+        if let Some(e) = self.pairs_error() {
+            ui.colored_label(Color32::from_rgb(255, 110, 110), e);
+            return;
+        }
+        let Some(a) = self.current_pairs() else {
+            return;
+        };
+        let capped = |drawn: usize, total: usize| {
+            if drawn < total {
+                format!(" (the first {drawn} highlighted)")
+            } else {
+                String::new()
+            }
+        };
+        match a.mode {
+            PairMode::SelfIntersections => {
+                ui.label(format!(
+                    "{} face pairs meet: {} faces{} in {}",
+                    a.pairs.len(),
+                    a.faces_first.len(),
+                    capped(a.highlighted[0], a.faces_first.len()),
+                    format_seconds(a.pairs_seconds)
+                ));
+            }
+            _ => {
+                ui.label(format!(
+                    "{} face pairs meet: {} faces of the model{}, {} of the second mesh{}, in {}",
+                    a.pairs.len(),
+                    a.faces_first.len(),
+                    capped(a.highlighted[0], a.faces_first.len()),
+                    a.faces_second.len(),
+                    capped(a.highlighted[1], a.faces_second.len()),
+                    format_seconds(a.pairs_seconds)
+                ));
+                if let Some(d) = &a.distance {
+                    ui.label(format!(
+                        "distance {:.6} (face {} to face {}) in {}",
+                        d.distance,
+                        d.face_a,
+                        d.face_b,
+                        format_seconds(a.distance_seconds)
+                    ));
+                }
+                if a.second_faces_drawn < a.second_faces {
+                    ui.label(
+                        RichText::new(format!(
+                            "outlining {} of the second mesh's {} faces (one in {})",
+                            a.second_faces_drawn,
+                            a.second_faces,
+                            a.second_faces.div_ceil(SECOND_MESH_FACE_LIMIT)
+                        ))
+                        .weak(),
+                    );
                 }
             }
         }

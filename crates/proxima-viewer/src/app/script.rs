@@ -1,4 +1,4 @@
-//! The scripted mode (`--screenshot`): wait for the model and the grid,
+//! The scripted mode (`--screenshot`): wait for the model and the jobs (grid, slice, pairs),
 //! draw a few timed frames, save egui's screenshot and its report, close.
 
 use super::{Outcome, ViewerApp};
@@ -62,6 +62,10 @@ impl ViewerApp {
             None
         };
         let (slice_cells, slice_inside) = self.current_slice().map_or((0, 0), |s| (s.values.len(), s.inside));
+        let pairs_error = self.pairs_error().cloned();
+        let (pair_count, pair_faces) = self.current_pairs().map_or((0, [0, 0]), |a| {
+            (a.pairs.len(), [a.faces_first.len(), a.faces_second.len()])
+        });
         let Some(script) = &mut self.script else {
             return;
         };
@@ -96,6 +100,9 @@ impl ViewerApp {
                     if let Some(e) = slice_error {
                         return fail(script, format!("slice: {e}"));
                     }
+                    if let Some(e) = pairs_error {
+                        return fail(script, format!("pairs: {e}"));
+                    }
                     script.stage = ScriptStage::Rendering(0);
                     self.timer.reset();
                 }
@@ -123,6 +130,8 @@ impl ViewerApp {
                         cells: cells_drawn,
                         slice_cells,
                         slice_inside,
+                        pairs: pair_count,
+                        pair_faces,
                     };
                     let path = script.options.path.clone();
                     let written = save_png(&path, &image).and_then(|()| {

@@ -1,11 +1,14 @@
 //! The 3D view: the frame composed from the state and drawn by the GL
 //! renderer in a paint callback, status text over it, and the mouse (orbit,
-//! pan, zoom, fit, picking the query point on the surface).
+//! pan, zoom, fit, picking the query point on the surface, ctrl-drag moving
+//! the second mesh).
 
 use super::ViewerApp;
 use crate::camera::{OrbitCamera, Viewport};
 use crate::frame::{FrameInputs, compose_frame};
+use crate::pair_view;
 use crate::scene::colors;
+use crate::settings::PairMode;
 use eframe::egui::{self, Color32};
 use eframe::egui_glow;
 use std::sync::Arc;
@@ -46,6 +49,7 @@ impl ViewerApp {
             frustum: d.frustum.latest().and_then(|f| f.as_ref().ok()),
             slice: self.current_slice().map(|s| s.as_ref()),
             query_inside: self.current_readout().and_then(|r| r.inside()),
+            pairs: self.current_pairs().map(|p| p.as_ref()),
         });
         frame.interactive = interactive;
         if let Some(script) = &self.script {
@@ -93,6 +97,12 @@ impl ViewerApp {
         if self.derived.slice.running() {
             status.push("computing the slice…".to_string());
         }
+        if self.second.running() {
+            status.push("loading the second mesh…".to_string());
+        }
+        if self.derived.pairs.running() {
+            status.push("computing the pairs…".to_string());
+        }
         let hovering_files = ui.input(|i| !i.raw.hovered_files.is_empty());
         if hovering_files {
             status.push("drop the file to load it".to_string());
@@ -108,10 +118,20 @@ impl ViewerApp {
         }
     }
 
-    /// Camera and picking by mouse; `true` while the camera is moving.
+    /// Camera, picking and the second mesh by mouse; `true` while the
+    /// camera is moving.
     fn handle_mouse(&mut self, ui: &egui::Ui, response: &egui::Response) -> bool {
-        let (shift, scroll) = ui.input(|i| (i.modifiers.shift, i.smooth_scroll_delta.y));
+        let (shift, ctrl, scroll) = ui.input(|i| (i.modifiers.shift, i.modifiers.command, i.smooth_scroll_delta.y));
         let delta = response.drag_delta();
+        if ctrl && self.settings.pair_mode == PairMode::SecondMesh && response.dragged_by(egui::PointerButton::Primary)
+        {
+            // Ctrl-drag moves the second mesh in the view plane; the camera stays.
+            let t = pair_view::drag_translation(&self.camera, delta.x, delta.y, &self.viewport);
+            if t.is_finite() {
+                self.settings.pair_translation += t;
+            }
+            return false;
+        }
         let panning = response.dragged_by(egui::PointerButton::Secondary)
             || response.dragged_by(egui::PointerButton::Middle)
             || (shift && response.dragged_by(egui::PointerButton::Primary));
