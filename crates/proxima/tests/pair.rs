@@ -386,3 +386,41 @@ fn bad_input_is_refused_with_the_argument_named() {
         assert!(e.to_string().starts_with("d_max must be at least 0"), "{e}");
     }
 }
+
+/// A pair list stops at what the memory budget holds (`d = ∞` pairs every
+/// face with every face), with the budget error naming the argument. Runs
+/// itself again in a child process with `PROXIMA_MEMORY_BUDGET` set:
+/// setting it here would race the other tests of this process.
+#[test]
+fn pair_lists_stop_at_the_memory_budget() {
+    const CHILD: &str = "PROXIMA_TEST_PAIR_BUDGET_CHILD";
+    const NAME: &str = "pair_lists_stop_at_the_memory_budget";
+    if std::env::var_os(CHILD).is_some() {
+        // 4 KiB hold 512 face pairs of 8 bytes: 12 x 12 = 144 fit, 642 x 642 do not.
+        let small = MeshIndex::new(cube(0.0, 1.0));
+        let id = RigidPose::IDENTITY;
+        assert_eq!(
+            pairs_within(&small, &id, &small, &id, f64::INFINITY).unwrap().len(),
+            144
+        );
+        let big = MeshIndex::new(bumpy_sphere(8, 1));
+        let Err(e) = pairs_within(&big, &id, &big, &id, f64::INFINITY) else {
+            panic!("1280 x 1280 face pairs fit 4 KiB");
+        };
+        assert!(matches!(e, PairError::Budget(_)), "{e}");
+        assert!(e.to_string().starts_with("d inf: needs about"), "{e}");
+        return;
+    }
+    let out = std::process::Command::new(std::env::current_exe().unwrap())
+        .args(["--exact", NAME, "--nocapture", "--test-threads", "1"])
+        .env(CHILD, "1")
+        .env("PROXIMA_MEMORY_BUDGET", "4K")
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success() && stdout.contains("1 passed"),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

@@ -76,8 +76,16 @@ pub fn pairs_within(
     check_pose(pose_b, || "pose_b".into())?;
     let (tree_a, tree_b) = (faces_tree(a, "a")?, faces_tree(b, "b")?);
     let pair = PlacedPair::new(tree_a, *pose_a, tree_b, *pose_b);
-    let visitor = |out: Vec<FacePair>| Within { pair: &pair, d, out };
-    Ok(collect_parallel(&pair, false, || visitor(Vec::new()), |v| v.out))
+    let limit = PairLimit::from_budget()?;
+    let visitor = || Within {
+        pair: &pair,
+        d,
+        out: Vec::new(),
+        limit: &limit,
+    };
+    let found = collect_parallel(&pair, false, visitor, |v| v.out);
+    limit.check("d", d)?;
+    Ok(found)
 }
 
 /// Whether any triangle pair of `pair` meets.
@@ -110,6 +118,46 @@ struct Within<'p, 't> {
     pair: &'p PlacedPair<'t>,
     d: f64,
     out: Vec<FacePair>,
+    limit: &'p PairLimit,
+}
+
+/// How many triangle pairs a pair list may collect before it stops: as many
+/// as the memory budget holds (a generous `d`, or a mesh of a million
+/// copies of one face, would otherwise fill the memory). Shared by the
+/// threads of one query.
+pub(crate) struct PairLimit {
+    found: std::sync::atomic::AtomicUsize,
+    most: usize,
+}
+
+impl PairLimit {
+    /// The limit of the memory budget (`PROXIMA_MEMORY_BUDGET` or the default).
+    pub(crate) fn from_budget() -> Result<Self, PairError> {
+        let budget = crate::budget::memory_budget_from_env().map_err(crate::budget::BudgetError::Environment)?;
+        Ok(Self {
+            found: 0.into(),
+            most: (budget / size_of::<FacePair>() as u64) as usize,
+        })
+    }
+
+    /// Counts one more pair; `Break` once past the limit.
+    #[inline]
+    pub(crate) fn add(&self) -> ControlFlow<()> {
+        if self.found.fetch_add(1, std::sync::atomic::Ordering::Relaxed) >= self.most {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    }
+
+    /// The budget error when the walk stopped at the limit, naming `option`.
+    pub(crate) fn check(&self, option: &str, value: impl std::fmt::Display) -> Result<(), PairError> {
+        let found = self.found.load(std::sync::atomic::Ordering::Relaxed);
+        if found > self.most {
+            crate::budget::check_fits(option, value, found as u128, size_of::<FacePair>() as u128)?;
+        }
+        Ok(())
+    }
 }
 
 impl PairVisitor for Within<'_, '_> {
@@ -129,6 +177,7 @@ impl PairVisitor for Within<'_, '_> {
             let face_a = self.pair.a().leaves().sources()[a.slot as usize];
             let face_b = self.pair.b().leaves().sources()[b.slot as usize];
             self.out.push([face_a, face_b]);
+            return self.limit.add();
         }
         ControlFlow::Continue(())
     }

@@ -1,6 +1,6 @@
 //! The faces of one mesh that meet other faces of it.
 
-use super::collide::collect_parallel;
+use super::collide::{PairLimit, collect_parallel};
 use super::descent::{PairVisitor, PlacedPair, PlacedTriangle};
 use super::triangle_intersection::{neighbours_intersect, triangles_intersect};
 use super::{FacePair, PairError, RigidPose, faces_tree};
@@ -34,12 +34,16 @@ pub fn self_intersections(index: &MeshIndex) -> Result<Vec<FacePair>, PairError>
     let corners = index.mesh().triangle_vertex_indices();
     let pair = PlacedPair::new(tree, RigidPose::IDENTITY, tree, RigidPose::IDENTITY);
     let leaves = tree.leaves();
+    let limit = PairLimit::from_budget()?;
     let visitor = || SelfMeeting {
         leaves,
         corners: &corners,
         out: Vec::new(),
+        limit: &limit,
     };
-    Ok(collect_parallel(&pair, true, visitor, |v| v.out))
+    let found = collect_parallel(&pair, true, visitor, |v| v.out);
+    limit.check("self-intersecting pairs", found.len())?;
+    Ok(found)
 }
 
 /// Collects the face pairs of one mesh that meet beyond what they share.
@@ -48,6 +52,7 @@ struct SelfMeeting<'t> {
     /// Vertex indices per triangle (input order).
     corners: &'t [[u32; 3]],
     out: Vec<FacePair>,
+    limit: &'t PairLimit,
 }
 
 impl PairVisitor for SelfMeeting<'_> {
@@ -71,6 +76,7 @@ impl PairVisitor for SelfMeeting<'_> {
         };
         if meet {
             self.out.push([fa.min(fb), fa.max(fb)]);
+            return self.limit.add();
         }
         ControlFlow::Continue(())
     }
