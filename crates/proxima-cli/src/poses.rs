@@ -6,7 +6,7 @@
 //! after the option's name or the file's line.
 
 use anyhow::{Context, Result, bail};
-use proxima::pair::{MAX_TRANSLATION, PairError, RigidPose};
+use proxima::pair::{RigidPose, check_pose};
 use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
 
@@ -37,22 +37,11 @@ pub fn parse_rows(text: &str) -> Result<Rows, String> {
 
 /// The pose of `rows`, or why it is not one, after `what` (`--pose-b`,
 /// `poses.txt:3`): not rigid ([`proxima::pair::PoseError`]) or placed beyond
-/// the library's range ([`MAX_TRANSLATION`], checked here too so that a file's
-/// pose is named by its line).
+/// the library's range ([`check_pose`], called here so that a file's pose is
+/// named by its line).
 pub fn pose(rows: &Rows, what: &str) -> Result<RigidPose> {
     let pose = RigidPose::from_rows(*rows).with_context(|| what.to_string())?;
-    if let Some(value) = pose
-        .translation()
-        .to_array()
-        .into_iter()
-        .find(|v| v.abs() > MAX_TRANSLATION)
-    {
-        return Err(PairError::PoseOutOfRange {
-            pose: what.to_string(),
-            value,
-        }
-        .into());
-    }
+    check_pose(&pose, || what.to_string())?;
     Ok(pose)
 }
 
@@ -119,6 +108,7 @@ fn for_each_line(path: &Path, mut f: impl FnMut(usize, &str) -> Result<()>) -> R
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proxima::pair::MAX_TRANSLATION;
 
     #[test]
     fn sixteen_numbers_by_rows() {

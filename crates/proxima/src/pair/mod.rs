@@ -66,8 +66,19 @@ pub(crate) fn faces_tree<'i>(index: &'i MeshIndex, mesh: &'static str) -> Result
         .map_err(|source| PairError::Mesh { mesh, source })
 }
 
-/// Refuses a pose that places its mesh beyond [`MAX_TRANSLATION`].
-pub(crate) fn check_pose(pose: &RigidPose, name: impl FnOnce() -> String) -> Result<(), PairError> {
+/// Refuses a pose that places its mesh beyond [`MAX_TRANSLATION`], as every
+/// query here does, with [`PairError::PoseOutOfRange`] naming the pose by
+/// `name()`: front ends check their poses up front under their own names
+/// (`--pose-b`, `poses.txt:3`, `pose_b[2]`).
+///
+/// ```
+/// use proxima::pair::{check_pose, RigidPose};
+/// let far = RigidPose::translation_only(proxima::DVec3::new(0.0, 2e38, 0.0)).unwrap();
+/// let e = check_pose(&far, || "--pose-b".into()).unwrap_err();
+/// assert_eq!(e.to_string(), "--pose-b: a translation coordinate of 2e38 is beyond the supported 1e38");
+/// assert!(check_pose(&RigidPose::IDENTITY, || unreachable!()).is_ok());
+/// ```
+pub fn check_pose(pose: &RigidPose, name: impl FnOnce() -> String) -> Result<(), PairError> {
     let t = pose.translation();
     match t.to_array().into_iter().find(|v| v.abs() > MAX_TRANSLATION) {
         Some(value) => Err(PairError::PoseOutOfRange { pose: name(), value }),
