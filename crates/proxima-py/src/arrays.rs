@@ -17,7 +17,7 @@ pub fn value_error(name: &str, message: impl std::fmt::Display) -> PyErr {
 
 /// `object` as a numpy array (no copy when it is one), refused unless its
 /// values are real numbers (integers or floats).
-fn real_array<'py>(object: &Bound<'py, PyAny>, name: &str) -> PyResult<Bound<'py, PyUntypedArray>> {
+pub fn real_array<'py>(object: &Bound<'py, PyAny>, name: &str) -> PyResult<Bound<'py, PyUntypedArray>> {
     let py = object.py();
     let numpy = py.import("numpy")?;
     let array = numpy
@@ -46,7 +46,11 @@ fn contiguous<'py>(array: &Bound<'py, PyUntypedArray>, dtype: &str) -> PyResult<
 
 /// The values of `array` converted to `dtype` (a numpy name matching `T`),
 /// in C order.
-fn values<T: numpy::Element + Copy>(array: &Bound<'_, PyUntypedArray>, dtype: &str, name: &str) -> PyResult<Vec<T>> {
+pub fn values<T: numpy::Element + Copy>(
+    array: &Bound<'_, PyUntypedArray>,
+    dtype: &str,
+    name: &str,
+) -> PyResult<Vec<T>> {
     let array = contiguous(array, dtype)?;
     let array = array
         .cast_into::<numpy::PyArrayDyn<T>>()

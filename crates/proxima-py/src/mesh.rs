@@ -3,6 +3,7 @@
 use crate::arrays::{self, Check, value_error};
 use crate::budget::check_budget;
 use crate::closest;
+use crate::pairs;
 use crate::threads;
 use crate::voxels::VoxelGrid;
 use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods};
@@ -636,5 +637,57 @@ impl PyMesh {
             Ok::<_, PyErr>(out)
         })??;
         arrays::vector(py, values).reshape([n, n, n])
+    }
+
+    /// Whether this mesh's surface meets `other`'s (closed triangles:
+    /// touching counts; decided exactly): `other` placed by `pose`, this
+    /// mesh by `pose_self` ((4, 4) matrices, `None` the identity). A
+    /// (P, 4, 4) `pose` answers each pose with this mesh unmoved: (P,) bool.
+    #[pyo3(signature = (other, pose = None, *, pose_self = None, threads = None))]
+    fn intersects(
+        &self,
+        py: Python<'_>,
+        other: &Bound<'_, PyMesh>,
+        pose: Option<&Bound<'_, PyAny>>,
+        pose_self: Option<&Bound<'_, PyAny>>,
+        threads: Option<i64>,
+    ) -> PyResult<Py<PyAny>> {
+        pairs::intersects(py, self, other.get(), pose, pose_self, threads)
+    }
+
+    /// The pairs of faces (face of this mesh, face of `other`) that meet,
+    /// decided exactly: (K, 2) int64, sorted.
+    #[pyo3(signature = (other, pose = None, *, pose_self = None, threads = None))]
+    fn intersecting_pairs<'py>(
+        &self,
+        py: Python<'py>,
+        other: &Bound<'py, PyMesh>,
+        pose: Option<&Bound<'py, PyAny>>,
+        pose_self: Option<&Bound<'py, PyAny>>,
+        threads: Option<i64>,
+    ) -> PyResult<Bound<'py, PyArray2<i64>>> {
+        pairs::pairs(py, self, other.get(), None, pose, pose_self, threads)
+    }
+
+    /// The pairs of faces at distance at most `distance`: (K, 2) int64, sorted.
+    #[pyo3(signature = (other, distance, pose = None, *, pose_self = None, threads = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn pairs_within<'py>(
+        &self,
+        py: Python<'py>,
+        other: &Bound<'py, PyMesh>,
+        distance: f64,
+        pose: Option<&Bound<'py, PyAny>>,
+        pose_self: Option<&Bound<'py, PyAny>>,
+        threads: Option<i64>,
+    ) -> PyResult<Bound<'py, PyArray2<i64>>> {
+        pairs::pairs(py, self, other.get(), Some(distance), pose, pose_self, threads)
+    }
+
+    /// The pairs of faces of this mesh that meet beyond the vertices and
+    /// edges they share: (K, 2) int64, `face_a < face_b`, sorted.
+    #[pyo3(signature = (threads = None))]
+    fn self_intersections<'py>(&self, py: Python<'py>, threads: Option<i64>) -> PyResult<Bound<'py, PyArray2<i64>>> {
+        pairs::self_intersections(py, self, threads)
     }
 }

@@ -1,7 +1,8 @@
 """proxima: exact, fast spatial queries on triangle meshes.
 
 Closest points, k nearest elements, signed distances with winding-number
-signs, ray casts, voxels and frustum culling, on numpy arrays. Every batch
+signs, ray casts, voxels and frustum culling, on numpy arrays; distances, collisions and
+self-intersections of meshes placed by rigid poses. Every batch
 call releases the GIL and runs on all cores (``threads=1`` for one).
 
 >>> import proxima
@@ -13,9 +14,11 @@ call releases the GIL and runs on all cores (``threads=1`` for one).
 
 from ._proxima import (
     Mesh,
+    PairDistance,
     VoxelGrid,
     __version__,
     check_fits,
+    distance,
     load,
     max_threads,
     memory_budget,
@@ -27,9 +30,11 @@ from ._proxima import (
 
 __all__ = [
     "Mesh",
+    "PairDistance",
     "VoxelGrid",
     "__version__",
     "check_fits",
+    "distance",
     "load",
     "max_threads",
     "memory_budget",

@@ -1,7 +1,7 @@
 """Type stubs of proxima's native module (the API contract of the package)."""
 
 from os import PathLike
-from typing import Literal, Optional, Sequence, Tuple, Union
+from typing import Iterator, Literal, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -95,6 +95,97 @@ def traverse(
     >>> cells.tolist()
     [[0, 0, 0], [1, 0, 0], [2, 0, 0]]
     """
+
+Pose = npt.ArrayLike
+"""A rigid pose: a (4, 4) matrix ``[R t; 0 0 0 1]`` (row-major, as numpy
+writes it; float64 or float32), ``R`` a rotation (``R^T R`` within 1e-6 of
+the identity, determinant > 0), finite, translation within +-1e38. Anything
+else is a ``ValueError`` naming the argument (``pose_b: the pose is not a
+rotation: ...``; ``pose_b[3]: ...`` for one pose of a stack)."""
+
+class PairDistance:
+    """The nearest points of two placed meshes (:func:`distance`); unpacks
+    as ``(distance, point_a, point_b, face_a, face_b)``."""
+
+    @property
+    def distance(self) -> float:
+        """The distance between the meshes (0 when their surfaces meet)."""
+    @property
+    def point_a(self) -> npt.NDArray[np.float64]:
+        """The point on the first mesh, in the world, shape (3,)."""
+    @property
+    def point_b(self) -> npt.NDArray[np.float64]:
+        """The point on the second mesh, in the world, shape (3,)."""
+    @property
+    def face_a(self) -> int:
+        """The face of the first mesh holding ``point_a``."""
+    @property
+    def face_b(self) -> int:
+        """The face of the second mesh holding ``point_b``."""
+    @property
+    def triangle_a(self) -> int:
+        """The triangle (fan triangles of the faces, in order) holding ``point_a``."""
+    @property
+    def triangle_b(self) -> int:
+        """The triangle of the second mesh holding ``point_b``."""
+    @property
+    def barycentric_a(self) -> npt.NDArray[np.float64]:
+        """``point_a`` in barycentric coordinates of ``triangle_a``'s corners, shape (3,)."""
+    @property
+    def barycentric_b(self) -> npt.NDArray[np.float64]:
+        """``point_b`` in barycentric coordinates of ``triangle_b``'s corners, shape (3,)."""
+    def __iter__(self) -> Iterator[object]: ...
+    def __len__(self) -> int: ...
+
+@overload
+def distance(
+    a: Mesh,
+    b: Mesh,
+    pose_a: Optional[Pose] = None,
+    pose_b: Optional[Pose] = None,
+    *,
+    max_distance: Optional[float] = None,
+    threads: Optional[int] = None,
+) -> Optional[PairDistance]:
+    """The distance between mesh ``a`` placed by ``pose_a`` and mesh ``b``
+    placed by ``pose_b`` (``None``: the identity): the smallest distance
+    over all pairs of their triangles, in float64 (``proxima::pair``), and
+    where it is reached, as a :class:`PairDistance`. With ``max_distance``,
+    ``None`` when the distance is ``max_distance`` or more (found without
+    opening farther parts of the meshes).
+
+    ``pose_b`` of shape (P, 4, 4): ``b`` at each pose with ``a`` unmoved
+    (``pose_a`` must be None or the identity, else ``ValueError``), as
+    arrays ``(distance (P,), point_a (P, 3), point_b (P, 3), face_a (P,),
+    face_b (P,))``; beyond ``max_distance``: ``inf``, NaN points, faces -1.
+    The stack is counted against the memory budget before it is read.
+
+    ``ValueError`` naming ``a`` or ``b`` (a mesh without faces),
+    ``pose_a``/``pose_b`` (see :data:`Pose`), ``max_distance`` (negative or
+    NaN) or ``threads``. The GIL is released during the walk.
+
+    >>> T = np.eye(4); T[0, 3] = 3.0          # b moved 3 along x
+    >>> d = proxima.distance(cube, cube, pose_b=T)
+    >>> d.distance, d.point_a.tolist(), d.point_b.tolist()
+    (2.0, [1.0, 0.0, 0.0], [3.0, 0.0, 0.0])
+    """
+
+@overload
+def distance(
+    a: Mesh,
+    b: Mesh,
+    pose_a: None,
+    pose_b: npt.ArrayLike,
+    *,
+    max_distance: Optional[float] = None,
+    threads: Optional[int] = None,
+) -> Tuple[
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.int64],
+    npt.NDArray[np.int64],
+]: ...
 
 class VoxelGrid:
     """The cells of a cubic grid that a mesh's triangles overlap (exact test)."""
@@ -305,3 +396,52 @@ class Mesh:
         ``(x_i, y_j, z_k)``, ``x_i = lo + cell * (i + 0.5)`` in float32
         (``cell = (hi - lo) / N``). ``ValueError`` naming ``resolution``
         (below 1, or 8 bytes a cell beyond the memory budget) or ``cube``."""
+
+    def intersects(
+        self,
+        other: Mesh,
+        pose: Optional[Pose] = None,
+        *,
+        pose_self: Optional[Pose] = None,
+        threads: Optional[int] = None,
+    ) -> Union[bool, npt.NDArray[np.bool_]]:
+        """Whether this mesh's surface, placed by ``pose_self``, meets
+        ``other``'s placed by ``pose`` (``None``: the identity): closed
+        triangles, touching counts, decided exactly for the placed float64
+        coordinates. Surfaces, not volumes: a mesh wholly inside another does
+        not meet it. ``pose`` of shape (P, 4, 4): (P,) bool, ``other`` at
+        each pose with this mesh unmoved (``pose_self`` None). ``ValueError``
+        naming ``self``/``other`` (no faces), ``pose``, ``pose_self``,
+        ``threads``."""
+    def intersecting_pairs(
+        self,
+        other: Mesh,
+        pose: Optional[Pose] = None,
+        *,
+        pose_self: Optional[Pose] = None,
+        threads: Optional[int] = None,
+    ) -> npt.NDArray[np.int64]:
+        """The pairs of faces (face of this mesh, face of ``other``) that
+        meet, decided exactly as :meth:`intersects`: (K, 2) int64, sorted,
+        each pair once (a polygon face meets if any of its fan triangles
+        does)."""
+    def pairs_within(
+        self,
+        other: Mesh,
+        distance: float,
+        pose: Optional[Pose] = None,
+        *,
+        pose_self: Optional[Pose] = None,
+        threads: Optional[int] = None,
+    ) -> npt.NDArray[np.int64]:
+        """The pairs of faces at distance at most ``distance`` (float64
+        triangle-pair distance; ``distance=0`` is exactly
+        :meth:`intersecting_pairs`): (K, 2) int64, sorted. ``ValueError``
+        naming ``distance`` when it is negative, NaN or infinite."""
+    def self_intersections(self, threads: Optional[int] = None) -> npt.NDArray[np.int64]:
+        """The pairs of faces ``[f, g]`` (``f < g``) of this mesh that meet,
+        decided exactly: (K, 2) int64, sorted. Faces sharing vertices (by
+        index) are reported only when they meet beyond what they share (a
+        fold, a face crossing its neighbour); faces meeting through distinct
+        but equal vertices (an unwelded seam) are reported: weld first. The
+        same pairs as ``proxima self-intersections``."""
