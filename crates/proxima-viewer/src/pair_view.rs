@@ -464,8 +464,10 @@ mod tests {
             }
             assert_eq!(pose.translation(), expected.translation());
         }
-        let mut s = Settings::default();
-        s.pair_angles = DVec3::new(10.0, f64::NAN, 0.0);
+        let mut s = Settings {
+            pair_angles: DVec3::new(10.0, f64::NAN, 0.0),
+            ..Settings::default()
+        };
         assert!(settings_pose(&s).is_err());
         s.pair_angles = DVec3::ZERO;
         s.pair_translation = DVec3::new(f64::INFINITY, 0.0, 0.0);
