@@ -8,6 +8,9 @@
 //! - Peer libraries (parry3d, obvhs) only with the feature `peers` (on by
 //!   default; `proxima-cli` turns it off): [`peers`], and the binaries
 //!   `bench`, `compare` and `rays_peers`.
+//! - Two meshes under rigid motion (issue 36): [`poses`] (seeded pose sets
+//!   in files) and [`pairs`] (proxima's pair queries, parry3d's, and the
+//!   judging of a peer's answers), run by the `pairs` binary.
 //! - Shared by the other binaries and the criterion benches: meshes by name
 //!   ([`load_named`]) and ray sets ([`ray_sets()`], [`aimed_rays`]).
 
@@ -25,8 +28,10 @@ pub mod closest;
 pub mod command;
 pub mod input;
 pub mod meshes;
+pub mod pairs;
 #[cfg(feature = "peers")]
 pub mod peers;
+pub mod poses;
 pub mod ray_sets;
 pub mod rays;
 pub mod report;
