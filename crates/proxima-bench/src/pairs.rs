@@ -40,6 +40,9 @@ pub struct Row {
     pub poses: usize,
     /// Time for all of them.
     pub seconds: f64,
+    /// The CPU time the process spent meanwhile (all threads), when known:
+    /// over `seconds`, the cores the row actually had on a shared machine.
+    pub cpu_seconds: Option<f64>,
 }
 
 impl Row {
@@ -52,6 +55,7 @@ impl Row {
         json!({
             "class": self.class, "query": self.query, "method": self.method, "threads": self.threads,
             "poses": self.poses, "seconds": self.seconds, "per_second": self.per_second(),
+            "cpu_seconds": self.cpu_seconds,
         })
     }
 }
@@ -106,6 +110,25 @@ impl Workload {
     }
 }
 
+/// The CPU time of this process so far (user and system, every thread),
+/// from `/proc/self/stat` at Linux's 100 ticks per second; `None` where
+/// that file is not.
+fn cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // The fields after the command name's closing parenthesis start at the
+    // third; utime and stime are the 14th and 15th.
+    let fields: Vec<&str> = stat.rsplit_once(')')?.1.split_whitespace().collect();
+    let ticks = fields.get(11)?.parse::<f64>().ok()? + fields.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
+}
+
+/// [`timed`] with the CPU time the process spent meanwhile.
+fn timed_cpu<R>(f: impl FnOnce() -> R) -> (R, f64, Option<f64>) {
+    let before = cpu_seconds();
+    let (value, seconds) = timed(f);
+    (value, seconds, before.zip(cpu_seconds()).map(|(b, a)| a - b))
+}
+
 /// A pool of `threads` threads.
 fn pool(threads: usize) -> Result<rayon::ThreadPool> {
     Ok(rayon::ThreadPoolBuilder::new().num_threads(threads).build()?)
@@ -127,17 +150,18 @@ struct ProximaAnswers {
 fn proxima_rows(w: &Workload, class: &'static str, all: &[RigidPose], distance_count: usize) -> Result<ProximaAnswers> {
     let identity = RigidPose::IDENTITY;
     let poses = &all[..distance_count.min(all.len())];
-    let row = |query, method, threads, count, seconds| Row {
+    let row = |query, method, threads, count, (seconds, cpu_seconds)| Row {
         class,
         query,
         method,
         threads,
         poses: count,
         seconds,
+        cpu_seconds,
     };
     let one = pool(1)?;
-    let (distances, s_distance) = one.install(|| {
-        timed(|| {
+    let (distances, s_distance, c_distance) = one.install(|| {
+        timed_cpu(|| {
             poses
                 .iter()
                 .map(|pose| pair::distance(&w.a, &identity, &w.b, pose))
@@ -145,8 +169,8 @@ fn proxima_rows(w: &Workload, class: &'static str, all: &[RigidPose], distance_c
         })
     });
     let distances = distances?;
-    let (intersects, s_intersects) = one.install(|| {
-        timed(|| {
+    let (intersects, s_intersects, c_intersects) = one.install(|| {
+        timed_cpu(|| {
             all.iter()
                 .map(|pose| pair::intersects(&w.a, &identity, &w.b, pose))
                 .collect::<Result<Vec<_>, _>>()
@@ -154,18 +178,18 @@ fn proxima_rows(w: &Workload, class: &'static str, all: &[RigidPose], distance_c
     });
     let intersects = intersects?;
     let mut rows = vec![
-        row("distance", "proxima", 1, poses.len(), s_distance),
-        row("intersects", "proxima", 1, all.len(), s_intersects),
+        row("distance", "proxima", 1, poses.len(), (s_distance, c_distance)),
+        row("intersects", "proxima", 1, all.len(), (s_intersects, c_intersects)),
     ];
     let mut batch_mismatches = 0;
     for threads in [1, 2] {
         let p = pool(threads)?;
-        let (batch, seconds) = p.install(|| timed(|| pair::distance_batch(&w.a, &w.b, poses)));
+        let (batch, seconds, cpu) = p.install(|| timed_cpu(|| pair::distance_batch(&w.a, &w.b, poses)));
         batch_mismatches += batch?.iter().zip(&distances).filter(|(x, y)| x != y).count();
-        rows.push(row("distance", "proxima-batch", threads, poses.len(), seconds));
-        let (batch, seconds) = p.install(|| timed(|| pair::intersects_batch(&w.a, &w.b, all)));
+        rows.push(row("distance", "proxima-batch", threads, poses.len(), (seconds, cpu)));
+        let (batch, seconds, cpu) = p.install(|| timed_cpu(|| pair::intersects_batch(&w.a, &w.b, all)));
         batch_mismatches += batch?.iter().zip(&intersects).filter(|(x, y)| x != y).count();
-        rows.push(row("intersects", "proxima-batch", threads, all.len(), seconds));
+        rows.push(row("intersects", "proxima-batch", threads, all.len(), (seconds, cpu)));
     }
     let inconsistent = distances
         .iter()
@@ -381,6 +405,7 @@ fn parry_rows(
         threads: 1,
         poses: count,
         seconds,
+        cpu_seconds: None,
     };
     let answers = meets
         .iter()
@@ -762,6 +787,25 @@ mod tests {
         );
         assert_eq!(v.only_peer_meets_apart, 1);
         assert!(judge(&w, &poses, &[d], &[false], &[PeerAnswer { pose: 99, ..exact }]).is_err());
+    }
+
+    /// The process's CPU time over a busy loop never goes back and stays
+    /// within what the test binary's threads could spend in that wall time
+    /// (a shared machine may give the loop less than its wall time).
+    #[test]
+    fn cpu_time_counts_the_work() {
+        let (sum, seconds, cpu) = timed_cpu(|| {
+            let start = std::time::Instant::now();
+            let mut x = 0u64;
+            while start.elapsed().as_secs_f64() < 0.05 {
+                x = std::hint::black_box(x.wrapping_add(1));
+            }
+            x
+        });
+        assert!(sum > 0 && seconds >= 0.05);
+        if let Some(cpu) = cpu {
+            assert!(cpu >= 0.0 && cpu <= seconds * 64.0 + 0.02, "{cpu} {seconds}");
+        }
     }
 
     /// Self-intersection judging on two crossing triangles and two apart.
