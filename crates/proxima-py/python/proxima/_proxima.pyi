@@ -164,8 +164,9 @@ def distance(
     ``pose_a``/``pose_b`` (see :data:`Pose`), ``max_distance`` (negative or
     NaN) or ``threads``. The GIL is released during the walk.
 
+    >>> square = proxima.Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], [[0, 1, 2, 3]])
     >>> T = np.eye(4); T[0, 3] = 3.0          # b moved 3 along x
-    >>> d = proxima.distance(cube, cube, pose_b=T)
+    >>> d = proxima.distance(square, square, pose_b=T)
     >>> d.distance, d.point_a.tolist(), d.point_b.tolist()
     (2.0, [1.0, 0.0, 0.0], [3.0, 0.0, 0.0])
     """
