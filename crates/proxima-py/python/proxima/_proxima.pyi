@@ -167,8 +167,8 @@ def distance(
     >>> square = proxima.Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], [[0, 1, 2, 3]])
     >>> T = np.eye(4); T[0, 3] = 3.0          # b moved 3 along x
     >>> d = proxima.distance(square, square, pose_b=T)
-    >>> d.distance, d.point_a.tolist(), d.point_b.tolist()
-    (2.0, [1.0, 0.0, 0.0], [3.0, 0.0, 0.0])
+    >>> d.distance, d.point_a[0], d.point_b[0]
+    (2.0, 1.0, 3.0)
     """
 
 @overload
