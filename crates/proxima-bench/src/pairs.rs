@@ -464,7 +464,9 @@ pub fn run(options: &Options) -> Result<Value> {
         )
     });
     let mut rows = Vec::new();
-    let mut verdicts = Vec::new();
+    // Filled by the parry3d rows only (feature `peers`).
+    #[cfg_attr(not(feature = "peers"), allow(unused_mut))]
+    let mut verdicts: Vec<Value> = Vec::new();
     let mut checks = Vec::new();
     let mut dump = serde_json::Map::new();
     for &class in &options.classes {
