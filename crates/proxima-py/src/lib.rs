@@ -66,7 +66,7 @@ fn _proxima(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(load, m)?)?;
     m.add_function(wrap_pyfunction!(noisy_icosphere, m)?)?;
     m.add_function(wrap_pyfunction!(traverse::traverse, m)?)?;
-    m.add_function(wrap_pyfunction!(pairs::distance, m)?)?;
+    m.add_function(wrap_pyfunction!(mesh::distance, m)?)?;
     m.add_function(wrap_pyfunction!(budget::memory_budget, m)?)?;
     m.add_function(wrap_pyfunction!(budget::max_threads, m)?)?;
     m.add_function(wrap_pyfunction!(budget::check_fits_py, m)?)?;

@@ -652,7 +652,7 @@ impl PyMesh {
         pose_self: Option<&Bound<'_, PyAny>>,
         threads: Option<i64>,
     ) -> PyResult<Py<PyAny>> {
-        pairs::intersects(py, self, other.get(), pose, pose_self, threads)
+        pairs::intersects(py, &self.index, &other.get().index, pose, pose_self, threads)
     }
 
     /// The pairs of faces (face of this mesh, face of `other`) that meet,
@@ -666,7 +666,7 @@ impl PyMesh {
         pose_self: Option<&Bound<'py, PyAny>>,
         threads: Option<i64>,
     ) -> PyResult<Bound<'py, PyArray2<i64>>> {
-        pairs::pairs(py, self, other.get(), None, pose, pose_self, threads)
+        pairs::pairs(py, &self.index, &other.get().index, None, pose, pose_self, threads)
     }
 
     /// The pairs of faces at distance at most `distance`: (K, 2) int64, sorted.
@@ -681,13 +681,46 @@ impl PyMesh {
         pose_self: Option<&Bound<'py, PyAny>>,
         threads: Option<i64>,
     ) -> PyResult<Bound<'py, PyArray2<i64>>> {
-        pairs::pairs(py, self, other.get(), Some(distance), pose, pose_self, threads)
+        pairs::pairs(
+            py,
+            &self.index,
+            &other.get().index,
+            Some(distance),
+            pose,
+            pose_self,
+            threads,
+        )
     }
 
     /// The pairs of faces of this mesh that meet beyond the vertices and
     /// edges they share: (K, 2) int64, `face_a < face_b`, sorted.
     #[pyo3(signature = (threads = None))]
     fn self_intersections<'py>(&self, py: Python<'py>, threads: Option<i64>) -> PyResult<Bound<'py, PyArray2<i64>>> {
-        pairs::self_intersections(py, self, threads)
+        pairs::self_intersections(py, &self.index, threads)
     }
+}
+
+/// `proxima.distance(a, b, pose_a=None, pose_b=None, *, max_distance=None,
+/// threads=None)`: the distance between mesh `a` placed by `pose_a` and
+/// mesh `b` placed by `pose_b` (see the stubs; the work is `pairs::distance`).
+#[pyfunction]
+#[pyo3(signature = (a, b, pose_a = None, pose_b = None, *, max_distance = None, threads = None))]
+pub fn distance<'py>(
+    py: Python<'py>,
+    a: &Bound<'py, PyMesh>,
+    b: &Bound<'py, PyMesh>,
+    pose_a: Option<&Bound<'py, PyAny>>,
+    pose_b: Option<&Bound<'py, PyAny>>,
+    max_distance: Option<f64>,
+    threads: Option<i64>,
+) -> PyResult<Py<PyAny>> {
+    pairs::distance(
+        py,
+        &a.get().index,
+        &b.get().index,
+        pose_a,
+        pose_b,
+        max_distance,
+        threads,
+    )
 }

@@ -6,10 +6,10 @@
 //! the `threads=` pool, the answers laid out as numpy arrays.
 
 use crate::arrays::{self, value_error};
-use crate::mesh::PyMesh;
 use crate::poses::{self, Poses};
 use crate::threads;
 use numpy::{IntoPyArray, PyArray1, PyArray2};
+use proxima::MeshIndex;
 use proxima::pair::{self, FacePair, PairDistance, PairError, RigidPose};
 use proxima::prelude::*;
 use pyo3::IntoPyObjectExt;
@@ -121,10 +121,8 @@ fn pair_error(error: PairError, distance_name: &str) -> PyErr {
 }
 
 /// Fails unless `mesh` has faces, naming the argument.
-fn require_faces(mesh: &PyMesh, name: &str) -> PyResult<()> {
-    mesh.index
-        .require(PrimitiveKind::Faces)
-        .map_err(|e| value_error(name, e))
+fn require_faces(mesh: &MeshIndex, name: &str) -> PyResult<()> {
+    mesh.require(PrimitiveKind::Faces).map_err(|e| value_error(name, e))
 }
 
 /// Refuses a stack of poses for `stack_name` with a non-identity
@@ -156,25 +154,23 @@ type DistanceArrays<'py> = (
 /// Bytes kept per pose of a batch of distances: the answer and its arrays.
 const DISTANCE_BYTES: usize = size_of::<Option<PairDistance>>() + 8 * 9;
 
-/// The distance between mesh `a` placed by `pose_a` and mesh `b` placed by
-/// `pose_b` (see the stubs: one pose, or a (P, 4, 4) stack of poses of `b`).
-#[pyfunction]
-#[pyo3(signature = (a, b, pose_a = None, pose_b = None, *, max_distance = None, threads = None))]
+/// `proxima.distance` (its `#[pyfunction]` is in `mesh.rs`): the distance
+/// between mesh `a` placed by `pose_a` and mesh `b` placed by `pose_b` (see
+/// the stubs: one pose, or a (P, 4, 4) stack of poses of `b`).
 pub fn distance<'py>(
     py: Python<'py>,
-    a: &Bound<'py, PyMesh>,
-    b: &Bound<'py, PyMesh>,
+    a: &MeshIndex,
+    b: &MeshIndex,
     pose_a: Option<&Bound<'py, PyAny>>,
     pose_b: Option<&Bound<'py, PyAny>>,
     max_distance: Option<f64>,
     threads: Option<i64>,
 ) -> PyResult<Py<PyAny>> {
-    let (a, b) = (a.get(), b.get());
     let pose_a = poses::one(pose_a, "pose_a")?;
     let pose_b = poses::poses(pose_b, "pose_b", DISTANCE_BYTES)?;
     require_faces(a, "a")?;
     require_faces(b, "b")?;
-    let (ia, ib) = (&a.index, &b.index);
+    let (ia, ib) = (a, b);
     match pose_b {
         Poses::One(pose_b) => {
             let found = threads::run(py, threads, || match max_distance {
@@ -227,8 +223,8 @@ fn distance_arrays<'py>(py: Python<'py>, found: &[Option<PairDistance>]) -> PyRe
 /// `this` unmoved ((P,) bool).
 pub fn intersects(
     py: Python<'_>,
-    this: &PyMesh,
-    other: &PyMesh,
+    this: &MeshIndex,
+    other: &MeshIndex,
     pose: Option<&Bound<'_, PyAny>>,
     pose_self: Option<&Bound<'_, PyAny>>,
     threads: Option<i64>,
@@ -237,7 +233,7 @@ pub fn intersects(
     let pose = poses::poses(pose, "pose", 1)?;
     require_faces(this, "self")?;
     require_faces(other, "other")?;
-    let (ia, ib) = (&this.index, &other.index);
+    let (ia, ib) = (this, other);
     match pose {
         Poses::One(pose) => {
             let yes = threads::run(py, threads, || pair::intersects(ia, &pose_self, ib, &pose))?
@@ -259,8 +255,8 @@ pub fn intersects(
 #[allow(clippy::too_many_arguments)]
 pub fn pairs<'py>(
     py: Python<'py>,
-    this: &PyMesh,
-    other: &PyMesh,
+    this: &MeshIndex,
+    other: &MeshIndex,
     within: Option<f64>,
     pose: Option<&Bound<'py, PyAny>>,
     pose_self: Option<&Bound<'py, PyAny>>,
@@ -276,7 +272,7 @@ pub fn pairs<'py>(
     let pose = poses::one(pose, "pose")?;
     require_faces(this, "self")?;
     require_faces(other, "other")?;
-    let (ia, ib) = (&this.index, &other.index);
+    let (ia, ib) = (this, other);
     let found = threads::run(py, threads, || match within {
         None => pair::intersecting_pairs(ia, &pose_self, ib, &pose),
         Some(d) => pair::pairs_within(ia, &pose_self, ib, &pose, d),
@@ -289,12 +285,11 @@ pub fn pairs<'py>(
 /// what they share, (K, 2) int64, `face_a < face_b`, sorted.
 pub fn self_intersections<'py>(
     py: Python<'py>,
-    this: &PyMesh,
+    this: &MeshIndex,
     threads: Option<i64>,
 ) -> PyResult<Bound<'py, PyArray2<i64>>> {
     require_faces(this, "self")?;
-    let found =
-        threads::run(py, threads, || pair::self_intersections(&this.index))?.map_err(|e| pair_error(e, "distance"))?;
+    let found = threads::run(py, threads, || pair::self_intersections(this))?.map_err(|e| pair_error(e, "distance"))?;
     face_pairs(py, &found)
 }
 
