@@ -10,7 +10,7 @@ use common::temp_dir;
 use proxima::pair::{self, RigidPose};
 use proxima::{DVec3, Mesh, MeshIndex};
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
 const BUNNY: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/bunny-npm.obj");
 
@@ -19,17 +19,7 @@ const CUBE: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 
 f 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n";
 
 fn run(args: &[&str]) -> Output {
-    let out = Command::new(env!("CARGO_BIN_EXE_proxima"))
-        .args(args)
-        .output()
-        .expect("run proxima");
-    assert!(
-        out.status.success(),
-        "proxima {}: {}",
-        args.join(" "),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    out
+    common::proxima_ok(args)
 }
 
 /// The CSV rows of standard output, split at commas, after the header.

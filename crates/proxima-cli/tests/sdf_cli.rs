@@ -14,17 +14,7 @@ use std::process::{Command, Output};
 const BUNNY: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/bunny-npm.obj");
 
 fn proxima(args: &[&str]) -> Output {
-    let out = Command::new(env!("CARGO_BIN_EXE_proxima"))
-        .args(args)
-        .output()
-        .expect("run proxima");
-    assert!(
-        out.status.success(),
-        "proxima {}: {}",
-        args.join(" "),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    out
+    common::proxima_ok(args)
 }
 
 fn bunny() -> Mesh {

@@ -48,3 +48,19 @@ pub fn proxima_under_limit(kib: u64, args: &[&str], env: &[(&str, &str)]) -> std
 mod glb_writer;
 #[allow(unused_imports)] // Each test binary uses some of the helpers.
 pub use glb_writer::{glb, instanced_glb};
+
+/// Runs the `proxima` binary with `args`, failing the test (with its
+/// standard error) unless it succeeds.
+pub fn proxima_ok(args: &[&str]) -> std::process::Output {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_proxima"))
+        .args(args)
+        .output()
+        .expect("run proxima");
+    assert!(
+        out.status.success(),
+        "proxima {}: {}",
+        args.join(" "),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
