@@ -15,7 +15,6 @@ use proxima::prelude::*;
 use pyo3::IntoPyObjectExt;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use rayon::prelude::*;
 
 /// The nearest points of two placed meshes and where they lie; unpacks as
 /// `(distance, point_a, point_b, face_a, face_b)`.
@@ -171,13 +170,11 @@ pub fn distance<'py>(
     require_faces(a, "a")?;
     require_faces(b, "b")?;
     let (ia, ib) = (a, b);
+    let d_max = max_distance.unwrap_or(f64::INFINITY);
     match pose_b {
         Poses::One(pose_b) => {
-            let found = threads::run(py, threads, || match max_distance {
-                None => pair::distance(ia, &pose_a, ib, &pose_b).map(Some),
-                Some(d) => pair::distance_below(ia, &pose_a, ib, &pose_b, d),
-            })?
-            .map_err(|e| pair_error(e, "max_distance"))?;
+            let found = threads::run(py, threads, || pair::distance_below(ia, &pose_a, ib, &pose_b, d_max))?
+                .map_err(|e| pair_error(e, "max_distance"))?;
             match found {
                 Some(inner) => PyPairDistance { inner }.into_py_any(py),
                 None => Ok(py.None()),
@@ -185,14 +182,8 @@ pub fn distance<'py>(
         }
         Poses::Many(poses) => {
             require_unmoved(&pose_a, "pose_a", "pose_b")?;
-            let found: Vec<Option<PairDistance>> = threads::run(py, threads, || match max_distance {
-                None => pair::distance_batch(ia, ib, &poses).map(|all| all.into_iter().map(Some).collect()),
-                Some(d) => poses
-                    .par_iter()
-                    .map(|pose| pair::distance_below(ia, &RigidPose::IDENTITY, ib, pose, d))
-                    .collect(),
-            })?
-            .map_err(|e| pair_error(e, "max_distance"))?;
+            let found = threads::run(py, threads, || pair::distance_below_batch(ia, ib, &poses, d_max))?
+                .map_err(|e| pair_error(e, "max_distance"))?;
             distance_arrays(py, &found)?.into_py_any(py)
         }
     }

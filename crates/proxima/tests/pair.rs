@@ -263,6 +263,17 @@ fn batches_answer_as_one_pose_at_a_time_in_order() {
         assert_eq!(hits[i], intersects(&ia, &RigidPose::IDENTITY, &ib, pose).unwrap());
     }
     assert!(hits.iter().any(|&h| h) && hits.iter().any(|&h| !h), "{hits:?}");
+    // Clearance over the batch: exactly the poses nearer than the bound.
+    let bound = 0.3;
+    let below = pair::distance_below_batch(&ia, &ib, &poses, bound).unwrap();
+    for (i, pose) in poses.iter().enumerate() {
+        assert_eq!(
+            below[i],
+            pair::distance_below(&ia, &RigidPose::IDENTITY, &ib, pose, bound).unwrap()
+        );
+        assert_eq!(below[i].is_some(), distances[i].distance < bound);
+    }
+    assert!(below.iter().any(Option::is_some) && below.iter().any(Option::is_none));
 }
 
 #[test]

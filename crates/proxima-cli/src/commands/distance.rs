@@ -7,7 +7,6 @@ use crate::common::note;
 use crate::two_meshes::{Placement, TwoMeshes};
 use anyhow::Result;
 use proxima::pair::{self, PairDistance, RigidPose};
-use rayon::prelude::*;
 use serde_json::{Value, json};
 use std::io::{BufWriter, Write};
 use std::time::Instant;
@@ -43,14 +42,10 @@ pub fn run(args: Args) -> Result<()> {
     let (a, b) = (&inputs.a, &inputs.b);
     let start = Instant::now();
     let answers: Vec<Option<PairDistance>> = inputs.pool.install(|| -> Result<_> {
-        Ok(match (&inputs.placement, args.max_distance) {
-            (Placement::One(pose_a, pose_b), None) => vec![Some(pair::distance(a, pose_a, b, pose_b)?)],
-            (Placement::One(pose_a, pose_b), Some(d)) => vec![pair::distance_below(a, pose_a, b, pose_b, d)?],
-            (Placement::Many(poses), None) => pair::distance_batch(a, b, poses)?.into_iter().map(Some).collect(),
-            (Placement::Many(poses), Some(d)) => poses
-                .par_iter()
-                .map(|pose| pair::distance_below(a, &RigidPose::IDENTITY, b, pose, d))
-                .collect::<Result<_, _>>()?,
+        let d_max = args.max_distance.unwrap_or(f64::INFINITY);
+        Ok(match &inputs.placement {
+            Placement::One(pose_a, pose_b) => vec![pair::distance_below(a, pose_a, b, pose_b, d_max)?],
+            Placement::Many(poses) => pair::distance_below_batch(a, b, poses, d_max)?,
         })
     })?;
     let seconds = start.elapsed().as_secs_f64();

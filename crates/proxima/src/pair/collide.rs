@@ -4,7 +4,7 @@
 use super::descent::{PairVisitor, PlacedPair, PlacedTriangle, Scratch, Task, Walk};
 use super::triangle_distance::triangle_distance;
 use super::triangle_intersection::triangles_intersect;
-use super::{FacePair, PairError, RigidPose, check_distance, check_pose, faces_tree};
+use super::{FacePair, PairError, RigidPose, batch_trees, check_distance, check_pose, faces_tree};
 use crate::index::MeshIndex;
 use crate::query::SpatialIndex;
 use rayon::prelude::*;
@@ -35,11 +35,7 @@ pub fn intersects(a: &MeshIndex, pose_a: &RigidPose, b: &MeshIndex, pose_b: &Rig
 /// [`intersects`] for `a` unmoved and `b` at each of `poses`, on all the
 /// threads of the current rayon pool, answers in the order of `poses`.
 pub fn intersects_batch(a: &MeshIndex, b: &MeshIndex, poses: &[RigidPose]) -> Result<Vec<bool>, PairError> {
-    for (i, pose) in poses.iter().enumerate() {
-        check_pose(pose, || format!("poses[{i}]"))?;
-    }
-    crate::budget::check_fits("poses", poses.len(), poses.len() as u128, 1)?;
-    let (tree_a, tree_b) = (faces_tree(a, "a")?, faces_tree(b, "b")?);
+    let (tree_a, tree_b) = batch_trees(a, b, poses, 1)?;
     Ok(poses
         .par_iter()
         .map_init(Scratch::default, |scratch, pose| {

@@ -3,7 +3,7 @@
 use super::collide::meeting_pair;
 use super::descent::{PairVisitor, PlacedPair, PlacedTriangle, Scratch, Walk};
 use super::triangle_distance::{TrianglePairDistance, separated_triangle_distance, triangle_distance};
-use super::{PairError, RigidPose, check_distance, check_pose, faces_tree};
+use super::{PairError, RigidPose, batch_trees, check_distance, check_pose, faces_tree};
 use crate::index::MeshIndex;
 use crate::math::DVec3;
 use crate::query::{Leaves, SpatialIndex};
@@ -91,21 +91,28 @@ pub fn distance_below(
 /// sampling loop of motion planning), on all the threads of the current
 /// rayon pool, answers in the order of `poses`.
 pub fn distance_batch(a: &MeshIndex, b: &MeshIndex, poses: &[RigidPose]) -> Result<Vec<PairDistance>, PairError> {
-    for (i, pose) in poses.iter().enumerate() {
-        check_pose(pose, || format!("poses[{i}]"))?;
-    }
-    crate::budget::check_fits(
-        "poses",
-        poses.len(),
-        poses.len() as u128,
-        size_of::<PairDistance>() as u128,
-    )?;
-    let (tree_a, tree_b) = (faces_tree(a, "a")?, faces_tree(b, "b")?);
+    let found = distance_below_batch(a, b, poses, f64::INFINITY)?;
+    Ok(found
+        .into_iter()
+        .map(|d| d.expect("two meshes with faces have a finite distance"))
+        .collect())
+}
+
+/// [`distance_below`] between `a` unmoved and `b` at each of `poses`
+/// (clearance checks over a batch), on all the threads of the current rayon
+/// pool, answers in the order of `poses`; `d_max = ∞` is [`distance_batch`].
+pub fn distance_below_batch(
+    a: &MeshIndex,
+    b: &MeshIndex,
+    poses: &[RigidPose],
+    d_max: f64,
+) -> Result<Vec<Option<PairDistance>>, PairError> {
+    check_distance("d_max", d_max)?;
+    let (tree_a, tree_b) = batch_trees(a, b, poses, size_of::<Option<PairDistance>>())?;
     Ok(poses
         .par_iter()
         .map_init(Scratch::default, |scratch, pose| {
-            nearest(tree_a, RigidPose::IDENTITY, tree_b, *pose, f64::INFINITY, scratch)
-                .expect("two meshes with faces have a finite distance")
+            nearest(tree_a, RigidPose::IDENTITY, tree_b, *pose, d_max, scratch)
         })
         .collect())
 }

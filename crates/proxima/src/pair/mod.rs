@@ -46,7 +46,7 @@ pub mod triangle_distance;
 pub mod triangle_intersection;
 
 pub use collide::{intersecting_pairs, intersects, intersects_batch, pairs_within};
-pub use distance::{PairDistance, distance, distance_batch, distance_below};
+pub use distance::{PairDistance, distance, distance_batch, distance_below, distance_below_batch};
 pub use error::{MAX_TRANSLATION, PairError};
 pub use pose::{PoseError, RigidPose};
 pub use self_intersection::self_intersections;
@@ -84,6 +84,22 @@ pub fn check_pose(pose: &RigidPose, name: impl FnOnce() -> String) -> Result<(),
         Some(value) => Err(PairError::PoseOutOfRange { pose: name(), value }),
         None => Ok(()),
     }
+}
+
+/// The faces' trees of `a` and `b` for a batch over `poses`: every pose
+/// checked (named by its position), the answers (`bytes_each` per pose)
+/// counted against the memory budget before anything is allocated.
+pub(crate) fn batch_trees<'i>(
+    a: &'i MeshIndex,
+    b: &'i MeshIndex,
+    poses: &[RigidPose],
+    bytes_each: usize,
+) -> Result<(&'i WideTree<Triangle>, &'i WideTree<Triangle>), PairError> {
+    for (i, pose) in poses.iter().enumerate() {
+        check_pose(pose, || format!("poses[{i}]"))?;
+    }
+    crate::budget::check_fits("poses", poses.len(), poses.len() as u128, bytes_each as u128)?;
+    Ok((faces_tree(a, "a")?, faces_tree(b, "b")?))
 }
 
 /// Refuses a negative or NaN distance bound (infinity is allowed).
