@@ -32,6 +32,7 @@ use crate::mesh::Mesh;
 use crate::primitive::polygon::DEFAULT_PLANARITY_TOLERANCE;
 use crate::query::{ClosestHit, FrustumQuery, NearestAnswers, NearestQuery};
 use crate::sdf::{SdfConfig, Sign, SignedDistanceField};
+use crate::wide_tree::OrientedBounds;
 use crate::{BuildConfig, RayTree, Triangle, WideTree};
 use std::sync::Arc;
 
@@ -80,6 +81,7 @@ pub struct MeshIndex {
     winding: Lazy<SignedDistanceField>,
     pseudonormal: Lazy<SignedDistanceField>,
     rays: Lazy<RayTree>,
+    oriented: Lazy<OrientedBounds>,
 }
 
 /// Fails with [`IndexError::EmptyMesh`] when `mesh` has no vertices: no
@@ -120,6 +122,7 @@ impl MeshIndex {
             winding: Lazy::default(),
             pseudonormal: Lazy::default(),
             rays: Lazy::default(),
+            oriented: Lazy::default(),
         }
     }
 
@@ -255,9 +258,16 @@ impl MeshIndex {
         self.rays.get_or_try_init(|| Ok(RayTree::build(&self.mesh)?))
     }
 
+    /// The oriented boxes of the faces' tree's children (two-mesh distances,
+    /// [`crate::pair`]), built with the tree if needed.
+    pub fn oriented_bounds(&self) -> Result<&OrientedBounds, IndexError> {
+        let tree = self.tree::<Triangle>()?;
+        self.oriented.get_or_try_init(|| Ok(OrientedBounds::build(tree)))
+    }
+
     /// The names of the structures built so far, in a fixed order
     /// (`vertices`, `edges`, `faces`, `polygons`, `winding`,
-    /// `pseudonormal`, `rays`).
+    /// `pseudonormal`, `rays`, `oriented`).
     pub fn built(&self) -> Vec<&'static str> {
         let trees = &self.trees;
         [
@@ -268,6 +278,7 @@ impl MeshIndex {
             ("winding", self.winding.get().is_some()),
             ("pseudonormal", self.pseudonormal.get().is_some()),
             ("rays", self.rays.get().is_some()),
+            ("oriented", self.oriented.get().is_some()),
         ]
         .into_iter()
         .filter_map(|(name, built)| built.then_some(name))

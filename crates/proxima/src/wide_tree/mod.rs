@@ -32,10 +32,12 @@
 pub(crate) use convert::{open_largest, subtree_ranges};
 mod convert;
 mod nearest;
+mod oriented;
 mod primitive;
 mod ray;
 mod walk;
 
+pub use oriented::{OrientedBounds, OrientedBox};
 pub use primitive::WidePrimitive;
 
 use crate::aabb::Aabb;
