@@ -375,6 +375,98 @@ fn shared_mesh_against_a_moved_copy_matches_brute_force() {
     }
 }
 
+/// Brute force: the smallest triangle-pair distance and the lowest
+/// `(triangle_a, triangle_b)` that reaches it (the library's tie rule).
+fn brute_nearest(a: &Mesh, pa: &RigidPose, b: &Mesh, pb: &RigidPose) -> (f64, u32, u32) {
+    let (ta, tb) = (placed(a, pa), placed(b, pb));
+    let mut best = (f64::INFINITY, u32::MAX, u32::MAX);
+    for (i, (ca, ..)) in ta.iter().enumerate() {
+        for (j, (cb, ..)) in tb.iter().enumerate() {
+            let d = triangle_distance(ca, cb).distance;
+            if d < best.0 {
+                best = (d, i as u32, j as u32);
+            }
+        }
+    }
+    best
+}
+
+/// A rotation scaled by `1 + stretch`: still a pose (within the rotation
+/// tolerance), no longer orthonormal, so lengths in its frame differ from
+/// lengths in the world.
+fn stretched(pose: &RigidPose, stretch: f64) -> RigidPose {
+    RigidPose::new(pose.rotation() * (1.0 + stretch), pose.translation()).unwrap()
+}
+
+/// Poses where the walk's bounds along the line of the best pair and along
+/// the oriented boxes' normals decide nearly everything: curved surfaces far
+/// apart (many pairs within a hair of the answer), parallel faces (exact
+/// ties, broken by the lowest triangle pair), and rotations that are
+/// orthonormal only within the tolerance. Every answer is brute force's,
+/// pair for pair.
+#[test]
+fn far_curved_and_tied_poses_match_brute_force_pair_for_pair() {
+    let sphere = bumpy_sphere(5, 3);
+    let smooth = proxima::mesh::generate::noisy_icosphere(6, 0);
+    let boxy = cube(-0.5, 0.75);
+    let mut rng = Rng::new(40);
+    let mut cases: Vec<(&Mesh, RigidPose, &Mesh, RigidPose)> = Vec::new();
+    for round in 0..6 {
+        let far = 3.0 + f64::from(round);
+        let direction = DVec3::new(
+            rng.range(-1.0, 1.0).into(),
+            rng.range(-1.0, 1.0).into(),
+            rng.range(-1.0, 1.0).into(),
+        )
+        .normalize();
+        let turn = random_pose(&mut rng, 0.0);
+        let moved = RigidPose::new(turn.rotation(), direction * far).unwrap();
+        cases.push((&sphere, random_pose(&mut rng, 0.5), &smooth, moved));
+        cases.push((&smooth, RigidPose::IDENTITY, &smooth, moved));
+        cases.push((
+            &sphere,
+            stretched(&random_pose(&mut rng, 0.5), 4e-7),
+            &sphere,
+            stretched(&moved, -3e-7),
+        ));
+    }
+    // Parallel faces a dyadic distance apart, and diagonal offsets.
+    for t in [[3.0, 0.0, 0.0], [0.0, -2.5, 0.0], [2.0, 2.0, 0.0], [1.5, 2.0, 2.5]] {
+        let pose = RigidPose::translation_only(DVec3::from_array(t)).unwrap();
+        cases.push((&boxy, RigidPose::IDENTITY, &boxy, pose));
+        cases.push((&boxy, RigidPose::IDENTITY, &smooth, pose));
+        for stretch in [-4.5e-7, 4.5e-7] {
+            cases.push((
+                &boxy,
+                stretched(&RigidPose::IDENTITY, stretch),
+                &boxy,
+                stretched(&pose, -stretch),
+            ));
+        }
+    }
+    for (case, (a, pa, b, pb)) in cases.into_iter().enumerate() {
+        let (ia, ib) = (MeshIndex::new(a.clone()), MeshIndex::new(b.clone()));
+        let d = pair::distance(&ia, &pa, &ib, &pb).unwrap();
+        let (expected, ta, tb) = brute_nearest(a, &pa, b, &pb);
+        assert_eq!(
+            (d.distance, d.triangle_a, d.triangle_b),
+            (expected, ta, tb),
+            "case {case}"
+        );
+        assert_eq!(
+            pair::distance_below(&ia, &pa, &ib, &pb, expected).unwrap(),
+            None,
+            "case {case}"
+        );
+        let below = pair::distance_below(&ia, &pa, &ib, &pb, expected.next_up()).unwrap();
+        assert_eq!(
+            below.map(|x| (x.triangle_a, x.triangle_b)),
+            Some((ta, tb)),
+            "case {case}"
+        );
+    }
+}
+
 #[test]
 fn bad_input_is_refused_with_the_argument_named() {
     let empty = MeshIndex::new(Mesh::from_compact(vec![Vec3::ZERO], vec![0], vec![]).unwrap());

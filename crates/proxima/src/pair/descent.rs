@@ -20,7 +20,7 @@
 
 use super::pose::RigidPose;
 use crate::math::{DMat3, DVec3};
-use crate::wide_tree::{WideChild, WideNode};
+use crate::wide_tree::{OrientedBounds, WideChild, WideNode};
 use crate::{Aabb, Triangle, WideTree};
 use std::ops::ControlFlow;
 use wide::f64x4;
@@ -70,6 +70,109 @@ pub(crate) trait PairVisitor {
     fn nearest_first(&self) -> bool {
         false
     }
+
+    /// A direction in the world along which pairs may also be bounded
+    /// apart (`None`: none). Any direction `u` bounds the distance between
+    /// point sets `P` (of the first tree) and `Q`: it is at least
+    /// `(min u·q − max u·p) / |u|`, so the walk skips pairs whose gap along
+    /// `u` is beyond reach. A distance query offers the line between its
+    /// best pair of points: when both surfaces lie behind the planes
+    /// through those points (the usual case for meshes apart), every other
+    /// pair's gap along it exceeds the best distance, where box distances
+    /// barely do.
+    fn separating_direction(&self) -> Option<DVec3> {
+        None
+    }
+}
+
+/// A direction of [`PairVisitor::separating_direction`] made ready for
+/// boxes of either tree: a box of the first tree reaches at most
+/// `a·centre + |a|·half + a_offset` along it, one of the second at least
+/// `b·centre − |b|·half + b_offset`.
+#[derive(Clone, Copy, Debug)]
+struct Slab {
+    /// The direction as the visitor gave it.
+    given: DVec3,
+    /// The unit direction in the world.
+    world: DVec3,
+    a: DVec3,
+    abs_a: DVec3,
+    a_offset: f64,
+    b: DVec3,
+    abs_b: DVec3,
+    b_offset: f64,
+    /// Widening of every gap, far beyond the rounding of the projections.
+    pad: f64,
+}
+
+impl Slab {
+    /// The slab of `given` for the trees of `pair`, `None` for a zero or
+    /// non-finite direction.
+    fn new(given: DVec3, pair: &PlacedPair) -> Option<Self> {
+        let world = given.try_normalize()?;
+        // A point p of a tree placed by R, t lies at u·(R p + t) = (Rᵀu)·p + u·t.
+        let a = pair.pose_a.rotation().transpose() * world;
+        let b = pair.pose_b.rotation().transpose() * world;
+        Some(Self {
+            given,
+            world,
+            a,
+            abs_a: a.abs(),
+            a_offset: world.dot(pair.pose_a.translation()),
+            b,
+            abs_b: b.abs(),
+            b_offset: world.dot(pair.pose_b.translation()),
+            pad: 4.0 * pair.pad,
+        })
+    }
+
+    /// How far a part of the first tree reaches along the direction: the
+    /// nearer of its box's reach and its oriented box's (when there is one).
+    #[inline]
+    fn a_high(&self, a: &Aabb, lane: Lane, pair: &PlacedPair) -> f64 {
+        let [lo, hi] = own(a);
+        let aligned = self.a.dot((lo + hi) * 0.5) + self.abs_a.dot((hi - lo) * 0.5);
+        let along = match pair.oriented {
+            Some((bounds, _)) if lane != NO_LANE => {
+                let o = bounds.child(lane as usize / 4, lane as usize % 4);
+                aligned.min(self.a.dot(o.centre) + o.radius_along(self.a))
+            }
+            _ => aligned,
+        };
+        along + self.a_offset
+    }
+
+    /// Where a part of the second tree begins along the direction.
+    #[inline]
+    fn b_low(&self, b: &Aabb, lane: Lane, pair: &PlacedPair) -> f64 {
+        let [lo, hi] = own(b);
+        let aligned = self.b.dot((lo + hi) * 0.5) - self.abs_b.dot((hi - lo) * 0.5);
+        let along = match pair.oriented {
+            Some((_, bounds)) if lane != NO_LANE => {
+                let o = bounds.child(lane as usize / 4, lane as usize % 4);
+                aligned.max(self.b.dot(o.centre) - o.radius_along(self.b))
+            }
+            _ => aligned,
+        };
+        along + self.b_offset
+    }
+
+    /// The squared gap along the direction from `a_high` to `b_low`,
+    /// narrowed by the padding (0 when they overlap).
+    #[inline]
+    fn gap_squared(&self, a_high: f64, b_low: f64) -> f64 {
+        let gap = (b_low - a_high - self.pad).max(0.0);
+        gap * gap
+    }
+
+    /// The squared gap between two parts along the direction.
+    #[inline]
+    fn parts(&self, pending: &Pending, pair: &PlacedPair) -> f64 {
+        self.gap_squared(
+            self.a_high(&pending.a_box, pending.a_lane, pair),
+            self.b_low(&pending.b_box, pending.b_lane, pair),
+        )
+    }
 }
 
 /// A subtree of one side: a wide node, or a leaf's slots.
@@ -82,6 +185,13 @@ enum Part {
 /// A box as `[min, max]`, in `f64`.
 type Box64 = [DVec3; 2];
 
+/// The lane of a wide node a part hangs from (`node * 4 + lane`), which
+/// indexes its [`OrientedBounds`] box; [`NO_LANE`] for a root.
+type Lane = u32;
+
+/// The lane of a root: no oriented box.
+const NO_LANE: Lane = u32::MAX;
+
 /// A pair of subtrees waiting to be opened, each with its box in its own
 /// tree's frame (as the tree stores it), and a lower bound of the squared
 /// distance between them.
@@ -89,8 +199,11 @@ type Box64 = [DVec3; 2];
 struct Pending {
     a: Part,
     a_box: Aabb,
+    /// Where `a`'s oriented box is ([`Lane`]).
+    a_lane: Lane,
     b: Part,
     b_box: Aabb,
+    b_lane: Lane,
     key: f64,
     /// Both parts are the same subtree of the same tree ([`Walk::same`]).
     same: bool,
@@ -116,6 +229,8 @@ pub(crate) struct PlacedPair<'t> {
     /// widened, and placed coordinates equal the first frame's when `pose_a`
     /// is the identity too).
     same_frame: bool,
+    /// The oriented boxes of both trees' children, when the caller has them.
+    oriented: Option<(&'t OrientedBounds, &'t OrientedBounds)>,
 }
 
 impl<'t> PlacedPair<'t> {
@@ -137,6 +252,10 @@ impl<'t> PlacedPair<'t> {
             + magnitude(b.bounds())
             + pose_a.translation().abs().max_element()
             + pose_b.translation().abs().max_element();
+        // Bounds are measured in either tree's frame; a rotation that is
+        // orthonormal only within its tolerance scales lengths there by up
+        // to its deviation, which the padding covers too.
+        let deviation = pose_a.deviation() + pose_b.deviation();
         Self {
             a,
             pose_a,
@@ -148,9 +267,18 @@ impl<'t> PlacedPair<'t> {
             inverse_rotation: inverse.rotation(),
             abs_inverse_rotation: abs(inverse.rotation()),
             inverse_translation: inverse.translation(),
-            pad: scale * 1e-9,
+            pad: scale * (1e-9 + 4.0 * deviation),
             same_frame: relative.is_identity(),
+            oriented: None,
         }
+    }
+
+    /// The pair, bounding subtrees also by the oriented boxes of both
+    /// trees' children (built from `a` and `b` by
+    /// [`OrientedBounds::build`]) along a visitor's separating direction.
+    pub(crate) fn with_oriented(mut self, a: &'t OrientedBounds, b: &'t OrientedBounds) -> Self {
+        self.oriented = Some((a, b));
+        self
     }
 
     /// The first tree.
@@ -192,6 +320,40 @@ impl<'t> PlacedPair<'t> {
         let centre = *rotation * centre + translation;
         let half = *abs_rotation * half + pad;
         [centre - half, centre + half]
+    }
+
+    /// A lower bound of the squared distance between the oriented boxes of
+    /// lanes `a` and `b` (0 when either has none): the larger gap along
+    /// either box's third axis (its triangles' normal), measured in the
+    /// first tree's frame.
+    #[inline]
+    fn oriented_key(&self, a: Lane, b: Lane) -> f64 {
+        let Some((bounds_a, bounds_b)) = self.oriented else {
+            return 0.0;
+        };
+        if a == NO_LANE || b == NO_LANE {
+            return 0.0;
+        }
+        let oa = bounds_a.child(a as usize / 4, a as usize % 4);
+        let ob = bounds_b.child(b as usize / 4, b as usize % 4);
+        // b's box in a's frame: a parallelepiped, exactly projected below.
+        let centre = self.rotation * ob.centre + self.translation;
+        let axes = ob.axes.map(|axis| self.rotation * axis);
+        let along_b = |u: DVec3| {
+            (
+                axes[0].dot(u).abs() * ob.half.x + axes[1].dot(u).abs() * ob.half.y + axes[2].dot(u).abs() * ob.half.z,
+                centre.dot(u),
+            )
+        };
+        let gap = |a_middle: f64, a_radius: f64, (b_radius, b_middle): (f64, f64)| {
+            ((b_middle - a_middle).abs() - a_radius - b_radius - 2.0 * self.pad).max(0.0)
+        };
+        let u = oa.axes[2];
+        let by_a = gap(oa.centre.dot(u), oa.radius_along(u), along_b(u));
+        let v = axes[2];
+        let by_b = gap(oa.centre.dot(v), oa.radius_along(v), along_b(v));
+        let g = by_a.max(by_b);
+        g * g
     }
 
     /// A lower bound of the squared distance between box `a` of the first
@@ -241,7 +403,8 @@ fn abs(m: DMat3) -> DMat3 {
     DMat3::from_cols(m.x_axis.abs(), m.y_axis.abs(), m.z_axis.abs())
 }
 
-/// The root part of a tree and its box (`None` for an empty tree).
+/// The root part of a tree and its box (`None` for an empty tree); it has
+/// no oriented box ([`NO_LANE`]).
 fn root(tree: &WideTree<Triangle>) -> Option<(Part, Aabb)> {
     use crate::query::SpatialIndex;
     if tree.nodes().is_empty() {
@@ -259,9 +422,9 @@ fn own(b: &Aabb) -> Box64 {
 /// The children of wide node `node`: its parts and their boxes (in the
 /// tree's own frame), empty lanes left out.
 #[inline]
-fn children(tree: &WideTree<Triangle>, node: u32) -> ([(Part, Aabb); 4], usize) {
+fn children(tree: &WideTree<Triangle>, node: u32) -> ([(Part, Aabb, Lane); 4], usize) {
     let n: &WideNode = &tree.nodes()[node as usize];
-    let mut out = [(Part::Node(0), Aabb::default()); 4];
+    let mut out = [(Part::Node(0), Aabb::default(), NO_LANE); 4];
     let mut count = 0;
     for lane in 0..4 {
         let part = match tree.child(node as usize, lane) {
@@ -272,7 +435,7 @@ fn children(tree: &WideTree<Triangle>, node: u32) -> ([(Part, Aabb); 4], usize) 
                 len: range.len() as u32,
             },
         };
-        out[count] = (part, n.child_bounds(lane));
+        out[count] = (part, n.child_bounds(lane), node * 4 + lane as u32);
         count += 1;
     }
     (out, count)
@@ -347,6 +510,8 @@ pub(crate) struct Walk<'p, 't, 's> {
     same: bool,
     stack: &'s mut Vec<Pending>,
     heap: &'s mut std::collections::BinaryHeap<Nearest>,
+    /// The visitor's separating direction, as last asked.
+    slab: Option<Slab>,
 }
 
 impl<'p, 't, 's> Walk<'p, 't, 's> {
@@ -357,6 +522,7 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
             same: false,
             stack: &mut scratch.stack,
             heap: &mut scratch.heap,
+            slab: None,
         }
     }
 
@@ -369,6 +535,7 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
             same: true,
             stack: &mut scratch.stack,
             heap: &mut scratch.heap,
+            slab: None,
         }
     }
 
@@ -379,8 +546,10 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
         Some(Pending {
             a,
             a_box,
+            a_lane: NO_LANE,
             b,
             b_box,
+            b_lane: NO_LANE,
             key: self.pair.key(&a_box, &b_box),
             same: self.same,
         })
@@ -425,8 +594,14 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
             self.heap.clear();
             self.heap.extend(self.stack.drain(..).map(Nearest));
             while let Some(Nearest(next)) = self.heap.pop() {
-                if next.key > visitor.reach_squared() {
+                let reach = visitor.reach_squared();
+                if next.key > reach {
                     break;
+                }
+                // The direction may have changed since the pair was pushed.
+                self.refresh(visitor);
+                if self.slab.is_some_and(|slab| slab.parts(&next, self.pair) > reach) {
+                    continue;
                 }
                 self.open(next, visitor)?;
                 self.heap.extend(self.stack.drain(..).map(Nearest));
@@ -434,12 +609,40 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
             return ControlFlow::Continue(());
         }
         while let Some(next) = self.stack.pop() {
-            if next.key > visitor.reach_squared() {
+            let reach = visitor.reach_squared();
+            if next.key > reach {
+                continue;
+            }
+            self.refresh(visitor);
+            if self.slab.is_some_and(|slab| slab.parts(&next, self.pair) > reach) {
                 continue;
             }
             self.open(next, visitor)?;
         }
         ControlFlow::Continue(())
+    }
+
+    /// Takes the visitor's current separating direction.
+    #[inline]
+    fn refresh<V: PairVisitor>(&mut self, visitor: &V) {
+        let given = visitor.separating_direction();
+        if given != self.slab.map(|slab| slab.given) {
+            self.slab = given.and_then(|given| Slab::new(given, self.pair));
+        }
+    }
+
+    /// [`PlacedPair::key`] of the pending pair's boxes, raised by the gap
+    /// along the separating direction.
+    #[inline]
+    fn key(&self, pending: &Pending) -> f64 {
+        let key = self
+            .pair
+            .key(&pending.a_box, &pending.b_box)
+            .max(self.pair.oriented_key(pending.a_lane, pending.b_lane));
+        match &self.slab {
+            Some(slab) => key.max(slab.parts(pending, self.pair)),
+            None => key,
+        }
     }
 
     /// Opens one pending pair: its child pairs in reach go on the stack
@@ -457,16 +660,35 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
                 let (b_children, b_count) = children(pair.b, nb);
                 let mut a_own = [[DVec3::ZERO; 2]; 4];
                 let mut a_moved = [[DVec3::ZERO; 2]; 4];
-                for (i, (_, bounds)) in a_children[..a_count].iter().enumerate() {
+                for (i, (_, bounds, _)) in a_children[..a_count].iter().enumerate() {
                     a_own[i] = own(bounds);
                     a_moved[i] = pair.move_a(bounds);
                 }
                 let a_own = soa(&a_own[..a_count]);
                 let a_moved = soa(&a_moved[..a_count]);
-                for (j, &(b, b_box)) in b_children[..b_count].iter().enumerate() {
+                let a_high = self.slab.map(|slab| {
+                    let mut high = [f64::NEG_INFINITY; 4];
+                    for (i, (_, bounds, lane)) in a_children[..a_count].iter().enumerate() {
+                        high[i] = slab.a_high(bounds, *lane, pair);
+                    }
+                    (slab, f64x4::new(high))
+                });
+                for (j, &(b, b_box, b_lane)) in b_children[..b_count].iter().enumerate() {
                     let mut keys = distances_squared(&a_own, &pair.move_b(&b_box));
                     if !pair.same_frame {
                         keys = keys.max(distances_squared(&a_moved, &own(&b_box)));
+                    }
+                    if let Some((slab, a_high)) = a_high {
+                        let low = slab.b_low(&b_box, b_lane, pair);
+                        let gap = (f64x4::splat(low - slab.pad) - a_high).max(f64x4::ZERO);
+                        keys = keys.max(gap * gap);
+                    }
+                    if pair.oriented.is_some() {
+                        let mut oriented = [0.0; 4];
+                        for (i, (_, _, a_lane)) in a_children[..a_count].iter().enumerate() {
+                            oriented[i] = pair.oriented_key(*a_lane, b_lane);
+                        }
+                        keys = keys.max(f64x4::new(oriented));
                     }
                     for (i, &key) in keys.as_array()[..a_count].iter().enumerate() {
                         // The same node twice: child i with child j once, i <= j.
@@ -474,13 +696,15 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
                             continue;
                         }
                         if key <= reach {
-                            let (a, a_box) = a_children[i];
+                            let (a, a_box, a_lane) = a_children[i];
                             let same = next.same && i == j;
                             self.stack.push(Pending {
                                 a,
                                 a_box,
+                                a_lane,
                                 b,
                                 b_box,
+                                b_lane,
                                 key,
                                 same,
                             });
@@ -488,35 +712,35 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
                     }
                 }
             }
-            (Part::Node(na), b @ Part::Leaf { .. }) => {
+            (Part::Node(na), Part::Leaf { .. }) => {
                 let (a_children, a_count) = children(pair.a, na);
-                for &(a, a_box) in &a_children[..a_count] {
-                    let key = pair.key(&a_box, &next.b_box);
-                    if key <= reach {
-                        self.stack.push(Pending {
-                            a,
-                            a_box,
-                            b,
-                            b_box: next.b_box,
-                            key,
-                            same: false,
-                        });
+                for &(a, a_box, a_lane) in &a_children[..a_count] {
+                    let mut child = Pending {
+                        a,
+                        a_box,
+                        a_lane,
+                        same: false,
+                        ..next
+                    };
+                    child.key = self.key(&child);
+                    if child.key <= reach {
+                        self.stack.push(child);
                     }
                 }
             }
-            (a @ Part::Leaf { .. }, Part::Node(nb)) => {
+            (Part::Leaf { .. }, Part::Node(nb)) => {
                 let (b_children, b_count) = children(pair.b, nb);
-                for &(b, b_box) in &b_children[..b_count] {
-                    let key = pair.key(&next.a_box, &b_box);
-                    if key <= reach {
-                        self.stack.push(Pending {
-                            a,
-                            a_box: next.a_box,
-                            b,
-                            b_box,
-                            key,
-                            same: false,
-                        });
+                for &(b, b_box, b_lane) in &b_children[..b_count] {
+                    let mut child = Pending {
+                        b,
+                        b_box,
+                        b_lane,
+                        same: false,
+                        ..next
+                    };
+                    child.key = self.key(&child);
+                    if child.key <= reach {
+                        self.stack.push(child);
                     }
                 }
             }
@@ -559,9 +783,22 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
                         if same && tb.slot <= ta.slot {
                             continue;
                         }
-                        if ta.box_distance_squared(tb) <= visitor.reach_squared() {
-                            visitor.triangles(ta, tb)?;
+                        let reach = visitor.reach_squared();
+                        if ta.box_distance_squared(tb) > reach {
+                            continue;
                         }
+                        // The direction changes as the visitor's answers do.
+                        self.refresh(visitor);
+                        if let Some(slab) = &self.slab {
+                            let high = ta.corners.map(|p| slab.world.dot(p));
+                            let low = tb.corners.map(|q| slab.world.dot(q));
+                            let high = high[0].max(high[1]).max(high[2]);
+                            let low = low[0].min(low[1]).min(low[2]);
+                            if slab.gap_squared(high, low) > reach {
+                                continue;
+                            }
+                        }
+                        visitor.triangles(ta, tb)?;
                     }
                 }
             }

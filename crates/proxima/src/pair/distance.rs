@@ -3,10 +3,11 @@
 use super::collide::meeting_pair;
 use super::descent::{PairVisitor, PlacedPair, PlacedTriangle, Scratch, Walk};
 use super::triangle_distance::{TrianglePairDistance, separated_triangle_distance, triangle_distance};
-use super::{PairError, RigidPose, batch_trees, check_distance, check_pose, faces_tree};
+use super::{PairError, RigidPose, batch_trees, check_distance, check_pose, faces_tree, oriented_bounds};
 use crate::index::MeshIndex;
 use crate::math::DVec3;
 use crate::query::{Leaves, SpatialIndex};
+use crate::wide_tree::OrientedBounds;
 use crate::{Triangle, WideTree};
 use rayon::prelude::*;
 use std::ops::ControlFlow;
@@ -77,11 +78,13 @@ pub fn distance_below(
     check_pose(pose_a, || "pose_a".into())?;
     check_pose(pose_b, || "pose_b".into())?;
     let (tree_a, tree_b) = (faces_tree(a, "a")?, faces_tree(b, "b")?);
+    let oriented = (oriented_bounds(a, "a")?, oriented_bounds(b, "b")?);
     Ok(nearest(
         tree_a,
         *pose_a,
         tree_b,
         *pose_b,
+        oriented,
         d_max,
         &mut Scratch::default(),
     ))
@@ -109,10 +112,11 @@ pub fn distance_below_batch(
 ) -> Result<Vec<Option<PairDistance>>, PairError> {
     check_distance("d_max", d_max)?;
     let (tree_a, tree_b) = batch_trees(a, b, poses, size_of::<Option<PairDistance>>())?;
+    let oriented = (oriented_bounds(a, "a")?, oriented_bounds(b, "b")?);
     Ok(poses
         .par_iter()
         .map_init(Scratch::default, |scratch, pose| {
-            nearest(tree_a, RigidPose::IDENTITY, tree_b, *pose, d_max, scratch)
+            nearest(tree_a, RigidPose::IDENTITY, tree_b, *pose, oriented, d_max, scratch)
         })
         .collect())
 }
@@ -123,10 +127,11 @@ fn nearest(
     pose_a: RigidPose,
     b: &WideTree<Triangle>,
     pose_b: RigidPose,
+    (oriented_a, oriented_b): (&OrientedBounds, &OrientedBounds),
     d_max: f64,
     scratch: &mut Scratch,
 ) -> Option<PairDistance> {
-    let pair = PlacedPair::new(a, pose_a, b, pose_b);
+    let pair = PlacedPair::new(a, pose_a, b, pose_b).with_oriented(oriented_a, oriented_b);
     // Whether the surfaces meet is settled first, by the cheap walk of the
     // overlapping boxes only: then the distance walk knows that no pair
     // meets and measures each without the exact intersection test.
@@ -185,6 +190,12 @@ impl PairVisitor for Nearest<'_> {
 
     fn nearest_first(&self) -> bool {
         true
+    }
+
+    fn separating_direction(&self) -> Option<DVec3> {
+        // The line of the best pair so far (none when it meets).
+        let (best, _, _) = self.best.as_ref()?;
+        Some(best.point_b - best.point_a).filter(|d| *d != DVec3::ZERO)
     }
 
     fn triangles(&mut self, a: &PlacedTriangle, b: &PlacedTriangle) -> ControlFlow<()> {

@@ -57,12 +57,21 @@ pub use triangle_distance::{
 pub use triangle_intersection::{neighbours_intersect, segment_meets_triangle, triangles_intersect};
 
 use crate::index::MeshIndex;
+use crate::wide_tree::OrientedBounds;
 use crate::{Triangle, WideTree};
 
 /// The faces' tree of `index`, or why it has none.
 pub(crate) fn faces_tree<'i>(index: &'i MeshIndex, mesh: &'static str) -> Result<&'i WideTree<Triangle>, PairError> {
     index
         .tree::<Triangle>()
+        .map_err(|source| PairError::Mesh { mesh, source })
+}
+
+/// The oriented boxes of `index`'s faces' tree, built if needed, a missing
+/// tree reported under the mesh's name.
+pub(crate) fn oriented_bounds<'i>(index: &'i MeshIndex, mesh: &'static str) -> Result<&'i OrientedBounds, PairError> {
+    index
+        .oriented_bounds()
         .map_err(|source| PairError::Mesh { mesh, source })
 }
 

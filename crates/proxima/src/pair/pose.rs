@@ -89,8 +89,7 @@ impl RigidPose {
         if !rotation.is_finite() || !translation.is_finite() {
             return Err(PoseError::NotFinite);
         }
-        let gram = rotation.transpose() * rotation - DMat3::IDENTITY;
-        let deviation = gram.to_cols_array().iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let deviation = Self { rotation, translation }.deviation();
         if deviation > ROTATION_TOLERANCE {
             return Err(PoseError::NotRotation { deviation });
         }
@@ -200,6 +199,15 @@ impl RigidPose {
         let (r, t) = (self.rotation, self.translation);
         let row = |i: usize| ((r.col(0)[i] * p.x + r.col(1)[i] * p.y) + r.col(2)[i] * p.z) + t[i];
         DVec3::new(row(0), row(1), row(2))
+    }
+
+    /// How far the rotation is from orthonormal: the largest entry of
+    /// `|RᵀR - I|` (0 for the identity, within [`ROTATION_TOLERANCE`] for
+    /// every pose). Lengths measured in the pose's frame differ from those
+    /// in the world by at most about this fraction.
+    pub fn deviation(&self) -> f64 {
+        let gram = self.rotation.transpose() * self.rotation - DMat3::IDENTITY;
+        gram.to_cols_array().iter().fold(0.0f64, |m, x| m.max(x.abs()))
     }
 
     /// `true` when the rotation is exactly the identity and the translation
