@@ -20,7 +20,7 @@
 
 use super::pose::RigidPose;
 use crate::math::{DMat3, DVec3};
-use crate::wide_tree::{OrientedBounds, WideChild, WideNode};
+use crate::wide_tree::{OrientedBounds, OrientedBox, WideChild, WideNode};
 use crate::{Aabb, Triangle, WideTree};
 use std::ops::ControlFlow;
 use wide::f64x4;
@@ -82,6 +82,13 @@ pub(crate) trait PairVisitor {
     /// barely do.
     fn separating_direction(&self) -> Option<DVec3> {
         None
+    }
+
+    /// Told that some pair of triangles lies within `distance` (two points
+    /// of the surfaces, placed in the world, are that far apart), before
+    /// the walk reaches them: a distance query may narrow its reach to it.
+    fn within(&mut self, distance: f64) {
+        let _ = distance;
     }
 }
 
@@ -322,38 +329,57 @@ impl<'t> PlacedPair<'t> {
         [centre - half, centre + half]
     }
 
-    /// A lower bound of the squared distance between the oriented boxes of
-    /// lanes `a` and `b` (0 when either has none): the larger gap along
-    /// either box's third axis (its triangles' normal), measured in the
-    /// first tree's frame.
+    /// The oriented box of lane `lane` of the first tree, if any.
     #[inline]
-    fn oriented_key(&self, a: Lane, b: Lane) -> f64 {
-        let Some((bounds_a, bounds_b)) = self.oriented else {
-            return 0.0;
-        };
-        if a == NO_LANE || b == NO_LANE {
-            return 0.0;
+    fn oriented_a(&self, lane: Lane) -> Option<&'t OrientedBox> {
+        let (bounds, _) = self.oriented?;
+        (lane != NO_LANE).then(|| bounds.child(lane as usize / 4, lane as usize % 4))
+    }
+
+    /// The oriented box of lane `lane` of the second tree moved into the
+    /// first tree's frame (a parallelepiped when the rotation is not
+    /// exactly orthonormal, which [`OrientedBox::radius_along`] projects
+    /// exactly all the same), if any.
+    #[inline]
+    fn oriented_b(&self, lane: Lane) -> Option<OrientedBox> {
+        let (_, bounds) = self.oriented?;
+        if lane == NO_LANE {
+            return None;
         }
-        let oa = bounds_a.child(a as usize / 4, a as usize % 4);
-        let ob = bounds_b.child(b as usize / 4, b as usize % 4);
-        // b's box in a's frame: a parallelepiped, exactly projected below.
-        let centre = self.rotation * ob.centre + self.translation;
-        let axes = ob.axes.map(|axis| self.rotation * axis);
-        let along_b = |u: DVec3| {
-            (
-                axes[0].dot(u).abs() * ob.half.x + axes[1].dot(u).abs() * ob.half.y + axes[2].dot(u).abs() * ob.half.z,
-                centre.dot(u),
-            )
+        let b = bounds.child(lane as usize / 4, lane as usize % 4);
+        Some(OrientedBox {
+            centre: self.rotation * b.centre + self.translation,
+            axes: b.axes.map(|axis| self.rotation * axis),
+            ..*b
+        })
+    }
+
+    /// A lower bound of the squared distance between oriented box `a` of
+    /// the first tree and `b` of the second (moved by
+    /// [`oriented_b`](Self::oriented_b)): the larger gap along either box's
+    /// third axis (its triangles' normal), measured in the first tree's
+    /// frame.
+    #[inline]
+    fn oriented_key(&self, a: &OrientedBox, b: &OrientedBox) -> f64 {
+        let gap = |u: DVec3| {
+            let apart = (b.centre.dot(u) - a.centre.dot(u)).abs();
+            (apart - a.radius_along(u) - b.radius_along(u) - 2.0 * self.pad).max(0.0)
         };
-        let gap = |a_middle: f64, a_radius: f64, (b_radius, b_middle): (f64, f64)| {
-            ((b_middle - a_middle).abs() - a_radius - b_radius - 2.0 * self.pad).max(0.0)
-        };
-        let u = oa.axes[2];
-        let by_a = gap(oa.centre.dot(u), oa.radius_along(u), along_b(u));
-        let v = axes[2];
-        let by_b = gap(oa.centre.dot(v), oa.radius_along(v), along_b(v));
-        let g = by_a.max(by_b);
+        let mut g = gap(a.axes[2]).max(gap(b.axes[2]));
+        if let Some(u) = (b.centre - a.centre).try_normalize() {
+            g = g.max(gap(u));
+        }
         g * g
+    }
+
+    /// [`oriented_key`](Self::oriented_key) of two lanes (0 when either has
+    /// no oriented box).
+    #[inline]
+    fn lanes_key(&self, a: Lane, b: Lane) -> f64 {
+        match (self.oriented_a(a), self.oriented_b(b)) {
+            (Some(a), Some(b)) => self.oriented_key(a, &b),
+            _ => 0.0,
+        }
     }
 
     /// A lower bound of the squared distance between box `a` of the first
@@ -475,23 +501,67 @@ fn soa(boxes: &[Box64]) -> [f64x4; 6] {
     lanes.map(f64x4::new)
 }
 
-/// A [`Pending`] ordered by its key, nearest first in a max-heap.
-struct Nearest(Pending);
+/// A slot of a [`NearestQueue`] ordered by its pair's key, nearest first
+/// in a max-heap.
+#[derive(Clone, Copy)]
+struct Ranked {
+    key: f64,
+    slot: u32,
+}
 
-impl PartialEq for Nearest {
+impl PartialEq for Ranked {
     fn eq(&self, other: &Self) -> bool {
-        self.0.key == other.0.key
+        self.key == other.key
     }
 }
-impl Eq for Nearest {}
-impl PartialOrd for Nearest {
+impl Eq for Ranked {}
+impl PartialOrd for Ranked {
     fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
         Some(self.cmp(other))
     }
 }
-impl Ord for Nearest {
+impl Ord for Ranked {
     fn cmp(&self, other: &Self) -> std::cmp::Ordering {
-        other.0.key.total_cmp(&self.0.key)
+        other.key.total_cmp(&self.key)
+    }
+}
+
+/// Pending pairs, nearest first: a heap of keys and slots over a pool of
+/// the pairs themselves, so that sifting moves 16 bytes rather than a
+/// whole pair (the sifts of a heap of pairs took a third of a far
+/// distance query: docs/perf-log.md). Freed slots are reused.
+#[derive(Default)]
+struct NearestQueue {
+    heap: std::collections::BinaryHeap<Ranked>,
+    pool: Vec<Pending>,
+    free: Vec<u32>,
+}
+
+impl NearestQueue {
+    fn clear(&mut self) {
+        self.heap.clear();
+        self.pool.clear();
+        self.free.clear();
+    }
+
+    fn push(&mut self, pending: Pending) {
+        let slot = match self.free.pop() {
+            Some(slot) => {
+                self.pool[slot as usize] = pending;
+                slot
+            }
+            None => {
+                self.pool.push(pending);
+                (self.pool.len() - 1) as u32
+            }
+        };
+        self.heap.push(Ranked { key: pending.key, slot });
+    }
+
+    fn pop(&mut self) -> Option<Pending> {
+        let Ranked { slot, .. } = self.heap.pop()?;
+        self.free.push(slot);
+        Some(self.pool[slot as usize])
     }
 }
 
@@ -500,7 +570,7 @@ impl Ord for Nearest {
 #[derive(Default)]
 pub(crate) struct Scratch {
     stack: Vec<Pending>,
-    heap: std::collections::BinaryHeap<Nearest>,
+    queue: NearestQueue,
 }
 
 /// One walk over a [`PlacedPair`].
@@ -509,7 +579,7 @@ pub(crate) struct Walk<'p, 't, 's> {
     /// The two trees are one, unmoved: unordered pairs only.
     same: bool,
     stack: &'s mut Vec<Pending>,
-    heap: &'s mut std::collections::BinaryHeap<Nearest>,
+    queue: &'s mut NearestQueue,
     /// The visitor's separating direction, as last asked.
     slab: Option<Slab>,
 }
@@ -521,7 +591,7 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
             pair,
             same: false,
             stack: &mut scratch.stack,
-            heap: &mut scratch.heap,
+            queue: &mut scratch.queue,
             slab: None,
         }
     }
@@ -534,7 +604,7 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
             pair,
             same: true,
             stack: &mut scratch.stack,
-            heap: &mut scratch.heap,
+            queue: &mut scratch.queue,
             slab: None,
         }
     }
@@ -591,9 +661,11 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
             // Best first over the whole walk: the pair with the least box
             // distance is opened next, and the walk ends when even that one
             // is out of reach.
-            self.heap.clear();
-            self.heap.extend(self.stack.drain(..).map(Nearest));
-            while let Some(Nearest(next)) = self.heap.pop() {
+            self.queue.clear();
+            for pending in self.stack.drain(..) {
+                self.queue.push(pending);
+            }
+            while let Some(next) = self.queue.pop() {
                 let reach = visitor.reach_squared();
                 if next.key > reach {
                     break;
@@ -604,7 +676,9 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
                     continue;
                 }
                 self.open(next, visitor)?;
-                self.heap.extend(self.stack.drain(..).map(Nearest));
+                for pending in self.stack.drain(..) {
+                    self.queue.push(pending);
+                }
             }
             return ControlFlow::Continue(());
         }
@@ -638,7 +712,7 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
         let key = self
             .pair
             .key(&pending.a_box, &pending.b_box)
-            .max(self.pair.oriented_key(pending.a_lane, pending.b_lane));
+            .max(self.pair.lanes_key(pending.a_lane, pending.b_lane));
         match &self.slab {
             Some(slab) => key.max(slab.parts(pending, self.pair)),
             None => key,
@@ -666,6 +740,26 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
                 }
                 let a_own = soa(&a_own[..a_count]);
                 let a_moved = soa(&a_moved[..a_count]);
+                if let Some((bounds_a, bounds_b)) = pair.oriented.filter(|_| visitor.nearest_first()) {
+                    // Two points of the surfaces bound the answer from above
+                    // long before the walk reaches their leaves.
+                    let place = |bounds: &OrientedBounds, pose: &RigidPose, lane: Lane| {
+                        pose.apply(bounds.child(lane as usize / 4, lane as usize % 4).witness)
+                    };
+                    let mut b_points = [DVec3::ZERO; 4];
+                    for (j, (_, _, lane)) in b_children[..b_count].iter().enumerate() {
+                        b_points[j] = place(bounds_b, &pair.pose_b, *lane);
+                    }
+                    let mut nearest = f64::INFINITY;
+                    for (_, _, lane) in &a_children[..a_count] {
+                        let p = place(bounds_a, &pair.pose_a, *lane);
+                        for q in &b_points[..b_count] {
+                            nearest = nearest.min(p.distance_squared(*q));
+                        }
+                    }
+                    visitor.within(nearest.sqrt());
+                }
+                let reach = visitor.reach_squared();
                 let a_high = self.slab.map(|slab| {
                     let mut high = [f64::NEG_INFINITY; 4];
                     for (i, (_, bounds, lane)) in a_children[..a_count].iter().enumerate() {
@@ -683,10 +777,12 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
                         let gap = (f64x4::splat(low - slab.pad) - a_high).max(f64x4::ZERO);
                         keys = keys.max(gap * gap);
                     }
-                    if pair.oriented.is_some() {
+                    if let Some(b_oriented) = pair.oriented_b(b_lane) {
                         let mut oriented = [0.0; 4];
                         for (i, (_, _, a_lane)) in a_children[..a_count].iter().enumerate() {
-                            oriented[i] = pair.oriented_key(*a_lane, b_lane);
+                            if let Some(a_oriented) = pair.oriented_a(*a_lane) {
+                                oriented[i] = pair.oriented_key(a_oriented, &b_oriented);
+                            }
                         }
                         keys = keys.max(f64x4::new(oriented));
                     }

@@ -192,6 +192,13 @@ impl PairVisitor for Nearest<'_> {
         true
     }
 
+    fn within(&mut self, distance: f64) {
+        // The nearest pair lies within `distance` too, up to the rounding
+        // of its own computation, which the widening covers.
+        let reach = distance * distance * (1.0 + 1e-9);
+        self.reach_squared = self.reach_squared.min(reach);
+    }
+
     fn separating_direction(&self) -> Option<DVec3> {
         // The line of the best pair so far (none when it meets).
         let (best, _, _) = self.best.as_ref()?;
@@ -210,7 +217,7 @@ impl PairVisitor for Nearest<'_> {
         };
         if better {
             self.distance = found.distance;
-            self.reach_squared = found.distance * found.distance * (1.0 + 1e-9);
+            self.reach_squared = self.reach_squared.min(found.distance * found.distance * (1.0 + 1e-9));
             self.best = Some((found, a.slot, b.slot));
         }
         ControlFlow::Continue(())
