@@ -67,14 +67,25 @@ impl OrientedBox {
         if points.is_empty() {
             return Self::EMPTY;
         }
+        let axes = Self::axes(points, normal);
+        let mut extents = Extents::new(axes);
+        for p in points {
+            extents.add(*p);
+        }
+        extents.finish(points)
+    }
+
+    /// The axes [`fit`](Self::fit) takes for points like `sample` (a few of
+    /// them do: they only steer how tight the box is).
+    fn axes(sample: &[Vec3], normal: DVec3) -> [DVec3; 3] {
         let third = normal.try_normalize().unwrap_or(DVec3::Z);
         let (u, v) = plane_basis(third);
         // The principal direction of the points across the normal: the
         // angle of the 2x2 covariance's larger eigenvector in (u, v).
-        let n = points.len() as f64;
-        let mean = points.iter().fold(DVec3::ZERO, |s, p| s + p.as_dvec3()) / n;
+        let n = sample.len() as f64;
+        let mean = sample.iter().fold(DVec3::ZERO, |s, p| s + p.as_dvec3()) / n;
         let (mut uu, mut vv, mut uv) = (0.0, 0.0, 0.0);
-        for p in points {
+        for p in sample {
             let p = p.as_dvec3();
             let (x, y) = ((p - mean).dot(u), (p - mean).dot(v));
             uu += x * x;
@@ -85,18 +96,41 @@ impl OrientedBox {
         let (sin, cos) = angle.sin_cos();
         let first = u * cos + v * sin;
         let second = third.cross(first);
-        let axes = [first, second, third];
-        let mut lo = DVec3::splat(f64::INFINITY);
-        let mut hi = DVec3::splat(f64::NEG_INFINITY);
-        for p in points {
-            let p = p.as_dvec3();
-            let s = DVec3::new(axes[0].dot(p), axes[1].dot(p), axes[2].dot(p));
-            lo = lo.min(s);
-            hi = hi.max(s);
+        [first, second, third]
+    }
+}
+
+/// The extents of points along three axes, gathered one point at a time.
+struct Extents {
+    axes: [DVec3; 3],
+    lo: DVec3,
+    hi: DVec3,
+}
+
+impl Extents {
+    fn new(axes: [DVec3; 3]) -> Self {
+        Self {
+            axes,
+            lo: DVec3::splat(f64::INFINITY),
+            hi: DVec3::splat(f64::NEG_INFINITY),
         }
+    }
+
+    #[inline]
+    fn add(&mut self, p: Vec3) {
+        let p = p.as_dvec3();
+        let s = DVec3::new(self.axes[0].dot(p), self.axes[1].dot(p), self.axes[2].dot(p));
+        self.lo = self.lo.min(s);
+        self.hi = self.hi.max(s);
+    }
+
+    /// The box of the points added, its witness the point of `sample`
+    /// nearest its centre.
+    fn finish(self, sample: &[Vec3]) -> OrientedBox {
+        let Self { axes, lo, hi } = self;
         let middle = (lo + hi) * 0.5;
         let centre = axes[0] * middle.x + axes[1] * middle.y + axes[2] * middle.z;
-        let witness = points
+        let witness = sample
             .iter()
             .copied()
             .min_by(|p, q| {
@@ -107,14 +141,16 @@ impl OrientedBox {
                 dp.total_cmp(&dq)
             })
             .unwrap_or(Vec3::ZERO);
-        Self {
+        OrientedBox {
             centre,
             axes,
             half: (hi - lo) * 0.5,
             witness,
         }
     }
+}
 
+impl OrientedBox {
     /// Half the box's extent along the unit direction `u`:
     /// `Σ |axes[k]·u| half[k]`.
     #[inline]
@@ -131,6 +167,9 @@ fn plane_basis(n: DVec3) -> (DVec3, DVec3) {
     let u = (pick - n * n.dot(pick)).normalize();
     (u, n.cross(u))
 }
+
+/// How many triangles of a subtree choose its box's axes and witness.
+const SAMPLE: usize = 64;
 
 /// An [`OrientedBox`] for every lane of every node of a [`WideTree`] of
 /// triangles (lanes without a child get an empty box at the origin).
@@ -156,12 +195,22 @@ impl OrientedBounds {
                         WideChild::Leaf(range) => range,
                     };
                     let triangles = &primitives[slots];
-                    let normal = triangles.iter().fold(DVec3::ZERO, |sum, t| {
+                    // The axes from at most SAMPLE triangles spread over
+                    // the subtree; the extents from all of them.
+                    let step = triangles.len().div_ceil(SAMPLE).max(1);
+                    let sampled = || triangles.iter().step_by(step);
+                    let normal = sampled().fold(DVec3::ZERO, |sum, t| {
                         let [a, b, c] = [t.a, t.b, t.c].map(|p| p.as_dvec3());
                         sum + (b - a).cross(c - a)
                     });
-                    let points: Vec<Vec3> = triangles.iter().flat_map(|t| [t.a, t.b, t.c]).collect();
-                    OrientedBox::fit(&points, normal)
+                    let sample: Vec<Vec3> = sampled().flat_map(|t| [t.a, t.b, t.c]).collect();
+                    let mut extents = Extents::new(OrientedBox::axes(&sample, normal));
+                    for t in triangles {
+                        extents.add(t.a);
+                        extents.add(t.b);
+                        extents.add(t.c);
+                    }
+                    extents.finish(&sample)
                 })
             })
             .collect();
@@ -218,7 +267,8 @@ mod tests {
     use super::*;
     use crate::sample::Rng;
 
-    /// Every triangle corner below a child lies in that child's box.
+    /// Every triangle corner below a child lies in that child's box, and
+    /// its witness is one of them.
     #[test]
     fn every_corner_lies_in_its_childs_box() {
         let mesh = crate::mesh::generate::noisy_icosphere(12, 3);
@@ -235,7 +285,9 @@ mod tests {
                     WideChild::Leaf(range) => range,
                 };
                 let b = bounds.child(node, lane);
-                for t in &primitives[slots] {
+                let corners = || primitives[slots.clone()].iter().flat_map(|t| [t.a, t.b, t.c]);
+                assert!(corners().any(|p| p == b.witness), "the witness is a corner below the child");
+                for t in &primitives[slots.clone()] {
                     for p in [t.a, t.b, t.c] {
                         let d = p.as_dvec3() - b.centre;
                         for k in 0..3 {
