@@ -358,26 +358,34 @@ impl<'t> PlacedPair<'t> {
     /// the first tree and `b` of the second (moved by
     /// [`oriented_b`](Self::oriented_b)): the larger gap along either box's
     /// third axis (its triangles' normal), measured in the first tree's
-    /// frame.
+    /// frame, and along the line of their centres (for compact boxes apart,
+    /// the best of the three). Stops at the first beyond `reach` (squared).
     #[inline]
-    fn oriented_key(&self, a: &OrientedBox, b: &OrientedBox) -> f64 {
-        let gap = |u: DVec3| {
+    fn oriented_key(&self, a: &OrientedBox, b: &OrientedBox, reach: f64) -> f64 {
+        let gap_squared = |u: DVec3| {
             let apart = (b.centre.dot(u) - a.centre.dot(u)).abs();
-            (apart - a.radius_along(u) - b.radius_along(u) - 2.0 * self.pad).max(0.0)
+            let gap = (apart - a.radius_along(u) - b.radius_along(u) - 2.0 * self.pad).max(0.0);
+            gap * gap
         };
-        let mut g = gap(a.axes[2]).max(gap(b.axes[2]));
-        if let Some(u) = (b.centre - a.centre).try_normalize() {
-            g = g.max(gap(u));
+        let mut key = match (b.centre - a.centre).try_normalize() {
+            Some(u) => gap_squared(u),
+            None => 0.0,
+        };
+        for u in [a.axes[2], b.axes[2]] {
+            if key > reach {
+                break;
+            }
+            key = key.max(gap_squared(u));
         }
-        g * g
+        key
     }
 
     /// [`oriented_key`](Self::oriented_key) of two lanes (0 when either has
     /// no oriented box).
     #[inline]
-    fn lanes_key(&self, a: Lane, b: Lane) -> f64 {
+    fn lanes_key(&self, a: Lane, b: Lane, reach: f64) -> f64 {
         match (self.oriented_a(a), self.oriented_b(b)) {
-            (Some(a), Some(b)) => self.oriented_key(a, &b),
+            (Some(a), Some(b)) => self.oriented_key(a, &b, reach),
             _ => 0.0,
         }
     }
@@ -708,15 +716,15 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
     /// [`PlacedPair::key`] of the pending pair's boxes, raised by the gap
     /// along the separating direction.
     #[inline]
-    fn key(&self, pending: &Pending) -> f64 {
-        let key = self
-            .pair
-            .key(&pending.a_box, &pending.b_box)
-            .max(self.pair.lanes_key(pending.a_lane, pending.b_lane));
-        match &self.slab {
-            Some(slab) => key.max(slab.parts(pending, self.pair)),
-            None => key,
+    fn key(&self, pending: &Pending, reach: f64) -> f64 {
+        let mut key = self.pair.key(&pending.a_box, &pending.b_box);
+        if let Some(slab) = &self.slab {
+            key = key.max(slab.parts(pending, self.pair));
         }
+        if key > reach {
+            return key;
+        }
+        key.max(self.pair.lanes_key(pending.a_lane, pending.b_lane, reach))
     }
 
     /// Opens one pending pair: its child pairs in reach go on the stack
@@ -777,11 +785,15 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
                         let gap = (f64x4::splat(low - slab.pad) - a_high).max(f64x4::ZERO);
                         keys = keys.max(gap * gap);
                     }
-                    if let Some(b_oriented) = pair.oriented_b(b_lane) {
+                    let in_reach = keys.as_array()[..a_count].iter().any(|&key| key <= reach);
+                    if let Some(b_oriented) = pair.oriented_b(b_lane).filter(|_| in_reach) {
                         let mut oriented = [0.0; 4];
                         for (i, (_, _, a_lane)) in a_children[..a_count].iter().enumerate() {
+                            if keys.as_array()[i] > reach {
+                                continue;
+                            }
                             if let Some(a_oriented) = pair.oriented_a(*a_lane) {
-                                oriented[i] = pair.oriented_key(a_oriented, &b_oriented);
+                                oriented[i] = pair.oriented_key(a_oriented, &b_oriented, reach);
                             }
                         }
                         keys = keys.max(f64x4::new(oriented));
@@ -818,7 +830,7 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
                         same: false,
                         ..next
                     };
-                    child.key = self.key(&child);
+                    child.key = self.key(&child, reach);
                     if child.key <= reach {
                         self.stack.push(child);
                     }
@@ -834,7 +846,7 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
                         same: false,
                         ..next
                     };
-                    child.key = self.key(&child);
+                    child.key = self.key(&child, reach);
                     if child.key <= reach {
                         self.stack.push(child);
                     }
