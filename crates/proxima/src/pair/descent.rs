@@ -886,8 +886,12 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
                 } else {
                     PlacedPair::place(pair.b, &pair.pose_b, b_first, b_len, &mut b)
                 };
-                for ta in &a[..a_count] {
-                    for tb in &b[..b_count] {
+                // Each triangle's reach along the separating direction,
+                // projected once per direction rather than once per pair.
+                let mut projected: Option<DVec3> = None;
+                let (mut high, mut low) = ([0.0; 8], [0.0; 8]);
+                for (i, ta) in a[..a_count].iter().enumerate() {
+                    for (j, tb) in b[..b_count].iter().enumerate() {
                         if same && tb.slot <= ta.slot {
                             continue;
                         }
@@ -898,11 +902,24 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
                         // The direction changes as the visitor's answers do.
                         self.refresh(visitor);
                         if let Some(slab) = &self.slab {
-                            let high = ta.corners.map(|p| slab.world.dot(p));
-                            let low = tb.corners.map(|q| slab.world.dot(q));
-                            let high = high[0].max(high[1]).max(high[2]);
-                            let low = low[0].min(low[1]).min(low[2]);
-                            if slab.gap_squared(high, low) > reach {
+                            if projected != Some(slab.world) {
+                                projected = Some(slab.world);
+                                for (h, t) in high.iter_mut().zip(&a[..a_count]) {
+                                    *h = t
+                                        .corners
+                                        .iter()
+                                        .map(|p| slab.world.dot(*p))
+                                        .fold(f64::NEG_INFINITY, f64::max);
+                                }
+                                for (l, t) in low.iter_mut().zip(&b[..b_count]) {
+                                    *l = t
+                                        .corners
+                                        .iter()
+                                        .map(|q| slab.world.dot(*q))
+                                        .fold(f64::INFINITY, f64::min);
+                                }
+                            }
+                            if slab.gap_squared(high[i], low[j]) > reach {
                                 continue;
                             }
                         }

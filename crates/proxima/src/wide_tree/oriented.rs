@@ -286,7 +286,10 @@ mod tests {
                 };
                 let b = bounds.child(node, lane);
                 let corners = || primitives[slots.clone()].iter().flat_map(|t| [t.a, t.b, t.c]);
-                assert!(corners().any(|p| p == b.witness), "the witness is a corner below the child");
+                assert!(
+                    corners().any(|p| p == b.witness),
+                    "the witness is a corner below the child"
+                );
                 for t in &primitives[slots.clone()] {
                     for p in [t.a, t.b, t.c] {
                         let d = p.as_dvec3() - b.centre;
