@@ -416,10 +416,16 @@ impl<'t> PlacedPair<'t> {
     ) -> usize {
         use crate::query::SpatialIndex;
         let primitives = tree.leaves().primitives();
+        // What `apply` does for the identity, decided once per leaf.
+        let identity = pose.is_identity();
         let mut n = 0;
         for slot in first..first + len {
             let t = &primitives[slot as usize];
-            let corners = [pose.apply(t.a), pose.apply(t.b), pose.apply(t.c)];
+            let corners = if identity {
+                [t.a, t.b, t.c].map(|p| p.as_dvec3())
+            } else {
+                [pose.apply(t.a), pose.apply(t.b), pose.apply(t.c)]
+            };
             out[n] = PlacedTriangle {
                 corners,
                 lo: corners[0].min(corners[1]).min(corners[2]),

@@ -4,9 +4,8 @@ use super::collide::{PairLimit, collect_parallel};
 use super::descent::{PairVisitor, PlacedPair, PlacedTriangle};
 use super::triangle_intersection::{neighbours_intersect, triangles_intersect};
 use super::{FacePair, PairError, RigidPose, faces_tree};
-use crate::Triangle;
 use crate::index::MeshIndex;
-use crate::query::{Leaves, SpatialIndex};
+use crate::query::SpatialIndex;
 use std::ops::ControlFlow;
 
 /// Every pair of faces `[f, g]` (`f < g`) of the mesh that meet, decided
@@ -31,13 +30,21 @@ use std::ops::ControlFlow;
 /// ```
 pub fn self_intersections(index: &MeshIndex) -> Result<Vec<FacePair>, PairError> {
     let tree = faces_tree(index, "mesh")?;
-    let corners = index.mesh().triangle_vertex_indices();
-    let pair = PlacedPair::new(tree, RigidPose::IDENTITY, tree, RigidPose::IDENTITY);
     let leaves = tree.leaves();
+    // Each slot's face and vertex indices in leaf order, read in the order
+    // the walk meets them rather than through two indirections.
+    let corners = index.mesh().triangle_vertex_indices();
+    let slots: Vec<(u32, [u32; 3])> = leaves
+        .sources()
+        .iter()
+        .zip(leaves.indices())
+        .map(|(&face, &triangle)| (face, corners[triangle as usize]))
+        .collect();
+    drop(corners);
+    let pair = PlacedPair::new(tree, RigidPose::IDENTITY, tree, RigidPose::IDENTITY);
     let limit = PairLimit::from_budget()?;
     let visitor = || SelfMeeting {
-        leaves,
-        corners: &corners,
+        slots: &slots,
         out: Vec::new(),
         limit: &limit,
     };
@@ -48,9 +55,8 @@ pub fn self_intersections(index: &MeshIndex) -> Result<Vec<FacePair>, PairError>
 
 /// Collects the face pairs of one mesh that meet beyond what they share.
 struct SelfMeeting<'t> {
-    leaves: &'t Leaves<Triangle>,
-    /// Vertex indices per triangle (input order).
-    corners: &'t [[u32; 3]],
+    /// The face and vertex indices of each leaf slot.
+    slots: &'t [(u32, [u32; 3])],
     out: Vec<FacePair>,
     limit: &'t PairLimit,
 }
@@ -61,13 +67,11 @@ impl PairVisitor for SelfMeeting<'_> {
     }
 
     fn triangles(&mut self, a: &PlacedTriangle, b: &PlacedTriangle) -> ControlFlow<()> {
-        let (sa, sb) = (a.slot as usize, b.slot as usize);
-        let (fa, fb) = (self.leaves.sources()[sa], self.leaves.sources()[sb]);
+        let (fa, ia) = self.slots[a.slot as usize];
+        let (fb, ib) = self.slots[b.slot as usize];
         if fa == fb {
             return ControlFlow::Continue(());
         }
-        let ia = self.corners[self.leaves.indices()[sa] as usize];
-        let ib = self.corners[self.leaves.indices()[sb] as usize];
         let shares = ia.iter().any(|v| ib.contains(v));
         let meet = if shares {
             neighbours_intersect(&a.corners, ia, &b.corners, ib)

@@ -150,6 +150,19 @@ pub fn neighbours_intersect(a: &[DVec3; 3], ia: [u32; 3], b: &[DVec3; 3], ib: [u
             let (d1, e1) = (b[(sb + 1) % 3], b[(sb + 2) % 3]);
             let a_face = [apex, b1, c1];
             let b_face = [apex, d1, e1];
+            // The common case first: the far edge of one face strictly on
+            // one side of the other's plane, so that face meets that plane
+            // at the apex only (every other point of it is a convex
+            // combination with weight on that edge) and the faces share
+            // nothing beyond it.
+            let one_side = |p: DVec3, q: DVec3, t: &[DVec3; 3]| {
+                let plane = Plane::new(t);
+                let s = plane.side(p);
+                s != Ordering::Equal && s == plane.side(q)
+            };
+            if one_side(d1, e1, &a_face) || one_side(b1, c1, &b_face) {
+                return false;
+            }
             opposite_meets_beyond(apex, b1, c1, &b_face) || opposite_meets_beyond(apex, d1, e1, &a_face)
         }
         _ => {
@@ -305,7 +318,59 @@ fn same_ray(a: DVec3, b: DVec3, c: DVec3) -> bool {
 /// The orientations of `t`'s vertices against the plane of `plane` (all
 /// zero when `plane` is degenerate).
 fn plane_signs(plane: &[DVec3; 3], t: &[DVec3; 3]) -> [Ordering; 3] {
-    t.map(|p| o3(plane[0], plane[1], plane[2], p))
+    let plane = Plane::new(plane);
+    t.map(|p| plane.side(p))
+}
+
+/// Shewchuk's bound on the rounding error of an orientation evaluated
+/// once in `f64`, over its permanent (`(7 + 56ε)ε`, ε = 2⁻⁵³), doubled for
+/// margin.
+const ORIENT3D_BOUND: f64 = 2.0 * (7.0 + 56.0 * (f64::EPSILON / 2.0)) * (f64::EPSILON / 2.0);
+
+/// The plane of a triangle, for the orientations of several points against
+/// it: `side(p)` is the sign of `orient3d(t0, t1, t2, p)`, exact. The
+/// normal is computed once; each point costs one dot product, whose sign is
+/// taken when Shewchuk's first-stage error bound certifies it (the common
+/// case), and the adaptive predicate decides the rest.
+struct Plane {
+    origin: DVec3,
+    /// `(t1 - t0) × (t2 - t0)`.
+    normal: DVec3,
+    /// The same products' absolute values, summed per component: the
+    /// permanent's factor.
+    magnitude: DVec3,
+    corners: [DVec3; 3],
+}
+
+impl Plane {
+    fn new(t: &[DVec3; 3]) -> Self {
+        let (e1, e2) = (t[1] - t[0], t[2] - t[0]);
+        let magnitude = DVec3::new(
+            (e1.y * e2.z).abs() + (e1.z * e2.y).abs(),
+            (e1.z * e2.x).abs() + (e1.x * e2.z).abs(),
+            (e1.x * e2.y).abs() + (e1.y * e2.x).abs(),
+        );
+        Self {
+            origin: t[0],
+            normal: e1.cross(e2),
+            magnitude,
+            corners: *t,
+        }
+    }
+
+    /// The sign of `orient3d(t0, t1, t2, p)`, which is that of
+    /// `-(normal · (p - t0))`: with `q = t0 - p`, `orient3d` is
+    /// `q · ((q + e1) × (q + e2)) = q · (e1 × e2)`.
+    #[inline]
+    fn side(&self, p: DVec3) -> Ordering {
+        let d = p - self.origin;
+        let det = -self.normal.dot(d);
+        if det.abs() > ORIENT3D_BOUND * self.magnitude.dot(d.abs()) {
+            return sign(det);
+        }
+        let [a, b, c] = self.corners;
+        o3(a, b, c, p)
+    }
 }
 
 /// All three strictly on one side.
@@ -315,8 +380,8 @@ fn strictly_one_side(s: [Ordering; 3]) -> bool {
 
 /// Closed segment `pq` against closed triangle `t`, finite inputs.
 fn segment_meets(p: DVec3, q: DVec3, t: &[DVec3; 3]) -> bool {
-    let sp = o3(t[0], t[1], t[2], p);
-    let sq = o3(t[0], t[1], t[2], q);
+    let plane = Plane::new(t);
+    let (sp, sq) = (plane.side(p), plane.side(q));
     segment_meets_signed(p, q, t, sp, sq)
 }
 
@@ -409,4 +474,53 @@ fn in_box_2d(axis: usize, x: DVec3, a: DVec3, b: DVec3) -> bool {
     (0..3)
         .filter(|&k| k != axis)
         .all(|k| a[k].min(b[k]) <= x[k] && x[k] <= a[k].max(b[k]))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sample::Rng;
+
+    /// The filtered sign equals the adaptive predicate's, on random points
+    /// and on points on the plane and a few ulps off it, at every scale.
+    #[test]
+    fn the_plane_filter_gives_orient3d_signs() {
+        let mut rng = Rng::new(9);
+        let mut point = |scale: f64| {
+            DVec3::new(
+                f64::from(rng.range(-1.0, 1.0)),
+                f64::from(rng.range(-1.0, 1.0)),
+                f64::from(rng.range(-1.0, 1.0)),
+            ) * scale
+        };
+        let mut undecided = 0;
+        for scale in [1e-30, 1e-3, 1.0, 7e4, 1e30] {
+            for _ in 0..2000 {
+                let t = [point(scale), point(scale), point(scale)];
+                let plane = Plane::new(&t);
+                // On the plane (an exact dyadic combination where it rounds
+                // exactly: corners, edge midpoints), near it, and anywhere.
+                let mid = (t[0] + t[1]) * 0.5;
+                let mut probes = vec![t[0], t[1], t[2], mid, point(scale)];
+                for base in [mid, t[2]] {
+                    for k in 0..3 {
+                        let mut up = base;
+                        up[k] = up[k].next_up();
+                        let mut down = base;
+                        down[k] = down[k].next_down();
+                        probes.extend([up, down]);
+                    }
+                }
+                for p in probes {
+                    let exact = o3(t[0], t[1], t[2], p);
+                    assert_eq!(plane.side(p), exact, "{t:?} {p:?}");
+                    let d = p - plane.origin;
+                    undecided +=
+                        usize::from((-plane.normal.dot(d)).abs() <= ORIENT3D_BOUND * plane.magnitude.dot(d.abs()));
+                }
+            }
+        }
+        // The points on the plane and next to it need the exact predicate.
+        assert!(undecided > 1000, "{undecided}");
+    }
 }
