@@ -29,7 +29,7 @@ pub fn intersects(a: &MeshIndex, pose_a: &RigidPose, b: &MeshIndex, pose_b: &Rig
     check_pose(pose_b, || "pose_b".into())?;
     let (tree_a, tree_b) = (faces_tree(a, "a")?, faces_tree(b, "b")?);
     let pair = PlacedPair::new(tree_a, *pose_a, tree_b, *pose_b);
-    Ok(first_meeting(&pair, &mut Scratch::default()))
+    Ok(Scratch::with(|scratch| first_meeting(&pair, scratch)))
 }
 
 /// [`intersects`] for `a` unmoved and `b` at each of `poses`, on all the

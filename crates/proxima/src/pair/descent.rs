@@ -587,6 +587,21 @@ pub(crate) struct Scratch {
     queue: NearestQueue,
 }
 
+impl Scratch {
+    /// Runs `work` with this thread's scratch, kept between calls so that
+    /// single queries repeated on one thread allocate once too (a fresh one
+    /// when the thread's is in use, as in a query made from within a walk).
+    pub(crate) fn with<R>(work: impl FnOnce(&mut Scratch) -> R) -> R {
+        thread_local! {
+            static SCRATCH: std::cell::RefCell<Scratch> = std::cell::RefCell::default();
+        }
+        SCRATCH.with(|cell| match cell.try_borrow_mut() {
+            Ok(mut scratch) => work(&mut scratch),
+            Err(_) => work(&mut Scratch::default()),
+        })
+    }
+}
+
 /// One walk over a [`PlacedPair`].
 pub(crate) struct Walk<'p, 't, 's> {
     pair: &'p PlacedPair<'t>,

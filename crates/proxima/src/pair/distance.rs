@@ -79,15 +79,9 @@ pub fn distance_below(
     check_pose(pose_b, || "pose_b".into())?;
     let (tree_a, tree_b) = (faces_tree(a, "a")?, faces_tree(b, "b")?);
     let oriented = (oriented_bounds(a, "a")?, oriented_bounds(b, "b")?);
-    Ok(nearest(
-        tree_a,
-        *pose_a,
-        tree_b,
-        *pose_b,
-        oriented,
-        d_max,
-        &mut Scratch::default(),
-    ))
+    Ok(Scratch::with(|scratch| {
+        nearest(tree_a, *pose_a, tree_b, *pose_b, oriented, d_max, scratch)
+    }))
 }
 
 /// [`distance`] between `a` unmoved and `b` at each of `poses` (the
