@@ -19,6 +19,7 @@
 //! unordered pair of triangles is met once (self-intersections).
 
 use super::pose::RigidPose;
+use super::queue::NearestQueue;
 use crate::math::{DMat3, DVec3};
 use crate::wide_tree::{OrientedBounds, OrientedBox, WideChild, WideNode};
 use crate::{Aabb, Triangle, WideTree};
@@ -515,76 +516,12 @@ fn soa(boxes: &[Box64]) -> [f64x4; 6] {
     lanes.map(f64x4::new)
 }
 
-/// A slot of a [`NearestQueue`] ordered by its pair's key, nearest first
-/// in a max-heap.
-#[derive(Clone, Copy)]
-struct Ranked {
-    key: f64,
-    slot: u32,
-}
-
-impl PartialEq for Ranked {
-    fn eq(&self, other: &Self) -> bool {
-        self.key == other.key
-    }
-}
-impl Eq for Ranked {}
-impl PartialOrd for Ranked {
-    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(other))
-    }
-}
-impl Ord for Ranked {
-    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
-        other.key.total_cmp(&self.key)
-    }
-}
-
-/// Pending pairs, nearest first: a heap of keys and slots over a pool of
-/// the pairs themselves, so that sifting moves 16 bytes rather than a
-/// whole pair (the sifts of a heap of pairs took a third of a far
-/// distance query: docs/perf-log.md). Freed slots are reused.
-#[derive(Default)]
-struct NearestQueue {
-    heap: std::collections::BinaryHeap<Ranked>,
-    pool: Vec<Pending>,
-    free: Vec<u32>,
-}
-
-impl NearestQueue {
-    fn clear(&mut self) {
-        self.heap.clear();
-        self.pool.clear();
-        self.free.clear();
-    }
-
-    fn push(&mut self, pending: Pending) {
-        let slot = match self.free.pop() {
-            Some(slot) => {
-                self.pool[slot as usize] = pending;
-                slot
-            }
-            None => {
-                self.pool.push(pending);
-                (self.pool.len() - 1) as u32
-            }
-        };
-        self.heap.push(Ranked { key: pending.key, slot });
-    }
-
-    fn pop(&mut self) -> Option<Pending> {
-        let Ranked { slot, .. } = self.heap.pop()?;
-        self.free.push(slot);
-        Some(self.pool[slot as usize])
-    }
-}
-
 /// The pending pairs of a walk, kept between walks so that a batch of
 /// walks on one thread allocates once.
 #[derive(Default)]
 pub(crate) struct Scratch {
     stack: Vec<Pending>,
-    queue: NearestQueue,
+    queue: NearestQueue<Pending>,
 }
 
 impl Scratch {
@@ -608,7 +545,7 @@ pub(crate) struct Walk<'p, 't, 's> {
     /// The two trees are one, unmoved: unordered pairs only.
     same: bool,
     stack: &'s mut Vec<Pending>,
-    queue: &'s mut NearestQueue,
+    queue: &'s mut NearestQueue<Pending>,
     /// The visitor's separating direction, as last asked.
     slab: Option<Slab>,
 }
@@ -692,7 +629,7 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
             // is out of reach.
             self.queue.clear();
             for pending in self.stack.drain(..) {
-                self.queue.push(pending);
+                self.queue.push(pending.key, pending);
             }
             while let Some(next) = self.queue.pop() {
                 let reach = visitor.reach_squared();
@@ -706,7 +643,7 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
                 }
                 self.open(next, visitor)?;
                 for pending in self.stack.drain(..) {
-                    self.queue.push(pending);
+                    self.queue.push(pending.key, pending);
                 }
             }
             return ControlFlow::Continue(());

@@ -41,6 +41,7 @@ pub(crate) mod descent;
 mod distance;
 mod error;
 pub mod pose;
+mod queue;
 mod self_intersection;
 pub mod triangle_distance;
 pub mod triangle_intersection;

@@ -304,18 +304,23 @@ mod tests {
         assert!(checked > 3 * primitives.len());
     }
 
+    /// A random unit vector.
+    fn unit(rng: &mut Rng) -> DVec3 {
+        DVec3::new(
+            rng.range(-1.0, 1.0).into(),
+            rng.range(-1.0, 1.0).into(),
+            rng.range(-1.0, 1.0).into(),
+        )
+        .normalize()
+    }
+
     /// A flat patch gets a flat box however it is turned, and the box's
     /// extent along any direction bounds every point's projection.
     #[test]
     fn a_flat_patch_gets_a_flat_box() {
         let mut rng = Rng::new(5);
         for _ in 0..50 {
-            let normal = DVec3::new(
-                rng.range(-1.0, 1.0) as f64,
-                rng.range(-1.0, 1.0) as f64,
-                rng.range(-1.0, 1.0) as f64,
-            )
-            .normalize();
+            let normal = unit(&mut rng);
             let (u, v) = plane_basis(normal);
             // Points of the plane rounded to f32: flat within their rounding.
             let points: Vec<Vec3> = (0..20)
@@ -326,12 +331,7 @@ mod tests {
             let b = OrientedBox::fit(&points, normal);
             assert!(b.half.z < 1e-6, "{:?}", b.half);
             for _ in 0..10 {
-                let dir = DVec3::new(
-                    rng.range(-1.0, 1.0) as f64,
-                    rng.range(-1.0, 1.0) as f64,
-                    rng.range(-1.0, 1.0) as f64,
-                )
-                .normalize();
+                let dir = unit(&mut rng);
                 let r = b.radius_along(dir);
                 for p in &points {
                     assert!((dir.dot(p.as_dvec3()) - dir.dot(b.centre)).abs() <= r + 1e-12);
