@@ -79,7 +79,7 @@ impl OrientedBox {
     /// them do: they only steer how tight the box is).
     fn axes(sample: &[Vec3], normal: DVec3) -> [DVec3; 3] {
         let third = normal.try_normalize().unwrap_or(DVec3::Z);
-        let (u, v) = plane_basis(third);
+        let (u, v) = third.any_orthonormal_pair();
         // The principal direction of the points across the normal: the
         // angle of the 2x2 covariance's larger eigenvector in (u, v).
         let n = sample.len() as f64;
@@ -161,13 +161,6 @@ impl OrientedBox {
     }
 }
 
-/// Two unit vectors orthogonal to the unit `n` and to each other.
-fn plane_basis(n: DVec3) -> (DVec3, DVec3) {
-    let pick = if n.x.abs() < 0.6 { DVec3::X } else { DVec3::Y };
-    let u = (pick - n * n.dot(pick)).normalize();
-    (u, n.cross(u))
-}
-
 /// How many triangles of a subtree choose its box's axes and witness.
 const SAMPLE: usize = 64;
 
@@ -186,9 +179,8 @@ impl OrientedBounds {
         let primitives = tree.leaves().primitives();
         let boxes = (0..tree.nodes().len())
             .into_par_iter()
-            .flat_map_iter(|node| {
-                let ranges = &ranges;
-                (0..4).map(move |lane| {
+            .map_init(Vec::new, |sample: &mut Vec<Vec3>, node| {
+                std::array::from_fn::<_, 4, _>(|lane| {
                     let slots = match tree.child(node, lane) {
                         WideChild::Empty => return OrientedBox::EMPTY,
                         WideChild::Inner(child) => ranges[child].clone(),
@@ -203,16 +195,18 @@ impl OrientedBounds {
                         let [a, b, c] = [t.a, t.b, t.c].map(|p| p.as_dvec3());
                         sum + (b - a).cross(c - a)
                     });
-                    let sample: Vec<Vec3> = sampled().flat_map(|t| [t.a, t.b, t.c]).collect();
-                    let mut extents = Extents::new(OrientedBox::axes(&sample, normal));
+                    sample.clear();
+                    sample.extend(sampled().flat_map(|t| [t.a, t.b, t.c]));
+                    let mut extents = Extents::new(OrientedBox::axes(sample, normal));
                     for t in triangles {
                         extents.add(t.a);
                         extents.add(t.b);
                         extents.add(t.c);
                     }
-                    extents.finish(&sample)
+                    extents.finish(sample)
                 })
             })
+            .flat_map_iter(|lanes| lanes)
             .collect();
         Self { boxes }
     }
@@ -321,7 +315,7 @@ mod tests {
         let mut rng = Rng::new(5);
         for _ in 0..50 {
             let normal = unit(&mut rng);
-            let (u, v) = plane_basis(normal);
+            let (u, v) = normal.any_orthonormal_pair();
             // Points of the plane rounded to f32: flat within their rounding.
             let points: Vec<Vec3> = (0..20)
                 .map(|_| {
