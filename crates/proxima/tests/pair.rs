@@ -340,6 +340,101 @@ fn folded_neighbours_are_reported_and_hinged_ones_are_not() {
     assert_eq!(brute_self(&crossing), [[0, 1]]);
 }
 
+/// A fan of `k` triangles around vertex 0 (closed, or open when `open`),
+/// built to probe the fan certificate of `self_intersections`: ring points
+/// at the given angles and heights, the apex nudged by a few ulps.
+fn fan_mesh(angles: &[f32], heights: &[f32], apex: Vec3, open: bool, fin: Option<[Vec3; 2]>) -> Mesh {
+    let k = angles.len() as u32;
+    let mut p = vec![apex];
+    p.extend(
+        angles
+            .iter()
+            .zip(heights)
+            .map(|(&a, &h)| Vec3::new(a.cos(), a.sin(), h)),
+    );
+    let mut tris: Vec<[u32; 3]> = (0..k).map(|i| [0, 1 + i, 1 + (i + 1) % k]).collect();
+    if open {
+        tris.pop();
+    }
+    if let Some([x, y]) = fin {
+        p.extend([x, y]);
+        tris.push([0, k + 1, k + 2]);
+    }
+    Mesh::from_triangles(p, &tris).unwrap()
+}
+
+#[test]
+fn fans_flat_folded_and_within_ulps_of_flat_match_brute_force() {
+    // Every face pair of these fans shares the apex: the certificate alone
+    // settles them, or the exact neighbour test does. Brute force runs the
+    // neighbour test on all of them.
+    let mut rng = Rng::new(41);
+    let ulps = |x: f32, n: i32| {
+        let mut x = x;
+        for _ in 0..n.unsigned_abs() {
+            x = if n > 0 { x.next_up() } else { x.next_down() };
+        }
+        x
+    };
+    let (mut with_pairs, mut without) = (0, 0);
+    for case in 0..600 {
+        let k = 3 + rng.below(8);
+        let step = std::f32::consts::TAU / k as f32;
+        let angles: Vec<f32> = (0..k)
+            .map(|i| match case % 4 {
+                // Going around twice (k odd: a star), or once.
+                0 if k % 2 == 1 => 2.0 * step * i as f32,
+                // One ring point pulled back past its neighbour: a fold.
+                1 if i == 1 => -0.2 * step,
+                _ => step * (i as f32 + rng.range(-0.3, 0.3)),
+            })
+            .collect();
+        let heights: Vec<f32> = (0..k)
+            .map(|_| match (case / 4) % 3 {
+                // Flat, within a few ulps of flat, or bumpy.
+                0 => 0.0,
+                1 => ulps(0.0, rng.below(7) as i32 - 3) * (rng.below(3) as f32),
+                _ => rng.range(-0.5, 0.5),
+            })
+            .collect();
+        let mut nudge = |x: f32| ulps(x, rng.below(5) as i32 - 2);
+        let apex = if case % 5 == 0 {
+            Vec3::ZERO
+        } else {
+            Vec3::new(nudge(0.0), nudge(0.0), nudge(0.0))
+        };
+        let open = case % 7 == 3;
+        let fin = (case % 11 == 5).then(|| [Vec3::new(0.3, 0.3, -1.0), Vec3::new(0.3, 0.3, 1.0)]);
+        let mut mesh = fan_mesh(&angles, &heights, apex, open, fin);
+        if case % 13 == 6 {
+            // Ring point 2 halfway to ring point 1 from the apex at 0, exactly:
+            // triangle (0, 1, 2) is a segment, and the faces on either side
+            // of it, which share only the apex, touch along it.
+            let mut p = mesh.positions().to_vec();
+            p[0] = Vec3::ZERO;
+            p[2] = p[1] * 0.5;
+            let faces: Vec<Vec<u32>> = mesh.faces().map(|f| f.to_vec()).collect();
+            mesh = Mesh::from_faces(p, &faces).unwrap();
+        }
+        let expected = brute_self(&mesh);
+        assert_eq!(
+            self_intersections(&MeshIndex::new(mesh)).unwrap(),
+            expected,
+            "case {case}"
+        );
+        if expected.is_empty() {
+            without += 1
+        } else {
+            with_pairs += 1
+        }
+    }
+    // Both outcomes are well represented.
+    assert!(
+        with_pairs > 100 && without > 100,
+        "{with_pairs} with pairs, {without} without"
+    );
+}
+
 #[test]
 fn shared_meshes_self_intersections_match_brute_force() {
     let Some(dir) = data_dir() else { return };

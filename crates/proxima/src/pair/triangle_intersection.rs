@@ -177,6 +177,40 @@ pub fn neighbours_intersect(a: &[DVec3; 3], ia: [u32; 3], b: &[DVec3; 3], ib: [u
     }
 }
 
+/// A quick sufficient test for two faces of one mesh that share one vertex
+/// or one edge (by index, three distinct indices each): `true` certifies
+/// that [`neighbours_intersect`] is `false`; `false` says nothing. It is
+/// that function's common case alone, without its case analysis: one or
+/// two filtered orientations against a face's plane.
+///
+/// - One shared vertex: the other face's far edge strictly on one side of
+///   a face's plane.
+/// - One shared edge: the other face's own vertex off the face's plane.
+pub(crate) fn neighbours_apart(a: &[DVec3; 3], ia: [u32; 3], b: &[DVec3; 3], ib: [u32; 3]) -> bool {
+    let distinct = |i: [u32; 3]| i[0] != i[1] && i[1] != i[2] && i[0] != i[2];
+    if !(distinct(ia) && distinct(ib)) {
+        return false;
+    }
+    let shared = ib.map(|i| ia.contains(&i));
+    match shared.iter().filter(|&&s| s).count() {
+        1 => {
+            let k = shared.iter().position(|&s| s).unwrap_or(0);
+            let sa = first_slot(ia, ib[k]);
+            let one_side = |p: DVec3, q: DVec3, t: &[DVec3; 3]| {
+                let plane = Plane::new(t);
+                let s = plane.side(p);
+                s != Ordering::Equal && s == plane.side(q)
+            };
+            one_side(b[(k + 1) % 3], b[(k + 2) % 3], a) || one_side(a[(sa + 1) % 3], a[(sa + 2) % 3], b)
+        }
+        2 => {
+            let own = shared.iter().position(|&s| !s).unwrap_or(0);
+            Plane::new(a).side(b[own]) != Ordering::Equal
+        }
+        _ => false,
+    }
+}
+
 /// Which slots of a face hold indices shared with the other face (first
 /// occurrence of each index).
 struct SharedSlots {
