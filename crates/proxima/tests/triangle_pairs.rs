@@ -91,6 +91,34 @@ fn random_pairs_match_the_exact_oracles() {
     assert!((25..=225).contains(&hits), "{hits} of 250 intersect");
 }
 
+#[test]
+fn crossing_pairs_match_the_exact_oracles() {
+    // Pairs in which each triangle crosses the other's plane with no vertex
+    // on it (the most common case left after the plane tests): random, and
+    // edge through edge exactly (touching at one point), then nudged.
+    let mut rng = Rng::new(38);
+    let (mut crossing, mut hits) = (0, 0);
+    for i in 0..900 {
+        let (a, b) = if i % 3 == 0 {
+            touching_case(1, &mut rng)
+        } else {
+            random_pair(&mut rng)
+        };
+        let b = if i % 6 == 3 { nudge(&b, &mut rng) } else { b };
+        let sides = |t: &Tri, of: &Tri| t.map(|p| pair_oracle::side(of, p));
+        let (sa, sb) = (sides(&a, &b), sides(&b, &a));
+        let straddles = |s: [i32; 3]| !s.contains(&0) && s.iter().any(|&x| x != s[0]);
+        if straddles(sa) && straddles(sb) {
+            crossing += 1;
+            hits += check_pair(&a, &b) as usize;
+        }
+    }
+    assert!(
+        crossing > 300 && hits > 150 && crossing - hits > 60,
+        "{crossing} crossing, {hits} meet"
+    );
+}
+
 /// Exactly touching constructions on the lattice, and each nudged by 1..3 ulps.
 fn touching_case(kind: usize, rng: &mut Rng) -> (Tri, Tri) {
     let a = [lattice(rng, 16), lattice(rng, 16), lattice(rng, 16)];

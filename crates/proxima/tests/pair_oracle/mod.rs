@@ -57,6 +57,21 @@ pub fn cross(a: &Q3, b: &Q3) -> Q3 {
     ]
 }
 
+/// The side of `p` against the plane of `t`: the sign of
+/// `((t1 - t0) × (t2 - t0)) · (p - t0)`, exact (0 when `t` is degenerate).
+pub fn side(t: &[DVec3; 3], p: DVec3) -> i32 {
+    let [t0, t1, t2] = t.map(q3);
+    let n = cross(&sub(&t1, &t0), &sub(&t2, &t0));
+    let d = dot(&n, &sub(&q3(p), &t0));
+    if d.is_zero() {
+        0
+    } else if d.is_positive() {
+        1
+    } else {
+        -1
+    }
+}
+
 pub fn is_zero(a: &Q3) -> bool {
     a.iter().all(Zero::is_zero)
 }
