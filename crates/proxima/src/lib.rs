@@ -52,6 +52,7 @@ pub mod math;
 pub mod memory;
 pub mod mesh;
 pub mod pair;
+pub mod points;
 pub mod prelude;
 pub mod primitive;
 pub mod query;

@@ -27,7 +27,7 @@
 mod batch;
 mod closest;
 mod frustum;
-mod knn;
+pub(crate) mod knn;
 mod leaves;
 mod nearest;
 mod point;
