@@ -15,6 +15,7 @@ mod closest;
 mod errors;
 mod mesh;
 mod pairs;
+mod points;
 mod poses;
 mod rays;
 mod threads;
@@ -63,6 +64,9 @@ fn _proxima(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyMesh>()?;
     m.add_class::<voxels::VoxelGrid>()?;
     m.add_class::<pairs::PyPairDistance>()?;
+    m.add_class::<points::PyPoints>()?;
+    m.add_function(wrap_pyfunction!(points::chamfer, m)?)?;
+    m.add_function(wrap_pyfunction!(points::hausdorff, m)?)?;
     m.add_function(wrap_pyfunction!(load, m)?)?;
     m.add_function(wrap_pyfunction!(noisy_icosphere, m)?)?;
     m.add_function(wrap_pyfunction!(traverse::traverse, m)?)?;

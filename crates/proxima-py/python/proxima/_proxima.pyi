@@ -446,3 +446,67 @@ class Mesh:
         fold, a face crossing its neighbour); faces meeting through distinct
         but equal vertices (an unwelded seam) are reported: weld first. The
         same pairs as ``proxima self-intersections``."""
+
+class Points:
+    """A point cloud and its tree, for neighbour queries. ``points`` (N, 3),
+    float32 read without a copy (float64 and integers converted once);
+    ``ValueError`` naming ``points`` when it is empty or a point is not
+    finite. Queries return nearest first, ties by index; radius queries are
+    exact: a point exactly at distance ``r`` is in, one ulp farther is
+    out. Every call releases the GIL and runs on ``threads`` (all cores by
+    default)."""
+
+    def __init__(self, points: npt.ArrayLike, threads: Optional[int] = None) -> None: ...
+    def __len__(self) -> int: ...
+    @property
+    def points(self) -> npt.NDArray[np.float32]:
+        """The points, (N, 3) float32."""
+    def k_nearest(
+        self, queries: npt.ArrayLike, k: int, threads: Optional[int] = None
+    ) -> Tuple[npt.NDArray[np.float32], npt.NDArray[np.int64]]:
+        """``(distance, index)``, each (Q, k): the ``k`` nearest points of
+        each query, padded with ``inf`` and ``-1`` when the cloud has fewer
+        (scipy's ``cKDTree.query`` layout). ``ValueError`` naming ``k``
+        (below 1 or above 2**31, or answers beyond the memory budget) or
+        ``queries[i]``."""
+    def within(
+        self,
+        queries: npt.ArrayLike,
+        r: float,
+        max_neighbors: Optional[int] = None,
+        threads: Optional[int] = None,
+    ) -> Tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], npt.NDArray[np.float32]]:
+        """``(offsets, index, distance)`` in compressed rows: query ``i``'s
+        neighbours are ``index[offsets[i]:offsets[i + 1]]``, every point at
+        distance at most ``r`` (exactly), nearest first; with
+        ``max_neighbors``, only the nearest that many (the ball query of
+        PointNet++). ``ValueError`` naming ``r`` (negative or NaN; or
+        answers beyond the memory budget) or ``max_neighbors``."""
+    def count_within(
+        self, queries: npt.ArrayLike, r: float, threads: Optional[int] = None
+    ) -> npt.NDArray[np.int64]:
+        """How many points lie within ``r`` of each query (exactly), (Q,)."""
+    def pairs_within(self, r: float, threads: Optional[int] = None) -> npt.NDArray[np.int64]:
+        """Every pair ``(i, j)``, ``i < j``, of points at distance at most
+        ``r`` (exactly): (K, 2) int64, sorted."""
+
+def chamfer(
+    a: Union[Points, npt.ArrayLike],
+    b: Union[Points, npt.ArrayLike],
+    squared: bool = True,
+    threads: Optional[int] = None,
+) -> float:
+    """The Chamfer distance between point sets ``a`` and ``b``: the mean
+    nearest distance from ``a`` to ``b`` plus from ``b`` to ``a``, of squared
+    distances (``squared=True``: pytorch3d's ``chamfer_distance``) or plain
+    ones (point-cloud-utils' ``chamfer_distance``); sums in float64."""
+
+def hausdorff(
+    a: Union[Points, npt.ArrayLike],
+    b: Union[Points, npt.ArrayLike],
+    one_sided: bool = False,
+    threads: Optional[int] = None,
+) -> float:
+    """The Hausdorff distance between point sets ``a`` and ``b``: the
+    largest distance from a point of either set to the other (with
+    ``one_sided``, from ``a`` to ``b`` only)."""
