@@ -33,7 +33,7 @@ use crate::budget::check_fits;
 use crate::math::{Vec3, Vec3A};
 use crate::primitive::{Point, PrimitiveSet};
 use crate::query::knn::{Candidate, KBest};
-use crate::query::{NearestQuery, SpatialIndex, check_query_point};
+use crate::query::{NearestQuery, SpatialIndex, answer_batch_indexed, check_query_point, morton_order};
 use crate::{BuildConfig, WideTree};
 use ball::{Ball, CappedBall, walk_bound};
 use rayon::prelude::*;
@@ -131,18 +131,21 @@ impl PointCloud {
     pub fn k_nearest_batch(&self, queries: &[Vec3], k: usize) -> Result<KNearest, PointsError> {
         check_k(k)?;
         check_queries(queries, "queries")?;
-        check_fits("k", k, (queries.len() as u128) * (k as u128), 8)?;
-        let mut indices = vec![u32::MAX; queries.len() * k];
-        let mut distances = vec![f32::INFINITY; queries.len() * k];
-        indices
+        // The rows in processing order, then in input order: 16 bytes per
+        // entry at the peak.
+        check_fits("k", k, (queries.len() as u128) * (k as u128), 16)?;
+        let order = morton_order(queries, &self.tree.bounds());
+        let mut ordered_indices = vec![u32::MAX; queries.len() * k];
+        let mut ordered_distances = vec![f32::INFINITY; queries.len() * k];
+        ordered_indices
             .par_chunks_mut(k * CHUNK)
-            .zip(distances.par_chunks_mut(k * CHUNK))
-            .zip(queries.par_chunks(CHUNK))
+            .zip(ordered_distances.par_chunks_mut(k * CHUNK))
+            .zip(order.par_chunks(CHUNK))
             .for_each_init(
                 || (crate::query::KnnScratch::new(), Vec::new()),
                 |(scratch, out), ((rows, row_distances), chunk)| {
                     for (i, &q) in chunk.iter().enumerate() {
-                        self.tree.k_nearest_into(q, k, scratch, out);
+                        self.tree.k_nearest_into(queries[q as usize], k, scratch, out);
                         for (j, hit) in out.iter().enumerate() {
                             rows[i * k + j] = hit.primitive;
                             row_distances[i * k + j] = hit.distance;
@@ -150,6 +153,18 @@ impl PointCloud {
                     }
                 },
             );
+        let at = inverse(&order);
+        let mut indices = vec![0; queries.len() * k];
+        indices
+            .par_chunks_mut(k)
+            .enumerate()
+            .for_each(|(row, out)| out.copy_from_slice(&ordered_indices[at[row] as usize * k..][..k]));
+        drop(ordered_indices);
+        let mut distances = vec![0.0; queries.len() * k];
+        distances
+            .par_chunks_mut(k)
+            .enumerate()
+            .for_each(|(row, out)| out.copy_from_slice(&ordered_distances[at[row] as usize * k..][..k]));
         Ok(KNearest { k, indices, distances })
     }
 
@@ -188,45 +203,53 @@ impl PointCloud {
         const BYTES: u64 = 16;
         let total = AtomicUsize::new(0);
         let over = AtomicBool::new(false);
-        let parts: Vec<(Vec<u32>, Vec<u32>, Vec<f32>)> = queries
+        let order = morton_order(queries, &self.tree.bounds());
+        let parts: Vec<(Vec<usize>, Vec<u32>, Vec<f32>)> = order
             .par_chunks(CHUNK)
             .map_init(Scratch::default, |scratch, chunk| {
-                let (mut counts, mut indices, mut distances) =
-                    (Vec::with_capacity(chunk.len()), Vec::new(), Vec::new());
+                let mut offsets = Vec::with_capacity(chunk.len() + 1);
+                let (mut indices, mut distances) = (Vec::new(), Vec::new());
+                offsets.push(0);
                 if over.load(Ordering::Relaxed) {
-                    return (counts, indices, distances);
+                    return (offsets, indices, distances);
                 }
                 for &q in chunk {
-                    self.ball(q, radius, max_neighbors, scratch);
-                    counts.push(scratch.found.len() as u32);
+                    self.ball(queries[q as usize], radius, max_neighbors, scratch);
                     indices.extend(scratch.found.iter().map(|c| c.index));
                     distances.extend(scratch.found.iter().map(|c| c.distance_squared.sqrt()));
+                    offsets.push(indices.len());
                 }
                 let now = total.fetch_add(indices.len(), Ordering::Relaxed) + indices.len();
                 if now as u64 * BYTES > budget {
                     over.store(true, Ordering::Relaxed);
                 }
-                (counts, indices, distances)
+                (offsets, indices, distances)
             })
             .collect();
         let total = total.into_inner();
         if over.into_inner() {
             crate::budget::check_fits_in(budget, "radius", radius, total as u128, u128::from(BYTES))?;
         }
+        // Back to input order: query `i` was answered at position `at[i]`,
+        // row `at[i] % CHUNK` of part `at[i] / CHUNK`.
+        let at = inverse(&order);
+        let row = |i: usize| {
+            let (part, local) = (at[i] as usize / CHUNK, at[i] as usize % CHUNK);
+            let (offsets, indices, distances) = &parts[part];
+            let range = offsets[local]..offsets[local + 1];
+            (&indices[range.clone()], &distances[range])
+        };
         let mut answer = Neighbours {
             offsets: Vec::with_capacity(queries.len() + 1),
             indices: Vec::with_capacity(total),
             distances: Vec::with_capacity(total),
         };
         answer.offsets.push(0);
-        for (counts, indices, distances) in parts {
-            let mut at = answer.indices.len();
-            for count in counts {
-                at += count as usize;
-                answer.offsets.push(at);
-            }
-            answer.indices.extend(indices);
-            answer.distances.extend(distances);
+        for i in 0..queries.len() {
+            let (indices, distances) = row(i);
+            answer.indices.extend_from_slice(indices);
+            answer.distances.extend_from_slice(distances);
+            answer.offsets.push(answer.indices.len());
         }
         Ok(answer)
     }
@@ -236,13 +259,16 @@ impl PointCloud {
     pub fn count_within_batch(&self, queries: &[Vec3], radius: f64) -> Result<Vec<u32>, PointsError> {
         check_radius(radius, None)?;
         check_queries(queries, "queries")?;
-        Ok(queries
-            .par_iter()
-            .map_init(Scratch::default, |scratch, &q| {
-                self.ball(q, radius, None, scratch);
+        Ok(answer_batch_indexed(
+            queries,
+            &self.tree.bounds(),
+            true,
+            Scratch::default,
+            |scratch, i| {
+                self.ball(queries[i], radius, None, scratch);
                 scratch.found.len() as u32
-            })
-            .collect())
+            },
+        ))
     }
 
     /// Every pair `[i, j]`, `i < j`, of points of the cloud within
@@ -295,6 +321,15 @@ impl PointCloud {
             }
         }
     }
+}
+
+/// Where each query of `order` (a permutation) was answered.
+fn inverse(order: &[u32]) -> Vec<u32> {
+    let mut at = vec![0; order.len()];
+    for (position, &i) in order.iter().enumerate() {
+        at[i as usize] = position as u32;
+    }
+    at
 }
 
 fn neighbour(hit: &crate::ClosestHit) -> Neighbour {
