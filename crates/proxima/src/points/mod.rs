@@ -239,18 +239,41 @@ impl PointCloud {
             let range = offsets[local]..offsets[local + 1];
             (&indices[range.clone()], &distances[range])
         };
-        let mut answer = Neighbours {
-            offsets: Vec::with_capacity(queries.len() + 1),
-            indices: Vec::with_capacity(total),
-            distances: Vec::with_capacity(total),
-        };
-        answer.offsets.push(0);
+        let mut offsets = Vec::with_capacity(queries.len() + 1);
+        offsets.push(0);
         for i in 0..queries.len() {
-            let (indices, distances) = row(i);
-            answer.indices.extend_from_slice(indices);
-            answer.distances.extend_from_slice(distances);
-            answer.offsets.push(answer.indices.len());
+            offsets.push(offsets[i] + row(i).0.len());
         }
+        // Rows copied on all cores: the answer split into disjoint blocks of
+        // `CHUNK` queries' rows, each filled by one task.
+        let mut indices = vec![0u32; total];
+        let mut distances = vec![0f32; total];
+        let mut blocks = Vec::with_capacity(queries.len().div_ceil(CHUNK));
+        let (mut rest_indices, mut rest_distances) = (&mut indices[..], &mut distances[..]);
+        for first in (0..queries.len()).step_by(CHUNK) {
+            let end = (first + CHUNK).min(queries.len());
+            let len = offsets[end] - offsets[first];
+            let (block_indices, tail_indices) = rest_indices.split_at_mut(len);
+            let (block_distances, tail_distances) = rest_distances.split_at_mut(len);
+            blocks.push((first..end, block_indices, block_distances));
+            (rest_indices, rest_distances) = (tail_indices, tail_distances);
+        }
+        blocks
+            .into_par_iter()
+            .for_each(|(rows, block_indices, block_distances)| {
+                let mut at = 0;
+                for i in rows {
+                    let (found, found_distances) = row(i);
+                    block_indices[at..at + found.len()].copy_from_slice(found);
+                    block_distances[at..at + found.len()].copy_from_slice(found_distances);
+                    at += found.len();
+                }
+            });
+        let answer = Neighbours {
+            offsets,
+            indices,
+            distances,
+        };
         Ok(answer)
     }
 
