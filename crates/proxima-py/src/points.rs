@@ -158,6 +158,17 @@ fn cloud(object: &Bound<'_, PyAny>, name: &str, threads: Option<i64>) -> PyResul
     Ok(Arc::new(built))
 }
 
+/// The nearest distances from `a` to `b` and back ([`proxima::points::chamfer`]).
+fn both_ways(
+    py: Python<'_>,
+    a: &Bound<'_, PyAny>,
+    b: &Bound<'_, PyAny>,
+    threads: Option<i64>,
+) -> PyResult<proxima::points::Chamfer> {
+    let (a, b) = (cloud(a, "a", threads)?, cloud(b, "b", threads)?);
+    threads::run(py, threads, || proxima::points::chamfer(&a, &b))
+}
+
 /// The Chamfer distance between point sets `a` and `b` (arrays (N, 3) or
 /// `Points`): with `squared`, mean of squared nearest distances from a to b
 /// plus from b to a (pytorch3d's `chamfer_distance`); without, the same of
@@ -171,8 +182,7 @@ pub fn chamfer(
     squared: bool,
     threads: Option<i64>,
 ) -> PyResult<f64> {
-    let (a, b) = (cloud(a, "a", threads)?, cloud(b, "b", threads)?);
-    let c = threads::run(py, threads, || proxima::points::chamfer(&a, &b))?;
+    let c = both_ways(py, a, b, threads)?;
     Ok(if squared {
         c.forward.mean_squared + c.backward.mean_squared
     } else {
@@ -192,7 +202,6 @@ pub fn hausdorff(
     one_sided: bool,
     threads: Option<i64>,
 ) -> PyResult<f64> {
-    let (a, b) = (cloud(a, "a", threads)?, cloud(b, "b", threads)?);
-    let c = threads::run(py, threads, || proxima::points::chamfer(&a, &b))?;
+    let c = both_ways(py, a, b, threads)?;
     Ok(if one_sided { c.forward.max } else { c.hausdorff() })
 }

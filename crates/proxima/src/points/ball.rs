@@ -19,6 +19,10 @@ use num_bigint::BigInt;
 pub(crate) fn within_exact(p: Vec3, q: Vec3, r: f64) -> bool {
     let d2 = (q.as_dvec3() - p.as_dvec3()).length_squared();
     let r2 = r * r;
+    if r2 == f64::INFINITY {
+        // r beyond 1e154: far past any distance between f32 points.
+        return true;
+    }
     let slack = 8.0 * f64::EPSILON * (d2 + r2);
     if d2 + slack < r2 {
         return true;
@@ -179,5 +183,7 @@ mod tests {
         assert!(within_exact(p, p, 0.0));
         assert!(!within_exact(p, Vec3::new(1.0f32.next_up(), 2.0, 3.0), 1e-300));
         assert!(within_exact(p, Vec3::new(-1e18, 0.0, 0.0), 1e300));
+        assert!(within_exact(p, Vec3::new(-1e18, 0.0, 0.0), f64::INFINITY));
+        assert!(!within_exact(p, Vec3::new(-1e18, 0.0, 0.0), 9e17));
     }
 }
