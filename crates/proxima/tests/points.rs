@@ -178,8 +178,13 @@ fn chamfer_and_hausdorff_match_brute_force() {
         for (nb, b) in &all {
             let (ca, cb) = (PointCloud::new(a).unwrap(), PointCloud::new(b).unwrap());
             let c = chamfer(&ca, &cb);
-            let nearest =
-                |p: Vec3, to: &[Vec3]| f64::from(to.iter().map(|&q| d2(p, q)).fold(f32::INFINITY, f32::min).sqrt());
+            // The nearest by f32 squared distance (ties by index), measured in f64.
+            let nearest = |p: Vec3, to: &[Vec3]| {
+                let j = (0..to.len())
+                    .min_by(|&x, &y| d2(to[x], p).total_cmp(&d2(to[y], p)).then(x.cmp(&y)))
+                    .unwrap();
+                (to[j].as_dvec3() - p.as_dvec3()).length()
+            };
             let forward: Vec<f64> = a.iter().map(|&p| nearest(p, b)).collect();
             let backward: Vec<f64> = b.iter().map(|&p| nearest(p, a)).collect();
             let sum: f64 = forward.iter().sum();

@@ -43,7 +43,8 @@ impl Chamfer {
 }
 
 /// The Chamfer distances between clouds `a` and `b`, both directions, on
-/// all cores (each point's nearest neighbour in the other cloud; sums in
+/// all cores (each point's nearest neighbour in the other cloud, chosen by
+/// `f32` squared distance, ties by index; its distance and the sums in
 /// `f64`).
 ///
 /// ```
@@ -80,10 +81,14 @@ fn directed(from: &PointCloud, to: &PointCloud) -> Directed {
         max: f64::NEG_INFINITY,
         argmax: 0,
     };
-    for (i, hit) in hits.iter().enumerate() {
+    for (i, (hit, p)) in hits.iter().zip(from.points()).enumerate() {
         // Every point of a cloud is finite and within the query bound, and
-        // the other cloud is not empty: each has an answer.
-        let d = hit.as_ref().map_or(f64::INFINITY, |h| f64::from(h.distance));
+        // the other cloud is not empty: each has an answer. Its distance is
+        // measured again in f64 from the f32 coordinates, so that squares
+        // and sums carry no f32 rounding.
+        let d = hit
+            .as_ref()
+            .map_or(f64::INFINITY, |h| (h.point.as_dvec3() - p.as_dvec3()).length());
         out.sum += d;
         out.sum_squared += d * d;
         if d > out.max {
