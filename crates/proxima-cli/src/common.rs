@@ -237,3 +237,15 @@ pub fn cell_option(cell: Vec3) -> String {
         format!("--cell {},{},{}", cell.x, cell.y, cell.z)
     }
 }
+
+/// The point cloud of `path`: a mesh file's vertices (by its extension,
+/// see [`proxima::io::Format::from_path`]) or a points file (see
+/// [`read_points`]); an empty or unusable cloud names the file.
+pub fn load_cloud(path: &Path) -> Result<proxima::points::PointCloud> {
+    let points = match proxima::io::Format::from_path(path) {
+        Some(_) => load_mesh(path)?.positions().to_vec(),
+        None => read_points(path)?,
+    };
+    proxima::points::PointCloud::new(&points)
+        .map_err(|e| anyhow!("{}: {}", path.display(), e.to_string().trim_start_matches("points: ")))
+}

@@ -31,6 +31,10 @@ enum Command {
     Info(commands::info::Args),
     /// Closest vertices, edges or faces to query points, as CSV.
     Closest(commands::closest::Args),
+    /// The k nearest points of a point cloud to query points, as CSV.
+    Knn(commands::knn::Args),
+    /// Every point of a point cloud within a radius of query points (exactly), as CSV.
+    Radius(commands::radius::Args),
     /// The vertices, edges or faces a camera sees (overlapping its view frustum).
     Frustum(commands::frustum::Args),
     /// Linear search against the trees on the same queries (closest points, signed distances or rays).
@@ -62,6 +66,8 @@ fn main() -> ExitCode {
         Command::Demo(args) => commands::demo::run(args),
         Command::Info(args) => commands::info::run(args),
         Command::Closest(args) => commands::closest::run(args),
+        Command::Knn(args) => commands::knn::run(args),
+        Command::Radius(args) => commands::radius::run(args),
         Command::Bench(args) => commands::bench::run(args),
         Command::View(args) => commands::view::run(args),
         Command::Frustum(args) => commands::frustum::run(args),

@@ -1209,6 +1209,24 @@ fn cases() -> Vec<Case> {
             &["'-0.5' is not a finite number >= 0"],
         )
         .triangle(),
+        // ------------------------------------------------- point clouds ---
+        case("points_empty_cloud", &["knn", "{dir}/empty.xyz", "--queries", "{dir}/q.xyz"], 1, &["proxima: ", "empty.xyz: the point cloud is empty"])
+            .file("empty.xyz", b"# no point\n")
+            .file("q.xyz", b"0 0 0\n"),
+        case("points_bad_query", &["radius", "{dir}/c.xyz", "--queries", "{dir}/q.xyz", "--radius", "1"], 1, &["q.xyz:2"])
+            .file("c.xyz", b"0 0 0\n1 0 0\n")
+            .file("q.xyz", b"0 0 0\n1 nan 0\n"),
+        case("points_bad_radius", &["radius", "{dir}/c.xyz", "--queries", "{dir}/c.xyz", "--radius", "-1"], 1, &["proxima: --radius -1: must be a non-negative number"])
+            .file("c.xyz", b"0 0 0\n"),
+        case("points_bad_radius", &["radius", "{dir}/c.xyz", "--queries", "{dir}/c.xyz", "--radius", "nan"], 1, &["proxima: --radius NaN: must be a non-negative number"])
+            .file("c.xyz", b"0 0 0\n"),
+        case("points_bad_count", &["knn", "{dir}/c.xyz", "--queries", "{dir}/c.xyz", "-k", "0"], 2, &["0 is not in 1..=2147483648"])
+            .file("c.xyz", b"0 0 0\n"),
+        case("points_bad_count", &["radius", "{dir}/c.xyz", "--queries", "{dir}/c.xyz", "--radius", "1", "--max", "0"], 2, &["--max"])
+            .file("c.xyz", b"0 0 0\n"),
+        case("points_beyond_the_memory_budget", &["knn", "{dir}/c.xyz", "--queries", "{dir}/c.xyz", "-k", "100000"], 1, &["proxima: -k 100000: needs about", "memory budget of 1.0 KiB"])
+            .file("c.xyz", b"0 0 0\n1 1 1\n")
+            .env(&[("PROXIMA_MEMORY_BUDGET", "1K")]),
     ]
 }
 

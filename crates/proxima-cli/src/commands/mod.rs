@@ -8,6 +8,8 @@ pub mod distance;
 pub mod frustum;
 pub mod grid;
 pub mod info;
+pub mod knn;
+pub mod radius;
 pub mod raycast;
 pub mod raycast_batch;
 pub mod sdf;
