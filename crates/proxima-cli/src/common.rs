@@ -249,3 +249,21 @@ pub fn load_cloud(path: &Path) -> Result<proxima::points::PointCloud> {
     proxima::points::PointCloud::new(&points)
         .map_err(|e| anyhow!("{}: {}", path.display(), e.to_string().trim_start_matches("points: ")))
 }
+
+/// What `proxima knn` and `proxima radius` start from: the cloud of
+/// `points` (see [`load_cloud`]), the query points of `queries` (see
+/// [`read_points`]) and the pool of `--threads`.
+pub fn cloud_queries_pool(
+    points: &Path,
+    queries: &Path,
+    threads: Option<usize>,
+) -> Result<(proxima::points::PointCloud, Vec<Vec3>, rayon::ThreadPool)> {
+    let threads = threads.map_or(Ok(0), thread_count)?;
+    let cloud = load_cloud(points)?;
+    let queries = read_points(queries)?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .context("thread pool")?;
+    Ok((cloud, queries, pool))
+}

@@ -3,8 +3,8 @@
 //! [`proxima::points::PointCloud::k_nearest_batch`]), as CSV
 //! `query,rank,index,distance`, nearest first (ties by index).
 
-use crate::common::{load_cloud, read_points, thread_count};
-use anyhow::{Context, Result};
+use crate::common::cloud_queries_pool;
+use anyhow::Result;
 use std::io::{BufWriter, Write};
 use std::path::PathBuf;
 
@@ -27,13 +27,7 @@ pub struct Args {
 
 /// Runs `proxima knn`.
 pub fn run(args: Args) -> Result<()> {
-    let threads = args.threads.map_or(Ok(0), thread_count)?;
-    let cloud = load_cloud(&args.points)?;
-    let queries = read_points(&args.queries)?;
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .context("thread pool")?;
+    let (cloud, queries, pool) = cloud_queries_pool(&args.points, &args.queries, args.threads)?;
     let k = args.k as usize;
     let found = pool
         .install(|| cloud.k_nearest_batch(&queries, k))

@@ -3,8 +3,8 @@
 //! [`proxima::points::PointCloud::within_batch`]), as CSV
 //! `query,index,distance`, nearest first (ties by index).
 
-use crate::common::{load_cloud, read_points, thread_count};
-use anyhow::{Context, Result, bail};
+use crate::common::cloud_queries_pool;
+use anyhow::{Result, bail};
 use std::io::{BufWriter, Write};
 use std::path::PathBuf;
 
@@ -33,13 +33,7 @@ pub fn run(args: Args) -> Result<()> {
     if args.radius.is_nan() || args.radius < 0.0 {
         bail!("--radius {}: must be a non-negative number", args.radius);
     }
-    let threads = args.threads.map_or(Ok(0), thread_count)?;
-    let cloud = load_cloud(&args.points)?;
-    let queries = read_points(&args.queries)?;
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .context("thread pool")?;
+    let (cloud, queries, pool) = cloud_queries_pool(&args.points, &args.queries, args.threads)?;
     let most = args.max.map(|m| usize::try_from(m).unwrap_or(usize::MAX));
     let rows = pool
         .install(|| cloud.within_batch(&queries, args.radius, most))
