@@ -79,7 +79,7 @@ pub fn pairs_within(
         out: Vec::new(),
         limit: &limit,
     };
-    let found = collect_parallel(&pair, false, visitor, |v| v.out);
+    let found = collect_parallel(&pair, visitor, |v| v.out);
     limit.check("d", d)?;
     Ok(found)
 }
@@ -184,28 +184,19 @@ impl PairVisitor for Within<'_, '_> {
 /// duplicates removed.
 pub(crate) fn collect_parallel<V: PairVisitor + Send>(
     pair: &PlacedPair<'_>,
-    same: bool,
     visitor: impl Fn() -> V + Sync,
     take: impl Fn(V) -> Vec<FacePair> + Sync,
 ) -> Vec<FacePair> {
     let mut scratch = Scratch::default();
     let tasks: Vec<Task> = {
-        let mut walk = if same {
-            Walk::same(pair, &mut scratch)
-        } else {
-            Walk::new(pair, &mut scratch)
-        };
+        let mut walk = Walk::new(pair, &mut scratch);
         walk.split(16 * rayon::current_num_threads(), &mut visitor())
     };
     let mut found: Vec<FacePair> = tasks
         .into_par_iter()
         .map_init(Scratch::default, |scratch, task| {
             let mut v = visitor();
-            let mut walk = if same {
-                Walk::same(pair, scratch)
-            } else {
-                Walk::new(pair, scratch)
-            };
+            let mut walk = Walk::new(pair, scratch);
             let _ = walk.run_from(task, &mut v);
             take(v)
         })

@@ -14,9 +14,8 @@
 //! [`RigidPose::apply`], certainly lie beyond the visitor's reach: the exact
 //! tests at the leaves then see every pair brute force would.
 //!
-//! When both trees are the same and unmoved ([`Walk::same`]), a node is
-//! paired with itself once and its children in unordered pairs, so each
-//! unordered pair of triangles is met once (self-intersections).
+//! One tree against itself, unmoved (self-intersections), has a walk of its
+//! own: `self_intersection/overlaps.rs`.
 
 use super::pose::RigidPose;
 use super::queue::NearestQueue;
@@ -126,8 +125,6 @@ struct Pending {
     b_box: Aabb,
     b_lane: Lane,
     key: f64,
-    /// Both parts are the same subtree of the same tree ([`Walk::same`]).
-    same: bool,
 }
 
 /// Two trees of triangles, each placed in the world by a pose.
@@ -455,8 +452,6 @@ impl Scratch {
 /// One walk over a [`PlacedPair`].
 pub(crate) struct Walk<'p, 't, 's> {
     pair: &'p PlacedPair<'t>,
-    /// The two trees are one, unmoved: unordered pairs only.
-    same: bool,
     stack: &'s mut Vec<Pending>,
     queue: &'s mut NearestQueue<Pending>,
     /// The visitor's separating direction, as last asked.
@@ -468,20 +463,6 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
     pub(crate) fn new(pair: &'p PlacedPair<'t>, scratch: &'s mut Scratch) -> Self {
         Self {
             pair,
-            same: false,
-            stack: &mut scratch.stack,
-            queue: &mut scratch.queue,
-            slab: None,
-        }
-    }
-
-    /// A walk over the unordered pairs of one tree (`pair` holds the same
-    /// tree twice, both unmoved).
-    pub(crate) fn same(pair: &'p PlacedPair<'t>, scratch: &'s mut Scratch) -> Self {
-        debug_assert!(std::ptr::eq(pair.a, pair.b) && pair.same_frame);
-        Self {
-            pair,
-            same: true,
             stack: &mut scratch.stack,
             queue: &mut scratch.queue,
             slab: None,
@@ -500,7 +481,6 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
             b_box,
             b_lane: NO_LANE,
             key: self.pair.key(&a_box, &b_box),
-            same: self.same,
         })
     }
 
@@ -606,7 +586,7 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
         let reach = visitor.reach_squared();
         match (next.a, next.b) {
             (Part::Leaf { first: fa, len: na }, Part::Leaf { first: fb, len: nb }) => {
-                return self.leaves(fa, na, fb, nb, next.same, visitor);
+                return self.leaves(fa, na, fb, nb, visitor);
             }
             (Part::Node(na), Part::Node(nb)) => {
                 let (a_children, a_count) = children(pair.a, na);
@@ -646,7 +626,7 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
                     }
                     (slab, f64x4::new(high))
                 });
-                for (j, &(b, b_box, b_lane)) in b_children[..b_count].iter().enumerate() {
+                for &(b, b_box, b_lane) in &b_children[..b_count] {
                     let mut keys = distances_squared(&a_own, &pair.move_b(&b_box));
                     if !pair.same_frame {
                         keys = keys.max(distances_squared(&a_moved, &own(&b_box)));
@@ -670,13 +650,8 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
                         keys = keys.max(f64x4::new(oriented));
                     }
                     for (i, &key) in keys.as_array()[..a_count].iter().enumerate() {
-                        // The same node twice: child i with child j once, i <= j.
-                        if next.same && i > j {
-                            continue;
-                        }
                         if key <= reach {
                             let (a, a_box, a_lane) = a_children[i];
-                            let same = next.same && i == j;
                             self.stack.push(Pending {
                                 a,
                                 a_box,
@@ -685,7 +660,6 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
                                 b_box,
                                 b_lane,
                                 key,
-                                same,
                             });
                         }
                     }
@@ -698,7 +672,6 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
                         a,
                         a_box,
                         a_lane,
-                        same: false,
                         ..next
                     };
                     child.key = self.key(&child, reach);
@@ -714,7 +687,6 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
                         b,
                         b_box,
                         b_lane,
-                        same: false,
                         ..next
                     };
                     child.key = self.key(&child, reach);
@@ -727,17 +699,8 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
         ControlFlow::Continue(())
     }
 
-    /// The triangle pairs of two leaves (unordered pairs within one leaf
-    /// when `same`), each pair whose boxes are in reach.
-    fn leaves<V: PairVisitor>(
-        &mut self,
-        fa: u32,
-        na: u32,
-        fb: u32,
-        nb: u32,
-        same: bool,
-        visitor: &mut V,
-    ) -> ControlFlow<()> {
+    /// The triangle pairs of two leaves, each pair whose boxes are in reach.
+    fn leaves<V: PairVisitor>(&mut self, fa: u32, na: u32, fb: u32, nb: u32, visitor: &mut V) -> ControlFlow<()> {
         let pair = self.pair;
         let mut a = [PlacedTriangle::EMPTY; 8];
         let mut b = [PlacedTriangle::EMPTY; 8];
@@ -747,25 +710,14 @@ impl<'p, 't, 's> Walk<'p, 't, 's> {
             let a_len = (fa + na - a_first).min(8);
             let a_count = PlacedPair::place(pair.a, &pair.pose_a, a_first, a_len, &mut a);
             for b_first in (fb..fb + nb).step_by(8) {
-                if same && b_first < a_first {
-                    continue;
-                }
                 let b_len = (fb + nb - b_first).min(8);
-                let b_count = if same && b_first == a_first {
-                    b[..a_count].copy_from_slice(&a[..a_count]);
-                    a_count
-                } else {
-                    PlacedPair::place(pair.b, &pair.pose_b, b_first, b_len, &mut b)
-                };
+                let b_count = PlacedPair::place(pair.b, &pair.pose_b, b_first, b_len, &mut b);
                 // Each triangle's reach along the separating direction,
                 // projected once per direction rather than once per pair.
                 let mut projected: Option<DVec3> = None;
                 let (mut high, mut low) = ([0.0; 8], [0.0; 8]);
                 for (i, ta) in a[..a_count].iter().enumerate() {
                     for (j, tb) in b[..b_count].iter().enumerate() {
-                        if same && tb.slot <= ta.slot {
-                            continue;
-                        }
                         let reach = visitor.reach_squared();
                         if ta.box_distance_squared(tb) > reach {
                             continue;
