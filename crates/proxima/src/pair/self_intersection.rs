@@ -5,15 +5,15 @@
 //! boxes: touching counts), with no padding and no placement, and the exact
 //! tests run on the triangles' own coordinates. Nearly every pair that walk
 //! finds is a pair of neighbours (on the Stanford dragon, 5.6M of 6.2M share
-//! a vertex or an edge), and a neighbour pair is nearly always settled by one
-//! or two filtered orientations against a face's plane
-//! ([`neighbours_apart`](super::triangle_intersection::neighbours_apart)).
+//! a vertex or an edge): nearly all are settled with no test by the fan
+//! certificate of a shared vertex ([`fans`]), the rest by the exact
+//! neighbour rule ([`neighbours_intersect`]).
 
 mod fans;
 mod overlaps;
 
 use super::collide::PairLimit;
-use super::triangle_intersection::{neighbours_apart, neighbours_intersect, triangles_intersect};
+use super::triangle_intersection::{neighbours_intersect, triangles_intersect};
 use super::{FacePair, PairError, faces_tree};
 use crate::Triangle;
 use crate::index::MeshIndex;
@@ -129,7 +129,7 @@ impl SelfMeeting<'_> {
         let corners = |t: &Triangle| [t.a, t.b, t.c].map(|p| p.as_dvec3());
         let (ta, tb) = (corners(&self.triangles[i]), corners(&self.triangles[j]));
         let meet = if shares {
-            !neighbours_apart(&ta, ia, &tb, ib) && neighbours_intersect(&ta, ia, &tb, ib)
+            neighbours_intersect(&ta, ia, &tb, ib)
         } else {
             triangles_intersect(&ta, &tb)
         };

@@ -138,6 +138,10 @@ pub fn neighbours_intersect(a: &[DVec3; 3], ia: [u32; 3], b: &[DVec3; 3], ib: [u
     if a_within_b || b_within_a {
         return false;
     }
+    // The common case first: one or two orientations against a plane.
+    if neighbours_apart(a, ia, b, ib) {
+        return false;
+    }
     // Slots of the shared indices (first occurrence) in a, and the other slots.
     let shared = slots(ia, in_b);
     match shared.count {
@@ -150,19 +154,6 @@ pub fn neighbours_intersect(a: &[DVec3; 3], ia: [u32; 3], b: &[DVec3; 3], ib: [u
             let (d1, e1) = (b[(sb + 1) % 3], b[(sb + 2) % 3]);
             let a_face = [apex, b1, c1];
             let b_face = [apex, d1, e1];
-            // The common case first: the far edge of one face strictly on
-            // one side of the other's plane, so that face meets that plane
-            // at the apex only (every other point of it is a convex
-            // combination with weight on that edge) and the faces share
-            // nothing beyond it.
-            let one_side = |p: DVec3, q: DVec3, t: &[DVec3; 3]| {
-                let plane = Plane::new(t);
-                let s = plane.side(p);
-                s != Ordering::Equal && s == plane.side(q)
-            };
-            if one_side(d1, e1, &a_face) || one_side(b1, c1, &b_face) {
-                return false;
-            }
             opposite_meets_beyond(apex, b1, c1, &b_face) || opposite_meets_beyond(apex, d1, e1, &a_face)
         }
         _ => {
@@ -179,14 +170,16 @@ pub fn neighbours_intersect(a: &[DVec3; 3], ia: [u32; 3], b: &[DVec3; 3], ib: [u
 
 /// A quick sufficient test for two faces of one mesh that share one vertex
 /// or one edge (by index, three distinct indices each): `true` certifies
-/// that [`neighbours_intersect`] is `false`; `false` says nothing. It is
-/// that function's common case alone, without its case analysis: one or
-/// two filtered orientations against a face's plane.
+/// that [`neighbours_intersect`] is `false`; `false` says nothing. One or
+/// two filtered orientations against a face's plane:
 ///
 /// - One shared vertex: the other face's far edge strictly on one side of
-///   a face's plane.
-/// - One shared edge: the other face's own vertex off the face's plane.
-pub(crate) fn neighbours_apart(a: &[DVec3; 3], ia: [u32; 3], b: &[DVec3; 3], ib: [u32; 3]) -> bool {
+///   a face's plane, so that face meets that plane at the apex only (every
+///   other point of it is a convex combination with weight on that edge)
+///   and the faces share nothing beyond it.
+/// - One shared edge: the other face's own vertex off the face's plane (the
+///   planes then meet in the edge's line only).
+fn neighbours_apart(a: &[DVec3; 3], ia: [u32; 3], b: &[DVec3; 3], ib: [u32; 3]) -> bool {
     let distinct = |i: [u32; 3]| i[0] != i[1] && i[1] != i[2] && i[0] != i[2];
     if !(distinct(ia) && distinct(ib)) {
         return false;
