@@ -23,6 +23,7 @@
 //! | Primitives | [`primitive`] ([`Point`], [`LineSegment`], [`Triangle`], [`ConvexPolygon`]; traits [`Bounded`], [`ClosestPoint`], [`BoxOverlap`], [`RayIntersect`]), [`frustum`] ([`Frustum`], [`FrustumOverlap`]), [`ray`] ([`Ray`]) |
 //! | Mesh index | [`index`] ([`MeshIndex`]: one mesh and every structure on it, built on first use; what the command line, viewer and Python package ask) |
 //! | Point clouds | [`points`] ([`points::PointCloud`]: k-nearest, exact radius search and the ball query in compressed rows, the self-join within a radius; [`points::chamfer`], [`points::hausdorff`]) |
+//! | Surface answers | [`surface`] ([`surface::SurfacePoint`]: the triangle, barycentrics and feature of a closest point or ray hit; [`surface::vertex_normals`]; interpolated and face normals) |
 //! | Two meshes | [`pair`] ([`pair::distance`], [`pair::intersects`], [`pair::intersecting_pairs`], [`pair::pairs_within`], [`pair::self_intersections`], pose batches; [`pair::RigidPose`]): one descent of both faces' trees, exact triangle-pair tests |
 //! | Queries | [`sdf`] ([`SignedDistanceField`]: signed distance, winding numbers, inside tests, grids, samples), [`query`]: [`NearestQuery`], [`RayQuery`], [`FrustumQuery`], each written once over a structure's walk; answers [`ClosestHit`], [`RayHit`] |
 //! | Structures | [`aabb_tree`] ([`AabbTree`]), [`build`] (the binary build every tree starts from: [`BuildConfig`]), [`wide_tree`] ([`WideTree`], 4-wide, SIMD leaves), [`ray_tree`] ([`RayTree`], 8-wide, for rays), [`sphere_tree`] ([`SphereTree`]), [`linear`] ([`LinearSearch`], brute force), [`grid`] ([`HashGrid`], [`GridTraversal`]) |
@@ -64,6 +65,7 @@ pub mod sdf;
 mod simd;
 pub mod sphere;
 pub mod sphere_tree;
+pub mod surface;
 pub mod wide_tree;
 
 pub use aabb::Aabb;

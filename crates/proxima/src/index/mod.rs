@@ -27,14 +27,29 @@ pub use lazy::Lazy;
 
 use crate::frustum::Frustum;
 use crate::kind::{KindFamily, KindGeneric, MeshPrimitive, PerKind, PrimitiveKind};
-use crate::math::Vec3;
+use crate::math::{DVec3, Vec3};
 use crate::mesh::Mesh;
 use crate::primitive::polygon::DEFAULT_PLANARITY_TOLERANCE;
 use crate::query::{ClosestHit, FrustumQuery, NearestAnswers, NearestQuery};
-use crate::sdf::{SdfConfig, Sign, SignedDistanceField};
+use crate::sdf::{SdfConfig, Sign, SignedDistance, SignedDistanceField, signed_distance_gradient};
+use crate::surface::SurfacePoint;
 use crate::wide_tree::OrientedBounds;
 use crate::{BuildConfig, RayTree, Triangle, WideTree};
+use rayon::prelude::*;
 use std::sync::Arc;
+
+/// A signed distance with its gradient with respect to the query point
+/// ([`MeshIndex::signed_distance_gradients`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SdfGradient {
+    /// The signed distance and the closest query's answer.
+    pub distance: SignedDistance,
+    /// The gradient: unit length, outward; the closest feature's unit
+    /// pseudonormal on the surface (zero where its faces cancel).
+    pub gradient: DVec3,
+    /// Where the closest point lies.
+    pub at: SurfacePoint,
+}
 
 /// How a [`MeshIndex`] builds its trees.
 #[derive(Clone, Debug)]
@@ -250,6 +265,56 @@ impl MeshIndex {
             };
             Ok(SignedDistanceField::with_tree(tree, &self.mesh, &config))
         })
+    }
+
+    /// Where on the surface each closest-point answer of
+    /// [`closest`](Self::closest) on [`PrimitiveKind::Faces`] lies (triangle,
+    /// barycentrics, feature; [`SurfacePoint::closest`]), computed after the
+    /// query on all cores; `None` where the answer is.
+    pub fn surface_points(&self, points: &[Vec3], hits: &[Option<ClosestHit>]) -> Vec<Option<SurfacePoint>> {
+        points
+            .par_iter()
+            .zip(hits)
+            .map(|(&p, hit)| hit.as_ref().map(|hit| SurfacePoint::closest(&self.mesh, hit, p)))
+            .collect()
+    }
+
+    /// The signed distance of every point, signed by `sign`, with its
+    /// gradient with respect to the point (`crate::sdf`'s `gradient.rs`
+    /// gives the convention) and where its closest point lies. Points right
+    /// on the surface get the pseudonormal of their closest feature (the
+    /// pseudonormal field is built for them, when there are any). `None`
+    /// where [`SignedDistanceField::signed_distance`] has no answer.
+    pub fn signed_distance_gradients(
+        &self,
+        sign: Sign,
+        points: &[Vec3],
+    ) -> Result<Vec<Option<SdfGradient>>, IndexError> {
+        let answers = self.field(sign)?.signed_distance_batch(points);
+        let mut out: Vec<Option<SdfGradient>> = points
+            .par_iter()
+            .zip(&answers)
+            .map(|(&p, answer)| {
+                let answer = (*answer)?;
+                let at = SurfacePoint::closest(&self.mesh, &answer.closest, p);
+                let gradient = signed_distance_gradient(p, at.point(&self.mesh), answer.is_inside());
+                Some(SdfGradient {
+                    distance: answer,
+                    gradient: gradient.unwrap_or(DVec3::NAN),
+                    at,
+                })
+            })
+            .collect();
+        if out.iter().flatten().any(|g| g.gradient.is_nan()) {
+            let normals = self.field(Sign::Pseudonormal)?.pseudonormals();
+            let normals = normals.expect("a pseudonormal field keeps its pseudonormals");
+            for (p, g) in points.iter().zip(&mut out) {
+                if let Some(g) = g.as_mut().filter(|g| g.gradient.is_nan()) {
+                    g.gradient = normals.normal(g.at.triangle, *p);
+                }
+            }
+        }
+        Ok(out)
     }
 
     /// The 8-wide ray tree of the faces.

@@ -151,6 +151,15 @@ impl Mesh {
         self.indices.len() - 2 * self.face_count()
     }
 
+    /// The index in [`Mesh::triangles`] of face `f`'s first fan triangle (its
+    /// `n - 2` triangles follow in order).
+    ///
+    /// # Panics
+    /// When `f` is not below [`Mesh::face_count`].
+    pub fn first_triangle(&self, f: usize) -> usize {
+        self.offsets[f] as usize - 2 * f
+    }
+
     /// Number of faces with more than three vertices.
     pub fn polygon_count(&self) -> usize {
         self.faces().filter(|f| f.len() > 3).count()

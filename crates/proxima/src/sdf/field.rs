@@ -165,6 +165,11 @@ impl SignedDistanceField {
         &self.tree
     }
 
+    /// The pseudonormals, in a field signed by them.
+    pub fn pseudonormals(&self) -> Option<&Pseudonormals> {
+        self.pseudonormals.as_ref()
+    }
+
     /// The winding numbers' tree of expansions.
     pub fn winding_numbers(&self) -> &WindingNumbers {
         self.winding.get_or_init(|| WindingNumbers::new(&self.tree, self.beta))

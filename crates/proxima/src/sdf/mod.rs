@@ -13,10 +13,11 @@
 //! One concept per file: the solid angle of a triangle (`solid_angle.rs`),
 //! winding numbers by a tree of dipole expansions (`winding.rs`),
 //! pseudonormals (`pseudonormal.rs`), the field and its batches
-//! (`field.rs`), grids and samples (`grid.rs`).
+//! (`field.rs`), the gradient (`gradient.rs`), grids and samples (`grid.rs`).
 
 mod error;
 mod field;
+mod gradient;
 mod grid;
 mod pseudonormal;
 mod solid_angle;
@@ -24,6 +25,7 @@ mod winding;
 
 pub use error::SdfError;
 pub use field::{SdfConfig, Sign, SignedDistance, SignedDistanceField};
+pub use gradient::{ON_SURFACE, signed_distance_gradient};
 pub use grid::{Samples, SdfGrid};
 pub use pseudonormal::{Feature, Pseudonormals};
 pub use solid_angle::solid_angle;

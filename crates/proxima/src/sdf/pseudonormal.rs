@@ -14,6 +14,7 @@
 
 use crate::math::{DVec3, Vec3};
 use crate::mesh::Mesh;
+use crate::surface::normals::angle_weighted_sums;
 use rayon::prelude::*;
 use std::collections::HashMap;
 
@@ -66,29 +67,11 @@ impl Pseudonormals {
     /// [`Mesh::triangles`] does.
     pub fn new(mesh: &Mesh) -> Self {
         let (positions, weld) = weld(mesh.positions());
-        let mut corners = Vec::with_capacity(mesh.triangle_count());
-        for face in mesh.faces() {
-            for w in face[1..].windows(2) {
-                corners.push([face[0], w[0], w[1]].map(|v| weld[v as usize]));
-            }
+        let mut corners = mesh.triangle_vertex_indices();
+        for c in &mut corners {
+            *c = c.map(|v| weld[v as usize]);
         }
-        let unit_normal = |c: &[u32; 3]| {
-            let [a, b, c] = c.map(|v| positions[v as usize]);
-            (b - a).cross(c - a).normalize_or_zero()
-        };
-        let normals: Vec<DVec3> = corners.par_iter().map(unit_normal).collect();
-
-        let mut vertices = vec![DVec3::ZERO; positions.len()];
-        for (c, n) in corners.iter().zip(&normals) {
-            let p = c.map(|v| positions[v as usize]);
-            for k in 0..3 {
-                let (u, v) = (p[(k + 1) % 3] - p[k], p[(k + 2) % 3] - p[k]);
-                let angle = u.angle_between(v);
-                if angle.is_finite() {
-                    vertices[c[k] as usize] += angle * *n;
-                }
-            }
-        }
+        let (normals, vertices) = angle_weighted_sums(&positions, &corners);
 
         let to_f32 = |v: DVec3| v.as_vec3().to_array();
         let mut triangles: Vec<TriangleNormals> = corners
@@ -131,16 +114,31 @@ impl Pseudonormals {
     /// feature's tangent plane counts as outside.
     #[inline]
     pub fn is_inside(&self, triangle: u32, p: Vec3) -> bool {
+        let q = p.as_dvec3();
+        let (on, normal) = self.feature_normal(triangle, q);
+        (q - on).dot(normal) < 0.0
+    }
+
+    /// The unit pseudonormal of the feature of triangle `triangle` nearest
+    /// to `p`: the outward direction there of a closed, outward-oriented
+    /// surface, and the gradient of its signed distance at a point on the
+    /// surface. Zero where the feature's faces cancel.
+    pub fn normal(&self, triangle: u32, p: Vec3) -> DVec3 {
+        self.feature_normal(triangle, p.as_dvec3()).1.normalize_or_zero()
+    }
+
+    /// A point of the nearest feature of `triangle` to `q`, and the
+    /// feature's pseudonormal (not unit length).
+    #[inline]
+    fn feature_normal(&self, triangle: u32, q: DVec3) -> (DVec3, DVec3) {
         let record = &self.triangles[triangle as usize];
         let d = |v: [f32; 3]| Vec3::from(v).as_dvec3();
         let [a, b, c] = record.corners.map(d);
-        let q = p.as_dvec3();
-        let (on, normal) = match nearest_feature(a, b, c, q) {
+        match nearest_feature(a, b, c, q) {
             Feature::Face => (a, (b - a).cross(c - a)),
             Feature::Edge(k) => ([a, b, c][k], d(record.edges[k])),
             Feature::Vertex(k) => ([a, b, c][k], d(record.vertices[k])),
-        };
-        (q - on).dot(normal) < 0.0
+        }
     }
 
     /// Bytes held.

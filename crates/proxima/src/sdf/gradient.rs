@@ -1,0 +1,47 @@
+//! The gradient of the signed distance.
+//!
+//! Off the surface the signed distance `s·|p − c|` (`s` = −1 inside, `c`
+//! the closest point) has gradient `s·(p − c)/|p − c|` with respect to `p`:
+//! unit length, pointing away from the surface outside and towards it
+//! inside, so always outward. Across the medial axis (two closest points)
+//! it jumps, and any one of the one-sided gradients is returned. On the
+//! surface the distance has no gradient; the outward direction there is the
+//! closest feature's pseudonormal
+//! ([`Pseudonormals::normal`](super::Pseudonormals::normal)).
+//!
+//! With respect to the closest triangle's corners `v_i`, with the feature
+//! held fixed, the gradient is `−w_i` times the one with respect to `p`,
+//! `w_i` the closest point's barycentric weights (the envelope theorem:
+//! the weights are optimal, so their own change does not count).
+
+use crate::math::{DVec3, Vec3};
+
+/// How close to the surface, in units of the query's largest coordinate,
+/// a query counts as on it: 16 `f32` ulps. Closer than that, the `f32`
+/// query cannot tell which triangle is closest (two meeting at an edge both
+/// answer distance 0) and `p − c` is rounding noise, often along the
+/// surface.
+pub const ON_SURFACE: f64 = 1.0 / (1u32 << 20) as f64;
+
+/// The gradient with respect to `p` of the signed distance at `p`, from
+/// its closest point `closest` (in `f64`, such as
+/// [`SurfacePoint::point`](crate::surface::SurfacePoint::point)) and its
+/// side; `None` when `p` is on the surface: within [`ON_SURFACE`] times its
+/// largest coordinate (and the smallest normal `f32`) of `closest`.
+///
+/// ```
+/// use proxima::prelude::*;
+/// use proxima::sdf::signed_distance_gradient;
+/// use proxima::DVec3;
+/// let g = signed_distance_gradient(Vec3::new(0.0, 0.0, 2.0), DVec3::ZERO, false).unwrap();
+/// assert_eq!(g, DVec3::Z);
+/// // Inside, the distance grows negative towards p's side: the gradient still points out.
+/// assert_eq!(signed_distance_gradient(Vec3::new(0.0, 0.0, -2.0), DVec3::ZERO, true).unwrap(), DVec3::Z);
+/// assert_eq!(signed_distance_gradient(Vec3::ZERO, DVec3::ZERO, false), None);
+/// ```
+pub fn signed_distance_gradient(p: Vec3, closest: DVec3, inside: bool) -> Option<DVec3> {
+    let away = p.as_dvec3() - closest;
+    let distance = away.length();
+    let scale = f64::from(p.abs().max_element().max(f32::MIN_POSITIVE));
+    (distance > ON_SURFACE * scale).then(|| if inside { -away / distance } else { away / distance })
+}
