@@ -10,6 +10,7 @@ mod commands;
 mod common;
 mod npy;
 mod poses;
+mod surface_columns;
 mod two_meshes;
 
 use clap::{Parser, Subcommand};

@@ -1224,6 +1224,14 @@ fn cases() -> Vec<Case> {
             .file("c.xyz", b"0 0 0\n"),
         case("points_bad_count", &["radius", "{dir}/c.xyz", "--queries", "{dir}/c.xyz", "--radius", "1", "--max", "0"], 2, &["--max"])
             .file("c.xyz", b"0 0 0\n"),
+        // ------------------------------------------------ surface answers ---
+        case("surface_attributes_of_faces_only", &["closest", "{dir}/ok.obj", "--point", "0,0,0", "--primitives", "edges", "--attributes"], 1, &["proxima: --attributes: the surface columns are those of faces, not of --primitives edges"])
+            .triangle(),
+        case("surface_attributes_of_faces_only", &["raycast", "{dir}/ok.obj", "--rays", "{dir}/r.txt", "--any", "--attributes"], 2, &["the argument '--any' cannot be used with '--attributes'"])
+            .triangle()
+            .file("r.txt", b"0 0 1 0 0 -1\n"),
+        case("surface_gradient_of_points_only", &["sdf", "{dir}/ok.obj", "--grid", "4", "--gradient", "--out", "{dir}/g.npy"], 2, &["'--grid <N>' cannot be used with '--gradient'"])
+            .triangle(),
         case("points_beyond_the_memory_budget", &["knn", "{dir}/c.xyz", "--queries", "{dir}/c.xyz", "-k", "100000"], 1, &["proxima: -k 100000: needs about", "memory budget of 1.0 KiB"])
             .file("c.xyz", b"0 0 0\n1 1 1\n")
             .env(&[("PROXIMA_MEMORY_BUDGET", "1K")]),

@@ -102,6 +102,7 @@ fn raycast_errors() {
 
 mod common;
 
+use proxima::DVec3;
 use proxima::prelude::*;
 use proxima::sample::Rng;
 
@@ -331,4 +332,55 @@ fn point_sized_mesh_is_missed_not_refused() {
         let expected: String = (0..count).map(|i| format!("{i},0\n")).collect();
         assert_eq!(stdout(&out), format!("ray,hit\n{expected}"));
     }
+}
+
+/// `--rays --attributes`: each hit's row adds the surface columns, which
+/// reproduce the hit point (origin + t·direction) from the triangle's
+/// corners; a miss's columns are empty; the rest of the row is unchanged.
+#[test]
+fn batch_ray_attributes_locate_the_hits() {
+    let mesh = proxima::io::load(bunny()).unwrap();
+    let rays = batch_rays(&mesh);
+    let dir = common::temp_dir("batch_ray_attributes");
+    let file = write_rays(&dir, &rays);
+    let file = file.to_str().unwrap();
+    let plain = stdout(&proxima(&["raycast", &bunny(), "--rays", file]));
+    let out = proxima(&["raycast", &bunny(), "--rays", file, "--attributes"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = stdout(&out);
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("ray,t,face,triangle,u,v,feature,fa,fb,nx,ny,nz,fnx,fny,fnz")
+    );
+    let triangles = mesh.triangle_vertex_indices();
+    let (mut hits, mut edges) = (0, 0);
+    for ((i, line), plain) in lines.enumerate().zip(plain.lines().skip(1)) {
+        let fields: Vec<&str> = line.split(',').collect();
+        assert_eq!(fields[..3].join(","), plain, "ray {i}");
+        if fields[2] == "-1" {
+            assert!(fields[3..].iter().all(|f| f.is_empty()), "{line}");
+            continue;
+        }
+        hits += 1;
+        let number = |k: usize| fields[k].parse::<f64>().unwrap();
+        let corners = triangles[fields[3].parse::<usize>().unwrap()];
+        let p = corners.map(|v| mesh.positions()[v as usize].as_dvec3());
+        let (u, v) = (number(4), number(5));
+        let at = p[0] * (1.0 - u - v) + p[1] * u + p[2] * v;
+        let (o, d) = rays[i];
+        let expected = o.as_dvec3() + unit(d).as_dvec3() * number(1);
+        assert!((at - expected).length() < 1e-4, "ray {i}: {at} vs {expected}");
+        let normal = DVec3::new(number(9), number(10), number(11));
+        let face_normal = DVec3::new(number(12), number(13), number(14));
+        assert!((normal.length() - 1.0).abs() < 1e-9 && (face_normal.length() - 1.0).abs() < 1e-9);
+        let expected_normal = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
+        assert!((face_normal - expected_normal).length() < 1e-9);
+        edges += usize::from(fields[6] != "face");
+    }
+    assert!(hits > 500, "{hits}");
+    // Rays aimed at vertices and edges hit them.
+    assert!(edges > 0);
+    let out = proxima(&["raycast", &bunny(), "--rays", file, "--attributes", "--any"]);
+    assert!(!out.status.success());
 }

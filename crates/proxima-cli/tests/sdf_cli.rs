@@ -80,6 +80,112 @@ fn csv_rows_are_the_library_answers_in_input_order() {
     assert!(inside > 10 && inside < points.len() - 10, "{inside} inside");
 }
 
+/// `--gradient` adds gx,gy,gz: the library's gradients, unit length,
+/// pointing from the printed closest point to the query outside and back
+/// inside; the other columns are unchanged.
+#[test]
+fn gradient_columns_point_away_from_the_closest_point() {
+    let dir = temp_dir("sdf_gradient");
+    let mesh = bunny();
+    let (mut points, _) = points_file(&mesh, &dir);
+    // Vertices: on the surface, where the gradient is the vertex pseudonormal.
+    points.extend(&mesh.positions()[..20]);
+    let text: String = points.iter().map(|p| format!("{} {} {}\n", p.x, p.y, p.z)).collect();
+    let path = dir.join("with_vertices.pts");
+    std::fs::write(&path, text).unwrap();
+    let path = path.display().to_string();
+    for sign in ["winding", "pseudonormal"] {
+        let plain = rows(&proxima(&["sdf", BUNNY, "--points", &path, "--sign", sign]), HEADER);
+        let header = format!("{HEADER},gx,gy,gz");
+        let out = proxima(&["sdf", BUNNY, "--points", &path, "--sign", sign, "--gradient"]);
+        let with = rows(&out, &header);
+        assert_eq!(with.len(), points.len());
+        let normals = proxima::surface::vertex_normals(&mesh);
+        for (i, ((row, plain), p)) in with.iter().zip(&plain).zip(&points).enumerate() {
+            assert_eq!(row[..7], plain[..], "row {i}");
+            let number = |k: usize| row[k].parse::<f64>().unwrap();
+            let g = proxima::DVec3::new(number(7), number(8), number(9));
+            assert!((g.length() - 1.0).abs() < 1e-9, "row {i}: {g}");
+            let d = number(1);
+            if d == 0.0 {
+                let v = i - (points.len() - 20);
+                assert!((g - normals[v].as_dvec3()).length() < 1e-5, "vertex {v}: {g}");
+                continue;
+            }
+            let c = proxima::DVec3::new(number(4), number(5), number(6));
+            let away = (p.as_dvec3() - c) * d.signum();
+            if away.length() > 1e-3 {
+                assert!((g - away.normalize()).length() < 1e-3, "row {i}: {g} vs {away}");
+            }
+        }
+    }
+}
+
+/// `closest --attributes`: the surface columns reproduce the printed closest
+/// point from the fan triangle's corners, and are the library's.
+#[test]
+fn closest_attributes_reproduce_the_closest_points() {
+    let dir = temp_dir("closest_attributes");
+    let mesh = bunny();
+    let (points, path) = points_file(&mesh, &dir);
+    let header = "query,rank,primitive,cx,cy,cz,distance,triangle,u,v,feature,fa,fb,nx,ny,nz,fnx,fny,fnz";
+    let plain = rows(
+        &proxima(&["closest", BUNNY, "--points", &path, "-k", "2"]),
+        "query,rank,primitive,cx,cy,cz,distance",
+    );
+    for method in ["tree", "linear"] {
+        let out = proxima(&[
+            "closest",
+            BUNNY,
+            "--points",
+            &path,
+            "-k",
+            "2",
+            "--attributes",
+            "--method",
+            method,
+        ]);
+        let with = rows(&out, header);
+        assert_eq!(with.len(), 2 * points.len());
+        let triangles = mesh.triangle_vertex_indices();
+        for (row, plain) in with.iter().zip(&plain) {
+            assert_eq!(row[..7], plain[..]);
+            let number = |k: usize| row[k].parse::<f64>().unwrap();
+            let corners = triangles[row[7].parse::<usize>().unwrap()];
+            let p = corners.map(|v| mesh.positions()[v as usize].as_dvec3());
+            let (u, v) = (number(8), number(9));
+            let at = p[0] * (1.0 - u - v) + p[1] * u + p[2] * v;
+            let printed = proxima::DVec3::new(number(3), number(4), number(5));
+            assert!((at - printed).length() < 1e-5, "{row:?}");
+            let feature = row[10].as_str();
+            // u, v are printed; the first weight, 1 - u - v, is zero where it rounds to it.
+            let zeros = usize::from(u == 0.0) + usize::from(v == 0.0) + usize::from((1.0 - u - v).abs() < 1e-12);
+            assert_eq!(feature, ["face", "edge", "vertex"][zeros], "{row:?}");
+            match feature {
+                "vertex" => assert!(corners.contains(&row[11].parse().unwrap()) && row[12].is_empty()),
+                "edge" => {
+                    assert!(corners.contains(&row[11].parse().unwrap()) && corners.contains(&row[12].parse().unwrap()))
+                }
+                _ => assert!(row[11].is_empty() && row[12].is_empty()),
+            }
+        }
+    }
+    let out = Command::new(env!("CARGO_BIN_EXE_proxima"))
+        .args([
+            "closest",
+            BUNNY,
+            "--points",
+            &path,
+            "--attributes",
+            "--primitives",
+            "vertices",
+        ])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--attributes"));
+}
+
 #[test]
 fn distances_are_closest_distances_and_the_faces_its_faces() {
     let dir = temp_dir("sdf_closest");

@@ -4,16 +4,18 @@ use crate::arrays::{self, Check, value_error};
 use crate::budget::check_budget;
 use crate::closest;
 use crate::pairs;
+use crate::surface::{self, Answers, SurfaceColumns, SurfaceOptions};
 use crate::threads;
 use crate::voxels::VoxelGrid;
 use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods};
 use proxima::index::{IndexError, MeshIndex};
 use proxima::prelude::*;
 use proxima::sdf::{SdfGrid, Sign, SignedDistanceField};
+use proxima::surface::SurfacePoint;
 use proxima::{Aabb, SdfError};
 use pyo3::IntoPyObjectExt;
 use pyo3::prelude::*;
-use pyo3::types::PyList;
+use pyo3::types::{PyList, PyTuple};
 use rayon::prelude::*;
 
 /// A polygon mesh and the structures that answer queries on it, each built
@@ -32,20 +34,12 @@ pub struct PyMesh {
     pub(crate) index: MeshIndex,
 }
 
-/// The arrays `closest_points` returns.
-type ClosestArrays<'py> = (
-    Bound<'py, PyArray2<f64>>,
-    Bound<'py, PyArray1<f64>>,
-    Bound<'py, PyArray1<i64>>,
-);
 /// Distances and indices, one row per point (`k_nearest`).
 type NearestArrays<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<i64>>);
 /// Ray origins and directions (`sample_rays`).
 type RayArrays32<'py> = (Bound<'py, PyArray2<f32>>, Bound<'py, PyArray2<f32>>);
 /// Training points and their signed distances (`training_samples`).
 type SampleArrays<'py> = (Bound<'py, PyArray2<f32>>, Bound<'py, PyArray1<f32>>);
-/// Distances and indices, one per ray (`cast_rays`).
-type RayArrays<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<i64>>);
 
 impl PyMesh {
     /// A mesh with nothing built yet.
@@ -107,6 +101,19 @@ impl PyMesh {
         self.index
             .require(PrimitiveKind::Faces)
             .map_err(|e| value_error(what, e))
+    }
+}
+
+/// The plain arrays `leading` as a tuple, or with `columns` (the
+/// `return_*` options' arrays) as [`Answers`].
+fn answers_or_tuple(
+    py: Python<'_>,
+    leading: Vec<(&'static str, Py<PyAny>)>,
+    columns: Option<SurfaceColumns>,
+) -> PyResult<Py<PyAny>> {
+    match columns {
+        Some(columns) => Answers::new(leading, columns.into_fields(py)?).into_py_any(py),
+        None => PyTuple::new(py, leading.into_iter().map(|(_, v)| v))?.into_py_any(py),
     }
 }
 
@@ -198,6 +205,14 @@ impl PyMesh {
         arrays::matrix(py, flat, 3)
     }
 
+    /// Every vertex's unit normal, angle-weighted from its faces, (V, 3)
+    /// float32 (computed once and kept; zero for a vertex no face uses).
+    #[getter]
+    fn vertex_normals<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f32>>> {
+        let flat: Vec<f32> = self.index.vertex_normals().iter().flat_map(|n| n.to_array()).collect();
+        arrays::matrix(py, flat, 3)
+    }
+
     /// The faces: an (F, k) int64 array when every face has k vertices,
     /// otherwise a list of F int64 arrays.
     #[getter]
@@ -250,25 +265,54 @@ impl PyMesh {
     /// For each of ``points`` (N, 3), the closest point of the mesh's
     /// ``primitives``: ``(closest (N, 3) float64, distance (N,) float64,
     /// index (N,) int64)``.
-    #[pyo3(signature = (points, primitives = "faces", threads = None))]
+    #[pyo3(signature = (
+        points,
+        primitives = "faces",
+        threads = None,
+        *,
+        return_barycentric = false,
+        return_feature = false,
+        return_normal = false
+    ))]
+    #[allow(clippy::too_many_arguments)]
     fn closest_points<'py>(
         &self,
         py: Python<'py>,
         points: &Bound<'py, PyAny>,
         primitives: &str,
         threads: Option<i64>,
-    ) -> PyResult<ClosestArrays<'py>> {
+        return_barycentric: bool,
+        return_feature: bool,
+        return_normal: bool,
+    ) -> PyResult<Py<PyAny>> {
         let kind = kind(primitives)?;
+        let options = SurfaceOptions {
+            barycentric: return_barycentric,
+            feature: return_feature,
+            normal: return_normal,
+        };
+        surface::require_faces(options, primitives)?;
         let points = arrays::points(points, "points", Check::QueryPoint)?;
         let points = points.as_slice();
-        let empty = points.is_empty().then(Vec::new);
-        let hits = self.on_index(py, kind, empty, threads, |index| index.closest(kind, points))?;
+        let empty = points.is_empty().then(|| (Vec::new(), None));
+        let (hits, columns) = self.on_index(py, kind, empty, threads, |index| {
+            let hits = index.closest(kind, points)?;
+            let columns = options
+                .any()
+                .then(|| SurfaceColumns::new(index, &index.surface_points(points, &hits), options));
+            Ok((hits, columns))
+        })?;
         let answers = closest::arrays(&hits);
-        Ok((
-            arrays::matrix(py, answers.closest, 3)?,
-            arrays::vector(py, answers.distance),
-            arrays::vector(py, answers.index),
-        ))
+        let leading = vec![
+            ("closest", arrays::matrix(py, answers.closest, 3)?.into_py_any(py)?),
+            ("distance", arrays::vector(py, answers.distance).into_py_any(py)?),
+            ("index", arrays::vector(py, answers.index).into_py_any(py)?),
+        ];
+        answers_or_tuple(
+            py,
+            leading,
+            columns.or_else(|| options.any().then(|| SurfaceColumns::empty(options))),
+        )
     }
 
     /// The ``k`` nearest source elements of each point, nearest first:
@@ -303,16 +347,35 @@ impl PyMesh {
         Ok((arrays::matrix(py, distance, k)?, arrays::matrix(py, index, k)?))
     }
 
-    /// The signed distance of each point to the faces, negative inside.
-    #[pyo3(signature = (points, sign = "winding", threads = None))]
+    /// The signed distance of each point to the faces, negative inside;
+    /// with ``return_gradient``, its gradient too.
+    #[pyo3(signature = (points, sign = "winding", threads = None, *, return_gradient = false))]
     fn signed_distance<'py>(
         &self,
         py: Python<'py>,
         points: &Bound<'py, PyAny>,
         sign: &str,
         threads: Option<i64>,
-    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        return_gradient: bool,
+    ) -> PyResult<Py<PyAny>> {
         let sign = self::sign(sign)?;
+        if return_gradient {
+            let points = arrays::points(points, "points", Check::QueryPoint)?;
+            let points = points.as_slice();
+            self.require_faces("signed_distance")?;
+            let answers = threads::run(py, threads, || self.index.signed_distance_gradients(sign, points))?
+                .map_err(|e| value_error("signed_distance", e))?;
+            let distance = answers
+                .iter()
+                .map(|a| a.map_or(f64::NAN, |a| f64::from(a.distance.distance)))
+                .collect();
+            let gradient = answers
+                .iter()
+                .flat_map(|a| a.map_or([f64::NAN; 3], |a| a.gradient.to_array()))
+                .collect();
+            let arrays = (arrays::vector(py, distance), arrays::matrix(py, gradient, 3)?);
+            return arrays.into_py_any(py);
+        }
         let values = self.on_field(
             py,
             points,
@@ -328,7 +391,7 @@ impl PyMesh {
                     .collect()
             },
         )?;
-        Ok(arrays::vector(py, values))
+        arrays::vector(py, values).into_py_any(py)
     }
 
     /// The generalized winding number at each point, shape (N,).
@@ -373,7 +436,17 @@ impl PyMesh {
 
     /// The first face each ray hits: ``(t (N,) float64, index (N,) int64)``,
     /// t along the normalized direction, ``inf`` and -1 for a miss.
-    #[pyo3(signature = (origins, directions, any_hit = false, threads = None))]
+    #[pyo3(signature = (
+        origins,
+        directions,
+        any_hit = false,
+        threads = None,
+        *,
+        return_barycentric = false,
+        return_feature = false,
+        return_normal = false
+    ))]
+    #[allow(clippy::too_many_arguments)]
     fn cast_rays<'py>(
         &self,
         py: Python<'py>,
@@ -381,15 +454,37 @@ impl PyMesh {
         directions: &Bound<'py, PyAny>,
         any_hit: bool,
         threads: Option<i64>,
-    ) -> PyResult<RayArrays<'py>> {
+        return_barycentric: bool,
+        return_feature: bool,
+        return_normal: bool,
+    ) -> PyResult<Py<PyAny>> {
+        let options = SurfaceOptions {
+            barycentric: return_barycentric,
+            feature: return_feature,
+            normal: return_normal,
+        };
         let (origins, directions) = crate::rays::ray_arrays(origins, directions)?;
         let (origins, directions) = (origins.as_slice(), directions.as_slice());
         self.require_faces("cast_rays")?;
-        let (t, index) = threads::run(py, threads, || {
+        let (t, index, columns) = threads::run(py, threads, || {
             let tree = self.index.ray_tree().map_err(|e| value_error("cast_rays", e))?;
-            crate::rays::cast(tree, &crate::rays::rays(origins, directions), any_hit)
+            let hits = crate::rays::cast(tree, &crate::rays::rays(origins, directions), any_hit)?;
+            let columns = options.any().then(|| {
+                let mesh = self.mesh();
+                let at: Vec<_> = hits
+                    .par_iter()
+                    .map(|h| h.map(|h| SurfacePoint::of_ray_hit(mesh, &h)))
+                    .collect();
+                SurfaceColumns::new(&self.index, &at, options)
+            });
+            let (t, index) = crate::rays::columns(&hits);
+            Ok::<_, PyErr>((t, index, columns))
         })??;
-        Ok((arrays::vector(py, t), arrays::vector(py, index)))
+        let leading = vec![
+            ("t", arrays::vector(py, t).into_py_any(py)?),
+            ("index", arrays::vector(py, index).into_py_any(py)?),
+        ];
+        answers_or_tuple(py, leading, columns)
     }
 
     /// The cells of a ``resolution``-cubed grid around the mesh that its

@@ -38,9 +38,8 @@ pub fn rays(origins: &[Vec3], directions: &[Vec3]) -> Vec<(Vec3, Vec3)> {
         .collect()
 }
 
-/// The hit distance and face of each ray (`inf` and -1 for a miss): the
-/// first hit, or with `any_hit` some hit.
-pub fn cast(tree: &RayTree, rays: &[(Vec3, Vec3)], any_hit: bool) -> PyResult<(Vec<f64>, Vec<i64>)> {
+/// The hit of each ray: the first, or with `any_hit` some hit.
+pub fn cast(tree: &RayTree, rays: &[(Vec3, Vec3)], any_hit: bool) -> PyResult<Vec<Option<RayHit>>> {
     let hits = if any_hit {
         tree.some_hit_batch(rays, 0.0, f32::INFINITY)
     } else {
@@ -49,12 +48,16 @@ pub fn cast(tree: &RayTree, rays: &[(Vec3, Vec3)], any_hit: bool) -> PyResult<(V
     if let Some((row, Err(e))) = hits.iter().enumerate().find(|(_, hit)| hit.is_err()) {
         return Err(value_error(&format!("rays[{row}]"), e));
     }
-    Ok(hits
-        .par_iter()
+    Ok(hits.into_iter().map(|hit| hit.ok().flatten()).collect())
+}
+
+/// The hit distance and face of each ray (`inf` and -1 for a miss).
+pub fn columns(hits: &[Option<RayHit>]) -> (Vec<f64>, Vec<i64>) {
+    hits.par_iter()
         .with_min_len(4096)
         .map(|hit| match hit {
-            Ok(Some(hit)) => (hit.t as f64, hit.source as i64),
-            _ => (f64::INFINITY, -1),
+            Some(hit) => (hit.t as f64, hit.source as i64),
+            None => (f64::INFINITY, -1),
         })
-        .unzip())
+        .unzip()
 }

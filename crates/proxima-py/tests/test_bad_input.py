@@ -83,6 +83,13 @@ CASES = [
     ("primitives unknown", lambda: M.closest_points(P, primitives="triangles"), ValueError, ["primitives"]),
     ("primitives unknown knn", lambda: M.k_nearest(P, 2, primitives="face"), ValueError, ["primitives"]),
     ("primitives unknown frustum", lambda: M.frustum(GOOD_VP, primitives="cells"), ValueError, ["primitives"]),
+    (
+        "return_barycentric of edges",
+        lambda: M.closest_points(P, primitives="edges", return_barycentric=True),
+        ValueError,
+        ["primitives", "faces"],
+    ),
+    ("gradient of a NaN point", lambda: M.signed_distance([[np.nan, 0, 0]], return_gradient=True), ValueError, ["points[0]"]),
     ("sign unknown", lambda: M.signed_distance(P, sign="normals"), ValueError, ["sign"]),
     # --- rays
     ("zero direction", lambda: M.cast_rays(P, np.array([[0.0, 0, 1], [0, 0, 0]])), ValueError, ["direction"]),

@@ -1,12 +1,14 @@
-//! `proxima closest MESH --primitives P (--point X,Y,Z | --points FILE) [-k K] [--method tree|linear]`.
+//! `proxima closest MESH --primitives P (--point X,Y,Z | --points FILE) [-k K] [--method tree|linear] [--attributes]`.
 
 use crate::common::{
     Split, kind_parser, load_mesh, note_polygons, parse_planarity, parse_vec3, query_points, require_primitives,
     run_kind,
 };
+use crate::surface_columns::{self, SurfaceColumns};
 use proxima::index::{IndexConfig, MeshIndex};
 use proxima::prelude::*;
 use proxima::query::NearestAnswers;
+use proxima::surface::SurfacePoint;
 use rayon::prelude::*;
 use std::io::{BufWriter, StdoutLock, Write};
 use std::path::PathBuf;
@@ -50,24 +52,49 @@ pub struct Args {
     /// bounding box diagonal); other faces are fan-triangulated.
     #[arg(long, value_parser = parse_planarity, default_value = "1e-5")]
     planarity: f32,
+    /// With --primitives faces: add where each closest point lies, columns
+    /// triangle,u,v,feature,fa,fb,nx,ny,nz,fnx,fny,fnz: the face's fan
+    /// triangle (v0, vi, vi+1) holding it, numbered over all faces' fans; its
+    /// barycentric weights u, v of the triangle's second and third corners
+    /// (located again in f64); the smallest feature holding it (face, edge or
+    /// vertex) and that feature's vertices fa, fb (empty where it has fewer);
+    /// the vertex normals interpolated there (angle-weighted, unit length);
+    /// the triangle's unit normal.
+    #[arg(long)]
+    attributes: bool,
 }
 
-/// Prints CSV `query,rank,primitive,cx,cy,cz,distance`, k rows per query.
+/// Prints CSV `query,rank,primitive,cx,cy,cz,distance`, k rows per query
+/// (with `--attributes`, the surface columns after them).
 pub fn run(args: Args) -> anyhow::Result<()> {
+    if args.attributes && args.primitives != PrimitiveKind::Faces {
+        anyhow::bail!(
+            "--attributes: the surface columns are those of faces, not of --primitives {}",
+            args.primitives
+        );
+    }
     let mesh = load_mesh(&args.mesh)?;
     let points = query_points(args.point, args.points.as_deref())?;
     require_primitives(&mesh, args.primitives, &args.mesh)?;
-    let mut rows = Rows::new();
-    writeln!(rows.out, "query,rank,primitive,cx,cy,cz,distance")?;
     let (kind, k) = (args.primitives, args.k);
+    if args.method == Method::Tree {
+        note_polygons(&mesh, kind, &args.mesh, args.planarity);
+    }
+    let config = IndexConfig {
+        build: args.split.config(),
+        planarity: args.planarity,
+    };
+    // Structures are built on first use: the linear scan builds none.
+    let index = MeshIndex::with_config(mesh, config);
+    let surface = args.attributes.then(|| SurfaceColumns {
+        mesh: index.mesh(),
+        normals: index.vertex_normals(),
+    });
+    let mut rows = Rows::new(surface.as_ref(), &points);
+    let columns = if args.attributes { surface_columns::HEADER } else { "" };
+    writeln!(rows.out, "query,rank,primitive,cx,cy,cz,distance{columns}")?;
     match args.method {
         Method::Tree => {
-            note_polygons(&mesh, kind, &args.mesh, args.planarity);
-            let config = IndexConfig {
-                build: args.split.config(),
-                planarity: args.planarity,
-            };
-            let index = MeshIndex::with_config(mesh, config);
             let path = args.mesh.display();
             index
                 .k_nearest_chunks(kind, &points, k, |answers| -> anyhow::Result<()> {
@@ -76,7 +103,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 .map_err(|e| e.context(path.to_string()))?;
         }
         Method::Linear => run_kind(
-            &mesh,
+            index.mesh(),
             kind,
             &args.mesh,
             args.planarity,
@@ -92,17 +119,20 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 }
 
 /// The CSV rows on standard output, numbered by query in input order.
-struct Rows {
+struct Rows<'a> {
     out: BufWriter<StdoutLock<'static>>,
     /// The number of the next query written.
     first: usize,
+    /// With `--attributes`: the surface and the query points.
+    surface: Option<(&'a SurfaceColumns<'a>, &'a [Vec3])>,
 }
 
-impl Rows {
-    fn new() -> Self {
+impl<'a> Rows<'a> {
+    fn new(surface: Option<&'a SurfaceColumns<'a>>, points: &'a [Vec3]) -> Self {
         Self {
             out: BufWriter::new(std::io::stdout().lock()),
             first: 0,
+            surface: surface.map(|s| (s, points)),
         }
     }
 
@@ -117,7 +147,7 @@ impl Rows {
         let block = (BLOCK_HITS / most.max(1)).max(1);
         for window in (0..answers.len()).step_by(64 * block) {
             let end = (window + 64 * block).min(answers.len());
-            let first = self.first;
+            let (first, surface) = (self.first, self.surface);
             let texts: Vec<Vec<u8>> = (window..end)
                 .step_by(block)
                 .collect::<Vec<_>>()
@@ -127,11 +157,19 @@ impl Rows {
                     for i in start..(start + block).min(end) {
                         let query = first + i - window;
                         for (rank, hit) in answers.hits(i).iter().enumerate() {
-                            writeln!(
+                            write!(
                                 text,
                                 "{query},{rank},{},{},{},{},{}",
                                 hit.source, hit.point.x, hit.point.y, hit.point.z, hit.distance
                             )
+                            .and_then(|()| match surface {
+                                Some((surface, points)) => {
+                                    let at = SurfacePoint::closest(surface.mesh, hit, points[query]);
+                                    surface.write(&mut text, &at)
+                                }
+                                None => Ok(()),
+                            })
+                            .and_then(|()| writeln!(text))
                             .expect("writing to memory does not fail");
                         }
                     }
@@ -153,13 +191,13 @@ const BLOCK_HITS: usize = 4096;
 /// Brute force on one kind of primitive: the same chunked answers as the
 /// tree's ([`NearestQuery::k_nearest_sources_chunks`] is written once for
 /// every structure), written as they come.
-struct Linear<'a> {
+struct Linear<'a, 'r> {
     points: &'a [Vec3],
     k: usize,
-    rows: &'a mut Rows,
+    rows: &'a mut Rows<'r>,
 }
 
-impl KindTask for Linear<'_> {
+impl KindTask for Linear<'_, '_> {
     type Output = anyhow::Result<()>;
 
     fn run<T: MeshPrimitive>(self, set: PrimitiveSet<T>) -> anyhow::Result<()> {

@@ -1,7 +1,7 @@
 //! `proxima raycast MESH --origin X,Y,Z --dir X,Y,Z [--method tree|grid] [--cell W] [--any]`:
 //! the first face a ray hits, found with the AABB tree (default) or by walking
 //! a hash grid of the faces; with `--any`, only whether it hits one.
-//! `proxima raycast MESH --rays FILE [--threads T] [--any] [--json]`: a file
+//! `proxima raycast MESH --rays FILE [--threads T] [--any] [--attributes] [--json]`: a file
 //! of rays on all cores (`raycast_batch.rs`).
 
 use super::grid::parse_cell;
@@ -57,6 +57,11 @@ pub struct Args {
     /// hit found).
     #[arg(long)]
     any: bool,
+    /// With --rays: add where each hit lies, the columns of `closest
+    /// --attributes` (triangle,u,v,feature,fa,fb,nx,ny,nz,fnx,fny,fnz; u, v
+    /// the ray test's own), empty for a miss.
+    #[arg(long, requires = "rays", conflicts_with_all = ["any", "json"])]
+    attributes: bool,
     /// Print one JSON object instead of text.
     #[arg(long)]
     json: bool,
@@ -84,6 +89,7 @@ pub fn run(args: Args) -> Result<()> {
             threads: args.threads,
             any: args.any,
             json: args.json,
+            attributes: args.attributes,
         });
     };
     let method = match (args.method, args.cell) {

@@ -3,11 +3,12 @@
 //! order as CSV `ray,t,face` (`inf,-1` for a miss) or `ray,hit` with `--any`.
 
 use crate::common::{load_mesh, read_rays, thread_count, unit_direction};
+use crate::surface_columns::{self, SurfaceColumns};
 use anyhow::{Context, Result, bail};
-use proxima::RayTree;
 use proxima::prelude::*;
+use proxima::surface::{SurfacePoint, vertex_normals};
+use proxima::{RayHit, RayTree};
 use serde_json::json;
-use std::fmt::Write as _;
 use std::io::{BufWriter, Write};
 use std::path::Path;
 use std::time::Instant;
@@ -28,6 +29,8 @@ pub struct Batch<'a> {
     pub any: bool,
     /// A JSON summary instead of rows.
     pub json: bool,
+    /// The surface columns of each hit (`--attributes`).
+    pub attributes: bool,
 }
 
 /// Casts the rays of `args.rays` and prints one row per ray, or a JSON summary.
@@ -55,8 +58,23 @@ pub fn run(args: &Batch) -> Result<()> {
     // by the reader, and a unit direction passes the same checks.
     let rays: Vec<(Vec3, Vec3)> = rays.into_iter().map(|(o, d)| (o, unit_direction(d))).collect();
 
+    let normals = if args.attributes {
+        vertex_normals(&mesh)
+    } else {
+        Vec::new()
+    };
+    let surface = args.attributes.then(|| SurfaceColumns {
+        mesh: &mesh,
+        normals: &normals,
+    });
     let mut out = BufWriter::new(std::io::stdout().lock());
-    let header = if args.any { "ray,hit" } else { "ray,t,face" };
+    let header = match (args.any, args.attributes) {
+        (true, _) => "ray,hit".to_string(),
+        (false, attributes) => {
+            let columns = if attributes { surface_columns::HEADER } else { "" };
+            format!("ray,t,face{columns}")
+        }
+    };
     // Written with the first rows, once they are known to be answers (an
     // error leaves standard output empty).
     let mut header_due = !args.json;
@@ -64,14 +82,15 @@ pub fn run(args: &Batch) -> Result<()> {
     for (chunk_index, chunk) in rays.chunks(CHUNK).enumerate() {
         let first = chunk_index * CHUNK;
         let start = Instant::now();
-        let answers: Vec<Result<Option<(f32, u32)>, proxima::RayError>> = if args.any {
+        // Whether each ray hits, and (without --any) the first hit.
+        let answers: Vec<Result<(bool, Option<RayHit>), proxima::RayError>> = if args.any {
             let any = pool.install(|| tree.any_hit_batch(chunk, 0.0, f32::INFINITY));
-            any.into_iter().map(|r| r.map(|hit| hit.then_some((0.0, 0)))).collect()
+            any.into_iter().map(|r| r.map(|hit| (hit, None))).collect()
         } else {
             let first_hits = pool.install(|| tree.first_hit_batch(chunk, 0.0, f32::INFINITY));
             first_hits
                 .into_iter()
-                .map(|r| r.map(|hit| hit.map(|h| (h.t, h.source))))
+                .map(|r| r.map(|hit| (hit.is_some(), hit)))
                 .collect()
         };
         // The reader checked every ray; what is left is an origin too far
@@ -79,25 +98,31 @@ pub fn run(args: &Batch) -> Result<()> {
         if let Some((i, Err(e))) = answers.iter().enumerate().find(|(_, a)| a.is_err()) {
             bail!("{}: ray {} (counting from 0): {e}", file.display(), first + i);
         }
-        let answers: Vec<Option<(f32, u32)>> = answers.into_iter().flatten().collect();
+        let answers: Vec<(bool, Option<RayHit>)> = answers.into_iter().flatten().collect();
         seconds += start.elapsed().as_secs_f64();
-        hits += answers.iter().filter(|a| a.is_some()).count();
+        hits += answers.iter().filter(|a| a.0).count();
         if args.json {
             continue;
         }
-        let mut text = String::with_capacity(answers.len() * 24);
+        let mut text = Vec::with_capacity(answers.len() * 24);
         if std::mem::take(&mut header_due) {
             writeln!(text, "{header}")?;
         }
-        for (i, answer) in answers.iter().enumerate() {
+        for (i, &(hit, answer)) in answers.iter().enumerate() {
             let ray = first + i;
-            match (args.any, answer) {
-                (true, hit) => writeln!(text, "{ray},{}", u8::from(hit.is_some()))?,
-                (false, Some((t, face))) => writeln!(text, "{ray},{t},{face}")?,
-                (false, None) => writeln!(text, "{ray},inf,-1")?,
+            match (args.any, &answer) {
+                (true, _) => write!(text, "{ray},{}", u8::from(hit))?,
+                (false, Some(hit)) => write!(text, "{ray},{},{}", hit.t, hit.source)?,
+                (false, None) => write!(text, "{ray},inf,-1")?,
             }
+            match (&surface, &answer) {
+                (Some(surface), Some(hit)) => surface.write(&mut text, &SurfacePoint::of_ray_hit(&mesh, hit))?,
+                (Some(_), None) => text.extend_from_slice(surface_columns::EMPTY.as_bytes()),
+                (None, _) => {}
+            }
+            writeln!(text)?;
         }
-        out.write_all(text.as_bytes())?;
+        out.write_all(&text)?;
     }
     if header_due {
         writeln!(out, "{header}")?;

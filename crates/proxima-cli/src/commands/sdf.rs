@@ -1,5 +1,5 @@
 //! `proxima sdf MESH (--point X,Y,Z | --points FILE | --grid N | --sample N) [--sign winding|pseudonormal]
-//! [--exact] [--beta B] [--threads T] [--json]`: signed distances (negative inside) at query points as
+//! [--exact] [--beta B] [--gradient] [--threads T] [--json]`: signed distances (negative inside) at query points as
 //! CSV, on a dense grid as a `.npy`, or at training samples as a `.npz`.
 
 use crate::common::{load_mesh, note, parse_vec3, query_points, thread_count};
@@ -8,12 +8,15 @@ use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 use proxima::budget::check_fits;
 use proxima::sample::training_sample_counts;
-use proxima::sdf::{DEFAULT_BETA, SdfGrid};
-use proxima::{Aabb, SdfConfig, SdfError, Sign, SignedDistance, SignedDistanceField, Vec3};
+use proxima::sdf::{DEFAULT_BETA, Pseudonormals, SdfGrid, signed_distance_gradients};
+use proxima::{Aabb, Mesh, SdfConfig, SdfError, Sign, SignedDistance, SignedDistanceField, Vec3};
 use rayon::prelude::*;
 use serde_json::{Value, json};
+use std::borrow::Cow;
+use std::convert::Infallible;
 use std::io::{BufWriter, IsTerminal, Write};
 use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
 /// How the side of a point is decided, on the command line.
@@ -112,6 +115,12 @@ pub struct Args {
     /// Worker threads (default: all cores; at most 4 per core, at least 8).
     #[arg(long, value_name = "T")]
     threads: Option<usize>,
+    /// With --point or --points: add the gradient of the signed distance
+    /// with respect to the point, columns gx,gy,gz (unit length, outward:
+    /// sign·(p − c)/|p − c| from the closest point c located again in f64;
+    /// the closest feature's unit pseudonormal for points on the surface).
+    #[arg(long, conflicts_with_all = ["grid", "sample"])]
+    gradient: bool,
     /// Print one JSON object (the answers, or the grid's or samples' summary)
     /// instead of CSV and notes.
     #[arg(long)]
@@ -175,7 +184,7 @@ pub fn run(args: Args) -> Result<()> {
             build_seconds: start.elapsed().as_secs_f64(),
         };
         match (points, args.grid, args.sample) {
-            (Some(points), _, _) => answer_points(&field, &points, &summary),
+            (Some(points), _, _) => answer_points(&field, &mesh, &points, &summary),
             (None, Some(n), _) => write_grid(&field, n, &summary),
             (None, None, Some(n)) => write_samples(&field, n, &summary),
             (None, None, None) => unreachable!("clap requires one of --point, --points, --grid, --sample"),
@@ -274,9 +283,21 @@ impl Summary<'_> {
 pub const CSV_HEADER: &str = "query,signed_distance,winding_number,primitive,cx,cy,cz";
 
 /// Answers the query points chunk by chunk in input order, as CSV rows or a
-/// JSON object whose answers are written as they come.
-fn answer_points(field: &SignedDistanceField, points: &[Vec3], summary: &Summary) -> Result<()> {
+/// JSON object whose answers are written as they come; with `--gradient`,
+/// each with its gradient.
+fn answer_points(field: &SignedDistanceField, mesh: &Mesh, points: &[Vec3], summary: &Summary) -> Result<()> {
     let json = summary.args.json;
+    // Built once, for the first point found right on the surface.
+    let pseudonormals = OnceLock::new();
+    let normals = || {
+        let built = || {
+            field
+                .pseudonormals()
+                .cloned()
+                .unwrap_or_else(|| Pseudonormals::new(mesh))
+        };
+        Ok::<_, Infallible>(Cow::Borrowed(pseudonormals.get_or_init(built)))
+    };
     let mut out = BufWriter::new(std::io::stdout().lock());
     if json {
         // The summary first and the answers streamed after it; the totals,
@@ -284,12 +305,20 @@ fn answer_points(field: &SignedDistanceField, points: &[Vec3], summary: &Summary
         let head = serde_json::to_string_pretty(&Value::Object(summary.json()))?;
         write!(out, "{},\n  \"answers\": [", head.trim_end_matches('}').trim_end())?;
     } else {
-        writeln!(out, "{CSV_HEADER}")?;
+        let gradient = if summary.args.gradient { ",gx,gy,gz" } else { "" };
+        writeln!(out, "{CSV_HEADER}{gradient}")?;
     }
     let (mut seconds, mut inside) = (0.0, 0usize);
     for (chunk_index, chunk) in points.chunks(CHUNK).enumerate() {
         let start = Instant::now();
         let answers = field.signed_distance_batch(chunk);
+        let gradients = match summary.args.gradient {
+            true => {
+                let Ok(gradients) = signed_distance_gradients(mesh, chunk, &answers, normals);
+                gradients.into_iter().map(|g| g.map(|g| g.gradient)).collect()
+            }
+            false => Vec::new(),
+        };
         seconds += start.elapsed().as_secs_f64();
         inside += answers.iter().flatten().filter(|a| a.is_inside()).count();
         let first = chunk_index * CHUNK;
@@ -301,13 +330,15 @@ fn answer_points(field: &SignedDistanceField, points: &[Vec3], summary: &Summary
             .map(|(block, answers)| {
                 let mut text = Vec::with_capacity(96 * answers.len());
                 for (offset, answer) in answers.iter().enumerate() {
-                    let query = first + block * 4096 + offset;
+                    let row = block * 4096 + offset;
+                    let query = first + row;
+                    let gradient = gradients.get(row).map(|g| g.map(|g| g.to_array()));
                     if json {
                         let separator = if query == 0 { "" } else { "," };
-                        let object = answer_json(query, answer.as_ref());
+                        let object = answer_json(query, answer.as_ref(), gradient);
                         write!(text, "{separator}\n    {object}").expect("writing to memory does not fail");
                     } else {
-                        csv_row(&mut text, query, answer.as_ref());
+                        csv_row(&mut text, query, answer.as_ref(), gradient);
                     }
                 }
                 text
@@ -334,26 +365,32 @@ fn answer_points(field: &SignedDistanceField, points: &[Vec3], summary: &Summary
 /// One CSV row: `query,signed_distance,winding_number,primitive,cx,cy,cz`,
 /// the primitive being the face (as `closest` prints it); the winding number
 /// empty when the sign came from pseudonormals, every field but the first
-/// empty for a point without an answer.
-fn csv_row(text: &mut Vec<u8>, query: usize, answer: Option<&SignedDistance>) {
+/// empty for a point without an answer. `gradient` (with `--gradient`) adds
+/// `gx,gy,gz`.
+fn csv_row(text: &mut Vec<u8>, query: usize, answer: Option<&SignedDistance>, gradient: Option<Option<[f64; 3]>>) {
     let result = match answer {
         Some(a) => {
             let winding = a.winding_number.map(|w| w.to_string()).unwrap_or_default();
             let hit = &a.closest;
-            writeln!(
+            write!(
                 text,
                 "{query},{},{winding},{},{},{},{}",
                 a.distance, hit.source, hit.point.x, hit.point.y, hit.point.z
             )
         }
-        None => writeln!(text, "{query},,,,,,"),
+        None => write!(text, "{query},,,,,,"),
     };
+    let result = result.and_then(|()| match gradient {
+        Some(Some([x, y, z])) => writeln!(text, ",{x},{y},{z}"),
+        Some(None) => writeln!(text, ",,,"),
+        None => writeln!(text),
+    });
     result.expect("writing to memory does not fail");
 }
 
-/// One answer as a JSON object on one line.
-fn answer_json(query: usize, answer: Option<&SignedDistance>) -> Value {
-    match answer {
+/// One answer as a JSON object on one line, with `"gradient"` when asked.
+fn answer_json(query: usize, answer: Option<&SignedDistance>, gradient: Option<Option<[f64; 3]>>) -> Value {
+    let mut object = match answer {
         Some(a) => json!({
             "query": query,
             "signed_distance": a.distance,
@@ -363,7 +400,11 @@ fn answer_json(query: usize, answer: Option<&SignedDistance>) -> Value {
             "closest": a.closest.point.to_array(),
         }),
         None => json!({"query": query, "signed_distance": null}),
+    };
+    if let Some(gradient) = gradient {
+        object["gradient"] = json!(gradient);
     }
+    object
 }
 
 /// Evaluates the `n`³ grid and writes it as a `.npy` (x fastest, so in

@@ -13,6 +13,7 @@ call releases the GIL and runs on all cores (``threads=1`` for one).
 """
 
 from ._proxima import (
+    Answers,
     Mesh,
     PairDistance,
     Points,
@@ -32,6 +33,7 @@ from ._proxima import (
 )
 
 __all__ = [
+    "Answers",
     "Mesh",
     "PairDistance",
     "Points",

@@ -103,6 +103,55 @@ the identity, determinant > 0), finite, translation within +-1e38. Anything
 else is a ``ValueError`` naming the argument (``pose_b: the pose is not a
 rotation: ...``; ``pose_b[3]: ...`` for one pose of a stack)."""
 
+class Answers:
+    """The arrays of a query asked for more than its plain answer (a
+    ``return_*`` option): by name as attributes or items, in :meth:`keys`
+    order, and unpacking as the plain tuple (``closest, distance, index =
+    mesh.closest_points(p, return_normal=True)``). Only the arrays asked for
+    are there; the others raise ``AttributeError``. A query without an
+    answer (a ray that misses) has -1 and NaN in its rows.
+
+    >>> a = mesh.closest_points(points, return_barycentric=True, return_feature=True)
+    >>> a.barycentric.shape, a.feature[:3]
+    """
+
+    closest: npt.NDArray[np.float64]
+    """``closest_points``: the closest points, (N, 3)."""
+    distance: npt.NDArray[np.float64]
+    """``closest_points``: the distances, (N,)."""
+    t: npt.NDArray[np.float64]
+    """``cast_rays``: the hit distances, (N,), ``inf`` for a miss."""
+    index: npt.NDArray[np.int64]
+    """The face of each answer, (N,)."""
+    triangle: npt.NDArray[np.int64]
+    """``return_barycentric``: the fan triangle (v0, vi, vi+1) of the face that
+    holds the point, numbered over all faces' fans in order, (N,)."""
+    corners: npt.NDArray[np.int64]
+    """``return_barycentric``: that triangle's vertices, (N, 3)."""
+    barycentric: npt.NDArray[np.float64]
+    """``return_barycentric``: the point's weights of ``corners``, (N, 3):
+    non-negative, summing to 1; for closest points, located again in float64
+    on the answer's triangle (they reproduce ``closest`` within 1e-6 of the
+    diagonal); for rays, the ray test's own."""
+    feature: npt.NDArray[np.int8]
+    """``return_feature``: the smallest mesh feature holding the point, (N,):
+    0 the inside of a face (a polygon's fan diagonals included), 1 an edge,
+    2 a vertex."""
+    feature_vertices: npt.NDArray[np.int64]
+    """``return_feature``: the feature's vertices, (N, 2): the edge's two (in
+    the face's order), the vertex and -1, or -1, -1 for a face."""
+    normal: npt.NDArray[np.float64]
+    """``return_normal``: the vertex normals (:attr:`Mesh.vertex_normals`)
+    interpolated by the barycentric weights, unit length, (N, 3)."""
+    face_normal: npt.NDArray[np.float64]
+    """``return_normal``: the triangle's unit normal (right-handed in the
+    face's order), (N, 3)."""
+    def keys(self) -> list[str]:
+        """The names of the arrays, in order."""
+    def __getitem__(self, name: str) -> npt.NDArray[np.generic]: ...
+    def __iter__(self) -> Iterator[npt.NDArray[np.generic]]: ...
+    def __len__(self) -> int: ...
+
 class PairDistance:
     """The nearest points of two placed meshes (:func:`distance`); unpacks
     as ``(distance, point_a, point_b, face_a, face_b)``."""
@@ -246,6 +295,12 @@ class Mesh:
     def vertices(self) -> npt.NDArray[np.float32]:
         """The vertices, (V, 3) float32 (a copy)."""
     @property
+    def vertex_normals(self) -> npt.NDArray[np.float32]:
+        """Every vertex's unit normal, (V, 3) float32: its faces' unit normals
+        (fan triangles for polygons) weighted by their angles at the vertex,
+        summed in float64; zero for a vertex no face uses. Computed once and
+        kept (``"normals"`` in :meth:`built_structures`)."""
+    @property
     def faces(self) -> Union[npt.NDArray[np.int64], list[npt.NDArray[np.int64]]]:
         """The faces: an (F, k) int64 array when every face has k vertices,
         otherwise a list of F int64 arrays."""
@@ -259,7 +314,11 @@ class Mesh:
         points: npt.ArrayLike,
         primitives: Primitives = "faces",
         threads: Optional[int] = None,
-    ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.int64]]:
+        *,
+        return_barycentric: bool = False,
+        return_feature: bool = False,
+        return_normal: bool = False,
+    ) -> Union[Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.int64]], Answers]:
         """For each of ``points`` (N, 3), the closest point of the mesh's
         ``primitives``: ``(closest (N, 3) float64, distance (N,) float64,
         index (N,) int64)``, the order of trimesh's ``closest_point``.
@@ -269,6 +328,13 @@ class Mesh:
         each face's edges in order). Computed in float32 on float32 points
         (float64 input is rounded once): the answer of a brute-force scan in
         the same arithmetic, ties to the lowest index.
+
+        With any ``return_*`` option (faces only) the answer is an
+        :class:`Answers` that adds ``triangle``, ``corners`` and
+        ``barycentric`` (``return_barycentric``), ``feature`` and
+        ``feature_vertices`` (``return_feature``), ``normal`` and
+        ``face_normal`` (``return_normal``); they are computed after the
+        query, and cost nothing when not asked.
 
         >>> closest, distance, face = mesh.closest_points(np.zeros((1, 3)))
         """
@@ -283,17 +349,47 @@ class Mesh:
         ``(distance (N, k) float64, index (N, k) int64)``. A polygon face
         counts once. Where the mesh has fewer than ``k`` elements, the rest of
         the row is ``inf`` and -1."""
+    @overload
     def signed_distance(
         self,
         points: npt.ArrayLike,
         sign: Literal["winding", "pseudonormal"] = "winding",
         threads: Optional[int] = None,
-    ) -> npt.NDArray[np.float64]:
+        *,
+        return_gradient: Literal[False] = False,
+    ) -> npt.NDArray[np.float64]: ...
+    @overload
+    def signed_distance(
+        self,
+        points: npt.ArrayLike,
+        sign: Literal["winding", "pseudonormal"] = "winding",
+        threads: Optional[int] = None,
+        *,
+        return_gradient: Literal[True],
+    ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+    def signed_distance(
+        self,
+        points: npt.ArrayLike,
+        sign: Literal["winding", "pseudonormal"] = "winding",
+        threads: Optional[int] = None,
+        *,
+        return_gradient: bool = False,
+    ) -> Union[npt.NDArray[np.float64], Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]]:
         """The distance to the closest point of the faces, negative inside,
         shape (N,). ``sign="winding"`` (the default) says inside where the
         generalized winding number exceeds 1/2, right on open and
         self-intersecting meshes; ``"pseudonormal"`` uses the closest
-        feature's angle-weighted normal (faster, for closed meshes)."""
+        feature's angle-weighted normal (faster, for closed meshes).
+
+        ``return_gradient=True`` returns ``(distance, gradient (N, 3))``: the
+        gradient with respect to the point, ``sign * (p - c) / |p - c|`` (unit
+        length, outward; ``c`` the closest point located again in float64);
+        for points on the surface (within 16 float32 ulps of their largest
+        coordinate) the unit pseudonormal of the closest feature. With
+        respect to the closest triangle's corners (``closest_points(...,
+        return_barycentric=True)``), feature held fixed, it is
+        ``-barycentric[k] * gradient``."""
+
     def winding_number(self, points: npt.ArrayLike, threads: Optional[int] = None) -> npt.NDArray[np.float64]:
         """The generalized winding number at each point, shape (N,): 1 inside
         a closed outward-oriented mesh, 0 outside, fractional near holes.
@@ -309,13 +405,19 @@ class Mesh:
         directions: npt.ArrayLike,
         any_hit: bool = False,
         threads: Optional[int] = None,
-    ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]]:
+        *,
+        return_barycentric: bool = False,
+        return_feature: bool = False,
+        return_normal: bool = False,
+    ) -> Union[Tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]], Answers]:
         """The first face each ray ``origin + t * direction / |direction|``
         (t >= 0) hits: ``(t (N,) float64, index (N,) int64)``, t the distance
         along the normalized direction, ``inf`` and -1 for a miss. Watertight:
         a ray through an edge or a vertex shared by faces hits one of them.
         ``any_hit=True`` returns some hit, not always the first (faster, for
-        visibility)."""
+        visibility). The ``return_*`` options add the arrays of
+        :meth:`closest_points` (``t`` and ``index`` first) as an
+        :class:`Answers`; a miss's rows are -1 and NaN."""
     def voxelize(self, resolution: int, threads: Optional[int] = None) -> VoxelGrid:
         """The cells of a ``resolution``-cubed grid around the mesh that its
         faces overlap (exact triangle/box test). Raises ``ValueError`` when

@@ -27,29 +27,16 @@ pub use lazy::Lazy;
 
 use crate::frustum::Frustum;
 use crate::kind::{KindFamily, KindGeneric, MeshPrimitive, PerKind, PrimitiveKind};
-use crate::math::{DVec3, Vec3};
+use crate::math::Vec3;
 use crate::mesh::Mesh;
 use crate::primitive::polygon::DEFAULT_PLANARITY_TOLERANCE;
 use crate::query::{ClosestHit, FrustumQuery, NearestAnswers, NearestQuery};
-use crate::sdf::{SdfConfig, Sign, SignedDistance, SignedDistanceField, signed_distance_gradient};
-use crate::surface::SurfacePoint;
+use crate::sdf::{Pseudonormals, SdfConfig, SdfGradient, Sign, SignedDistanceField, signed_distance_gradients};
+use crate::surface::{SurfacePoint, in_triangle_order, vertex_normals};
 use crate::wide_tree::OrientedBounds;
 use crate::{BuildConfig, RayTree, Triangle, WideTree};
-use rayon::prelude::*;
+use std::borrow::Cow;
 use std::sync::Arc;
-
-/// A signed distance with its gradient with respect to the query point
-/// ([`MeshIndex::signed_distance_gradients`]).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SdfGradient {
-    /// The signed distance and the closest query's answer.
-    pub distance: SignedDistance,
-    /// The gradient: unit length, outward; the closest feature's unit
-    /// pseudonormal on the surface (zero where its faces cancel).
-    pub gradient: DVec3,
-    /// Where the closest point lies.
-    pub at: SurfacePoint,
-}
 
 /// How a [`MeshIndex`] builds its trees.
 #[derive(Clone, Debug)]
@@ -97,6 +84,7 @@ pub struct MeshIndex {
     pseudonormal: Lazy<SignedDistanceField>,
     rays: Lazy<RayTree>,
     oriented: Lazy<OrientedBounds>,
+    normals: Lazy<Vec<Vec3>>,
 }
 
 /// Fails with [`IndexError::EmptyMesh`] when `mesh` has no vertices: no
@@ -138,6 +126,7 @@ impl MeshIndex {
             pseudonormal: Lazy::default(),
             rays: Lazy::default(),
             oriented: Lazy::default(),
+            normals: Lazy::default(),
         }
     }
 
@@ -272,49 +261,40 @@ impl MeshIndex {
     /// barycentrics, feature; [`SurfacePoint::closest`]), computed after the
     /// query on all cores; `None` where the answer is.
     pub fn surface_points(&self, points: &[Vec3], hits: &[Option<ClosestHit>]) -> Vec<Option<SurfacePoint>> {
-        points
-            .par_iter()
-            .zip(hits)
-            .map(|(&p, hit)| hit.as_ref().map(|hit| SurfacePoint::closest(&self.mesh, hit, p)))
-            .collect()
+        let triangles: Vec<u32> = hits.iter().map(|h| h.map_or(u32::MAX, |h| h.primitive)).collect();
+        in_triangle_order(&triangles, |i| {
+            hits[i]
+                .as_ref()
+                .map(|hit| SurfacePoint::closest(&self.mesh, hit, points[i]))
+        })
     }
 
     /// The signed distance of every point, signed by `sign`, with its
-    /// gradient with respect to the point (`crate::sdf`'s `gradient.rs`
-    /// gives the convention) and where its closest point lies. Points right
-    /// on the surface get the pseudonormal of their closest feature (the
-    /// pseudonormal field is built for them, when there are any). `None`
-    /// where [`SignedDistanceField::signed_distance`] has no answer.
+    /// gradient with respect to the point and where its closest point lies
+    /// ([`signed_distance_gradients`]; points on the surface take the
+    /// pseudonormal field's normals, built for them when there are any).
+    /// `None` where [`SignedDistanceField::signed_distance`] has no answer.
     pub fn signed_distance_gradients(
         &self,
         sign: Sign,
         points: &[Vec3],
     ) -> Result<Vec<Option<SdfGradient>>, IndexError> {
         let answers = self.field(sign)?.signed_distance_batch(points);
-        let mut out: Vec<Option<SdfGradient>> = points
-            .par_iter()
-            .zip(&answers)
-            .map(|(&p, answer)| {
-                let answer = (*answer)?;
-                let at = SurfacePoint::closest(&self.mesh, &answer.closest, p);
-                let gradient = signed_distance_gradient(p, at.point(&self.mesh), answer.is_inside());
-                Some(SdfGradient {
-                    distance: answer,
-                    gradient: gradient.unwrap_or(DVec3::NAN),
-                    at,
-                })
+        signed_distance_gradients(&self.mesh, points, &answers, || {
+            Ok(match self.field(Sign::Pseudonormal)?.pseudonormals() {
+                Some(normals) => Cow::Borrowed(normals),
+                None => Cow::Owned(Pseudonormals::new(&self.mesh)),
             })
-            .collect();
-        if out.iter().flatten().any(|g| g.gradient.is_nan()) {
-            let normals = self.field(Sign::Pseudonormal)?.pseudonormals();
-            let normals = normals.expect("a pseudonormal field keeps its pseudonormals");
-            for (p, g) in points.iter().zip(&mut out) {
-                if let Some(g) = g.as_mut().filter(|g| g.gradient.is_nan()) {
-                    g.gradient = normals.normal(g.at.triangle, *p);
-                }
-            }
-        }
-        Ok(out)
+        })
+    }
+
+    /// Every vertex's angle-weighted unit normal ([`vertex_normals`]),
+    /// computed on first use.
+    pub fn vertex_normals(&self) -> &[Vec3] {
+        let Ok(normals) = self
+            .normals
+            .get_or_try_init(|| Ok::<_, std::convert::Infallible>(vertex_normals(&self.mesh)));
+        normals
     }
 
     /// The 8-wide ray tree of the faces.
@@ -344,6 +324,7 @@ impl MeshIndex {
             ("pseudonormal", self.pseudonormal.get().is_some()),
             ("rays", self.rays.get().is_some()),
             ("oriented", self.oriented.get().is_some()),
+            ("normals", self.normals.get().is_some()),
         ]
         .into_iter()
         .filter_map(|(name, built)| built.then_some(name))

@@ -14,7 +14,68 @@
 //! `w_i` the closest point's barycentric weights (the envelope theorem:
 //! the weights are optimal, so their own change does not count).
 
+use super::{Pseudonormals, SignedDistance};
 use crate::math::{DVec3, Vec3};
+use crate::mesh::Mesh;
+use crate::surface::{SurfacePoint, in_triangle_order};
+use std::borrow::Cow;
+
+/// A signed distance with its gradient with respect to the query point
+/// ([`signed_distance_gradients`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SdfGradient {
+    /// The signed distance and the closest query's answer.
+    pub distance: SignedDistance,
+    /// The gradient: unit length, outward; the closest feature's unit
+    /// pseudonormal on the surface (zero where its faces cancel).
+    pub gradient: DVec3,
+    /// Where the closest point lies.
+    pub at: SurfacePoint,
+}
+
+/// The gradients of `answers`, the signed distances at `points` on `mesh`'s
+/// faces (a field built on `mesh`), on all cores: each answer's closest
+/// point is located again in `f64` ([`SurfacePoint::closest`]) and
+/// [`signed_distance_gradient`] taken from it; points on the surface take
+/// the unit pseudonormal of their closest feature, from `pseudonormals`,
+/// called once and only when there are such points.
+pub fn signed_distance_gradients<'a, E>(
+    mesh: &Mesh,
+    points: &[Vec3],
+    answers: &[Option<SignedDistance>],
+    pseudonormals: impl FnOnce() -> Result<Cow<'a, Pseudonormals>, E>,
+) -> Result<Vec<Option<SdfGradient>>, E> {
+    let triangles: Vec<u32> = answers
+        .iter()
+        .map(|a| a.map_or(u32::MAX, |a| a.closest.primitive))
+        .collect();
+    let located: Vec<Option<(SdfGradient, bool)>> = in_triangle_order(&triangles, |i| {
+        let (p, distance) = (points[i], answers[i]?);
+        let at = SurfacePoint::closest(mesh, &distance.closest, p);
+        let gradient = signed_distance_gradient(p, at.point(mesh), distance.is_inside());
+        let answer = SdfGradient {
+            distance,
+            gradient: gradient.unwrap_or(DVec3::ZERO),
+            at,
+        };
+        Some((answer, gradient.is_none()))
+    });
+    let normals = match located.iter().flatten().any(|&(_, on_surface)| on_surface) {
+        true => Some(pseudonormals()?),
+        false => None,
+    };
+    Ok(located
+        .into_iter()
+        .zip(points)
+        .map(|(found, &p)| {
+            let (mut answer, on_surface) = found?;
+            if let (true, Some(normals)) = (on_surface, &normals) {
+                answer.gradient = normals.normal(answer.at.triangle, p);
+            }
+            Some(answer)
+        })
+        .collect())
+}
 
 /// How close to the surface, in units of the query's largest coordinate,
 /// a query counts as on it: 16 `f32` ulps. Closer than that, the `f32`

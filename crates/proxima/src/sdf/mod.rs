@@ -25,7 +25,7 @@ mod winding;
 
 pub use error::SdfError;
 pub use field::{SdfConfig, Sign, SignedDistance, SignedDistanceField};
-pub use gradient::{ON_SURFACE, signed_distance_gradient};
+pub use gradient::{ON_SURFACE, SdfGradient, signed_distance_gradient, signed_distance_gradients};
 pub use grid::{Samples, SdfGrid};
 pub use pseudonormal::{Feature, Pseudonormals};
 pub use solid_angle::solid_angle;

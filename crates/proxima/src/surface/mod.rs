@@ -38,6 +38,7 @@ use crate::math::{DVec3, Vec3};
 use crate::mesh::Mesh;
 use crate::pair::point_triangle_closest;
 use crate::query::{ClosestHit, RayHit};
+use rayon::prelude::*;
 
 /// The part of a mesh that holds a point of its surface, named by mesh
 /// vertex indices.
@@ -113,8 +114,11 @@ impl SurfacePoint {
     /// # Panics
     /// When `hit` names a face or triangle the mesh does not have.
     pub fn of_ray_hit(mesh: &Mesh, hit: &RayHit) -> Self {
-        let (u, v) = (f64::from(hit.u), f64::from(hit.v));
-        FanTriangle::of(mesh, hit.source, hit.primitive).at([(1.0 - u - v).max(0.0), u, v])
+        // Weights of exactly zero (an edge or vertex hit) become +0, never
+        // -0, so the feature reads them as zero and prints them as 0.
+        let weight = |w: f64| w.max(0.0) + 0.0;
+        let (u, v) = (weight(f64::from(hit.u)), weight(f64::from(hit.v)));
+        FanTriangle::of(mesh, hit.source, hit.primitive).at([weight(1.0 - u - v), u, v])
     }
 
     /// The point, in `f64`: the barycentric combination of the corners.
@@ -143,6 +147,34 @@ impl SurfacePoint {
         let n = sum.normalize_or_zero();
         if n == DVec3::ZERO { self.face_normal(mesh) } else { n }
     }
+}
+
+/// `work(i)` for every answer `i` in `0..triangles.len()`, on all cores,
+/// visiting the answers in the order of their triangles (`triangles[i]`,
+/// `u32::MAX` for none): the mesh's arrays are then read nearly in order
+/// rather than at random, which made the surface points of 100k queries on
+/// an 871k-triangle mesh 3.5× cheaper than taking them in input order.
+/// The results are in input order.
+///
+/// ```
+/// use proxima::surface::in_triangle_order;
+/// assert_eq!(in_triangle_order(&[7, 2, u32::MAX, 2], |i| i * 10), [0, 10, 20, 30]);
+/// ```
+pub fn in_triangle_order<T: Send>(triangles: &[u32], work: impl Fn(usize) -> T + Sync) -> Vec<T> {
+    let mut order: Vec<(u32, u32)> = triangles.iter().enumerate().map(|(i, &t)| (t, i as u32)).collect();
+    order.par_sort_unstable();
+    let done: Vec<(u32, T)> = order
+        .par_iter()
+        .with_min_len(1024)
+        .map(|&(_, i)| (i, work(i as usize)))
+        .collect();
+    let mut out: Vec<Option<T>> = std::iter::repeat_with(|| None).take(triangles.len()).collect();
+    for (i, value) in done {
+        out[i as usize] = Some(value);
+    }
+    out.into_iter()
+        .map(|v| v.expect("every index is visited once"))
+        .collect()
 }
 
 /// One triangle of a face's fan and which of its sides are the face's edges.

@@ -22,8 +22,8 @@ use rayon::prelude::*;
 /// )
 /// .unwrap();
 /// let n = vertex_normals(&mesh);
-/// assert!((n[0] - Vec3::new(0.0, -1.0, 1.0).normalize()).length() < 1e-6);
-/// assert_eq!((n[2], n[3]), (Vec3::Z, Vec3::NEG_Y));
+/// assert!((n[0] - Vec3::new(0.0, 1.0, 1.0).normalize()).length() < 1e-6);
+/// assert_eq!((n[2], n[3]), (Vec3::Z, Vec3::Y));
 /// ```
 pub fn vertex_normals(mesh: &Mesh) -> Vec<Vec3> {
     let positions: Vec<DVec3> = mesh.positions().iter().map(|p| p.as_dvec3()).collect();
