@@ -6,10 +6,10 @@ use proxima::{Mesh, Vec3};
 use std::io::Write;
 
 /// The header of the columns, each after a comma.
-pub const HEADER: &str = ",triangle,u,v,feature,fa,fb,nx,ny,nz,fnx,fny,fnz";
+pub const HEADER: &str = ",triangle,u,v,feature,fa,fb,nx,ny,nz,fnx,fny,fnz,tu,tv";
 
 /// The columns of an answer without a surface point (a missed ray).
-pub const EMPTY: &str = ",,,,,,,,,,,,";
+pub const EMPTY: &str = ",,,,,,,,,,,,,,";
 
 /// What the columns read: a mesh and its vertex normals.
 pub struct SurfaceColumns<'a> {
@@ -23,7 +23,9 @@ impl SurfaceColumns<'_> {
     /// Writes `at`'s columns: the fan triangle, the barycentric weights u, v
     /// of its second and third corners, the feature (`face`, `edge` or
     /// `vertex`) and its vertices (empty where it has fewer than two), the
-    /// interpolated vertex normal, and the triangle's unit normal.
+    /// interpolated shading normal (the file's corner normals, else the
+    /// vertex normals), the triangle's unit normal, and the interpolated
+    /// texture coordinates (empty when the mesh has none).
     pub fn write(&self, text: &mut Vec<u8>, at: &SurfacePoint) -> std::io::Result<()> {
         let [_, u, v] = at.barycentric;
         let n = at.interpolated_normal(self.mesh, self.normals);
@@ -39,6 +41,10 @@ impl SurfaceColumns<'_> {
             text,
             ",{},{u},{v},{feature},{a},{b},{},{},{},{},{},{}",
             at.triangle, n.x, n.y, n.z, f.x, f.y, f.z
-        )
+        )?;
+        match at.uv(self.mesh) {
+            Some([tu, tv]) => write!(text, ",{tu},{tv}"),
+            None => write!(text, ",,"),
+        }
     }
 }

@@ -351,7 +351,7 @@ fn batch_ray_attributes_locate_the_hits() {
     let mut lines = text.lines();
     assert_eq!(
         lines.next(),
-        Some("ray,t,face,triangle,u,v,feature,fa,fb,nx,ny,nz,fnx,fny,fnz")
+        Some("ray,t,face,triangle,u,v,feature,fa,fb,nx,ny,nz,fnx,fny,fnz,tu,tv")
     );
     let triangles = mesh.triangle_vertex_indices();
     let (mut hits, mut edges) = (0, 0);

@@ -128,7 +128,7 @@ fn closest_attributes_reproduce_the_closest_points() {
     let dir = temp_dir("closest_attributes");
     let mesh = bunny();
     let (points, path) = points_file(&mesh, &dir);
-    let header = "query,rank,primitive,cx,cy,cz,distance,triangle,u,v,feature,fa,fb,nx,ny,nz,fnx,fny,fnz";
+    let header = "query,rank,primitive,cx,cy,cz,distance,triangle,u,v,feature,fa,fb,nx,ny,nz,fnx,fny,fnz,tu,tv";
     let plain = rows(
         &proxima(&["closest", BUNNY, "--points", &path, "-k", "2"]),
         "query,rank,primitive,cx,cy,cz,distance",
@@ -170,6 +170,17 @@ fn closest_attributes_reproduce_the_closest_points() {
             }
         }
     }
+    // The bunny has no texture coordinates: tu, tv empty. A square whose UVs
+    // are its x, y: tu, tv are the closest point's.
+    let bunny_rows = rows(&proxima(&["closest", BUNNY, "--points", &path, "--attributes"]), header);
+    assert!(bunny_rows.iter().all(|row| row[19].is_empty() && row[20].is_empty()));
+    let square = dir.join("square.obj");
+    let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3 4/4\n";
+    std::fs::write(&square, text).unwrap();
+    let square = square.display().to_string();
+    let out = proxima(&["closest", &square, "--point", "0.25,0.625,3", "--attributes"]);
+    let row = &rows(&out, header)[0];
+    assert_eq!((row[19].as_str(), row[20].as_str()), ("0.25", "0.625"));
     let out = Command::new(env!("CARGO_BIN_EXE_proxima"))
         .args([
             "closest",

@@ -213,6 +213,26 @@ impl PyMesh {
         arrays::matrix(py, flat, 3)
     }
 
+    /// The texture coordinates per face corner (C, 2) float32, in the order
+    /// of the faces' vertices, or None when the file had none.
+    #[getter]
+    fn corner_uvs<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyArray2<f32>>>> {
+        let Some(uvs) = self.mesh().corner_uvs() else {
+            return Ok(None);
+        };
+        arrays::matrix(py, uvs.iter().flatten().copied().collect(), 2).map(Some)
+    }
+
+    /// The shading normals per face corner (C, 3) float32, or None when the
+    /// file had none.
+    #[getter]
+    fn corner_normals<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyArray2<f32>>>> {
+        let Some(normals) = self.mesh().corner_normals() else {
+            return Ok(None);
+        };
+        arrays::matrix(py, normals.iter().flat_map(|n| n.to_array()).collect(), 3).map(Some)
+    }
+
     /// The faces: an (F, k) int64 array when every face has k vertices,
     /// otherwise a list of F int64 arrays.
     #[getter]
@@ -272,7 +292,8 @@ impl PyMesh {
         *,
         return_barycentric = false,
         return_feature = false,
-        return_normal = false
+        return_normal = false,
+        return_uv = false
     ))]
     #[allow(clippy::too_many_arguments)]
     fn closest_points<'py>(
@@ -284,13 +305,16 @@ impl PyMesh {
         return_barycentric: bool,
         return_feature: bool,
         return_normal: bool,
+        return_uv: bool,
     ) -> PyResult<Py<PyAny>> {
         let kind = kind(primitives)?;
         let options = SurfaceOptions {
             barycentric: return_barycentric,
             feature: return_feature,
             normal: return_normal,
+            uv: return_uv,
         };
+        surface::require_uvs(options, self.mesh())?;
         surface::require_faces(options, primitives)?;
         let points = arrays::points(points, "points", Check::QueryPoint)?;
         let points = points.as_slice();
@@ -444,7 +468,8 @@ impl PyMesh {
         *,
         return_barycentric = false,
         return_feature = false,
-        return_normal = false
+        return_normal = false,
+        return_uv = false
     ))]
     #[allow(clippy::too_many_arguments)]
     fn cast_rays<'py>(
@@ -457,12 +482,15 @@ impl PyMesh {
         return_barycentric: bool,
         return_feature: bool,
         return_normal: bool,
+        return_uv: bool,
     ) -> PyResult<Py<PyAny>> {
         let options = SurfaceOptions {
             barycentric: return_barycentric,
             feature: return_feature,
             normal: return_normal,
+            uv: return_uv,
         };
+        surface::require_uvs(options, self.mesh())?;
         let (origins, directions) = crate::rays::ray_arrays(origins, directions)?;
         let (origins, directions) = (origins.as_slice(), directions.as_slice());
         self.require_faces("cast_rays")?;

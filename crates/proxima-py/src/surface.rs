@@ -19,14 +19,16 @@ pub struct SurfaceOptions {
     pub barycentric: bool,
     /// `feature` and `feature_vertices`.
     pub feature: bool,
-    /// `normal` (interpolated vertex normals) and `face_normal`.
+    /// `normal` (interpolated shading normals) and `face_normal`.
     pub normal: bool,
+    /// `uv` (interpolated texture coordinates).
+    pub uv: bool,
 }
 
 impl SurfaceOptions {
     /// Whether any array is asked for (the query then returns [`Answers`]).
     pub fn any(self) -> bool {
-        self.barycentric || self.feature || self.normal
+        self.barycentric || self.feature || self.normal || self.uv
     }
 }
 
@@ -40,6 +42,7 @@ struct Row {
     feature_vertices: [i64; 2],
     normal: [f64; 3],
     face_normal: [f64; 3],
+    uv: [f64; 2],
 }
 
 /// A query without an answer: -1 and NaN.
@@ -51,6 +54,7 @@ const MISSING: Row = Row {
     feature_vertices: [-1; 2],
     normal: [f64::NAN; 3],
     face_normal: [f64::NAN; 3],
+    uv: [f64::NAN; 2],
 };
 
 /// The arrays `options` asks for, of the surface points `at` (on all
@@ -87,6 +91,10 @@ impl SurfaceColumns {
                     feature_vertices: at.feature.vertices().map(vertex),
                     normal,
                     face_normal,
+                    uv: match options.uv {
+                        true => at.uv(mesh).unwrap_or([f64::NAN; 2]),
+                        false => [f64::NAN; 2],
+                    },
                 }
             })
             .collect();
@@ -132,8 +140,22 @@ impl SurfaceColumns {
                 arrays::matrix(py, flat(|r| &r.face_normal), 3)?.into_py_any(py)?,
             ));
         }
+        if self.options.uv {
+            fields.push(("uv", arrays::matrix(py, flat(|r| &r.uv), 2)?.into_py_any(py)?));
+        }
         Ok(fields)
     }
+}
+
+/// Refuses `return_uv` on a mesh without texture coordinates.
+pub fn require_uvs(options: SurfaceOptions, mesh: &proxima::Mesh) -> PyResult<()> {
+    if options.uv && mesh.corner_uvs().is_none() {
+        return Err(value_error(
+            "return_uv",
+            "the mesh has no texture coordinates (OBJ vt with every face corner naming one, PLY u v or s t)",
+        ));
+    }
+    Ok(())
 }
 
 /// Refuses surface options on a query of another kind than faces.

@@ -196,3 +196,58 @@ def test_answers_behave_as_a_named_result():
     assert empty.barycentric.shape == (0, 3) and empty.corners.shape == (0, 3)
     d, g = mesh.signed_distance(np.zeros((0, 3)), return_gradient=True)
     assert d.shape == (0,) and g.shape == (0, 3)
+
+
+def obj_corner_uvs(path):
+    """The texture coordinates of every face corner of an OBJ file (v/vt
+    faces), read with numpy: (C, 2), and each face's corner count."""
+    vt, corners, sizes = [], [], []
+    for line in open(path):
+        parts = line.split()
+        if not parts:
+            continue
+        if parts[0] == "vt":
+            vt.append([float(parts[1]), float(parts[2])])
+        elif parts[0] == "f":
+            refs = [int(p.split("/")[1]) for p in parts[1:]]
+            corners.extend(r - 1 if r > 0 else len(vt) + r for r in refs)
+            sizes.append(len(refs))
+    return np.asarray(vt, dtype=np.float32)[corners], np.asarray(sizes)
+
+
+def fan_slots(sizes, face, triangle):
+    """The face corners (C numbering) of fan triangle ``triangle`` of ``face``."""
+    first = np.concatenate([[0], np.cumsum(sizes)])[face]
+    first_triangle = np.concatenate([[0], np.cumsum(sizes - 2)])[face]
+    i = triangle - first_triangle
+    return np.stack([first, first + i + 1, first + i + 2], axis=1)
+
+
+@pytest.mark.parametrize("name", ["spot_quadrangulated.obj", "spot_triangulated.obj"])
+def test_uvs_interpolate_the_files_corner_values(name):
+    mesh = load_shared(name)
+    from conftest import data_path
+
+    uvs, sizes = obj_corner_uvs(data_path(name))
+    assert np.array_equal(mesh.corner_uvs, uvs)
+    points = queries(mesh, 1000, 7)
+    a = mesh.closest_points(points, return_barycentric=True, return_uv=True)
+    slots = fan_slots(sizes, a.index, a.triangle)
+    expected = np.einsum("nk,nkd->nd", a.barycentric, uvs.astype(np.float64)[slots])
+    assert np.abs(a.uv - expected).max() < 1e-12
+    # Rays: the same interpolation at the hits.
+    rng = np.random.default_rng(8)
+    origins = np.zeros((500, 3)) + mesh.bounds.mean(axis=0)
+    r = mesh.cast_rays(origins, rng.normal(size=(500, 3)), return_barycentric=True, return_uv=True)
+    hit = r.index >= 0
+    slots = fan_slots(sizes, r.index[hit], r.triangle[hit])
+    expected = np.einsum("nk,nkd->nd", r.barycentric[hit], uvs.astype(np.float64)[slots])
+    assert np.abs(r.uv[hit] - expected).max() < 1e-12
+    assert np.all(np.isnan(r.uv[~hit]))
+
+
+def test_uvs_are_refused_on_meshes_without_them():
+    mesh = proxima.noisy_icosphere(3)
+    assert mesh.corner_uvs is None and mesh.corner_normals is None
+    with pytest.raises(ValueError, match="return_uv"):
+        mesh.closest_points(np.zeros((1, 3)), return_uv=True)

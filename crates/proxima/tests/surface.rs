@@ -375,3 +375,148 @@ fn sliver_closest_points_stay_on_the_sliver() {
         assert!((t[0] * w[0] + t[1] * w[1] + t[2] * w[2] - q).length() < 1e-12);
     }
 }
+
+/// A unit square in z = 0 as two triangles whose UVs meet at a seam along
+/// the diagonal (the corners of vertex 0 and 2 carry different UVs in each
+/// face), with one normal per corner.
+const SEAM_OBJ: &str = "\
+v 0 0 0
+v 1 0 0
+v 1 1 0
+v 0 1 0
+vt 0 0
+vt 1 0
+vt 1 1
+vt 0 1
+vt 0.5 0.5
+vt 0.25 0.25
+vn 0 0 1
+vn 0 1 1
+f 1/1/1 2/2/1 3/3/2
+f 1/6/1 3/5/2 4/4/1
+";
+
+#[test]
+fn obj_corner_uvs_and_normals_survive_seams() {
+    let dir = common::temp_dir("obj_corner_uvs");
+    let path = dir.join("seam.obj");
+    std::fs::write(&path, SEAM_OBJ).unwrap();
+    let mesh = proxima::io::load(&path).unwrap();
+    let uvs = mesh.corner_uvs().unwrap();
+    assert_eq!(
+        uvs,
+        [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.25, 0.25], [0.5, 0.5], [0.0, 1.0]]
+    );
+    let normals = mesh.corner_normals().unwrap();
+    assert_eq!(normals[2], Vec3::new(0.0, 1.0, 1.0));
+    let index = MeshIndex::new(mesh.clone());
+    // Above the point (0.75, 0.25), in face 0: u, v interpolate its corners' UVs.
+    let points = [Vec3::new(0.75, 0.25, 1.0), Vec3::new(0.25, 0.75, 1.0)];
+    let hits = index.closest(PrimitiveKind::Faces, &points).unwrap();
+    let at = index.surface_points(&points, &hits);
+    let first = at[0].unwrap();
+    assert_eq!(first.face, 0);
+    let uv = first.uv(&mesh).unwrap();
+    // Face 0's UVs equal the positions' x, y.
+    assert!((uv[0] - 0.75).abs() < 1e-12 && (uv[1] - 0.25).abs() < 1e-12, "{uv:?}");
+    // Face 1: (x, y) = w0·(0,0) + w1·(1,1) + w2·(0,1); UVs w0·(.25,.25) + w1·(.5,.5) + w2·(0,1).
+    let second = at[1].unwrap();
+    let w = second.barycentric;
+    let expected = [0.25 * w[0] + 0.5 * w[1], 0.25 * w[0] + 0.5 * w[1] + w[2]];
+    let uv = second.uv(&mesh).unwrap();
+    assert!((uv[0] - expected[0]).abs() < 1e-12 && (uv[1] - expected[1]).abs() < 1e-12);
+    // The file's normals, interpolated: corner 2 of face 0 leans to +y.
+    let n = first.interpolated_normal(&mesh, &[]);
+    let raw = DVec3::Z * first.barycentric[0]
+        + DVec3::Z * first.barycentric[1]
+        + DVec3::new(0.0, 1.0, 1.0) * first.barycentric[2];
+    assert!((n - raw.normalize()).length() < 1e-12);
+}
+
+#[test]
+fn obj_attributes_need_every_corner_and_defined_indices() {
+    let dir = common::temp_dir("obj_attribute_rules");
+    let load = |name: &str, text: &str| {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        proxima::io::load(&path)
+    };
+    // Only some corners name a UV: none kept, no error.
+    let mixed = load("mixed.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2 3\n").unwrap();
+    assert!(mixed.corner_uvs().is_none() && mixed.corner_normals().is_none());
+    // Relative indices count back from the last defined.
+    let relative = load(
+        "relative.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf -3/-3 -2/-2 -1/-1\n",
+    )
+    .unwrap();
+    assert_eq!(relative.corner_uvs().unwrap(), [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]);
+    // An index past the ones defined names the face's line.
+    let error = load("beyond.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\n\nf 1/1 2/1 3/7\n").unwrap_err();
+    let text = error.to_string();
+    assert!(
+        text.contains("beyond.obj:6") && text.contains("texture coordinate 7"),
+        "{text}"
+    );
+    let error = load("normal0.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//0 3//1\n").unwrap_err();
+    assert!(error.to_string().contains("normal0.obj:5"), "{error}");
+    let error = load("nan.obj", "v 0 0 0\nvn 0 nan 1\n").unwrap_err();
+    assert!(error.to_string().contains("nan.obj:2"), "{error}");
+}
+
+#[test]
+fn ply_vertex_normals_and_uvs_become_corner_values() {
+    let dir = common::temp_dir("ply_attributes");
+    let ascii = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n\
+                 property float nx\nproperty float ny\nproperty float nz\nproperty float s\nproperty float t\n\
+                 element face 1\nproperty list uchar int vertex_indices\nend_header\n\
+                 0 0 0 0 0 1 0 0\n1 0 0 0 0 1 1 0\n1 1 0 0 1 1 1 1\n0 1 0 0 0 1 0 1\n4 0 1 2 3\n";
+    let path = dir.join("quad.ply");
+    std::fs::write(&path, ascii).unwrap();
+    let mesh = proxima::io::load(&path).unwrap();
+    assert_eq!(
+        mesh.corner_uvs().unwrap(),
+        [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]
+    );
+    assert_eq!(mesh.corner_normals().unwrap()[2], Vec3::new(0.0, 1.0, 1.0));
+    // The same file in binary: the same mesh.
+    let mut binary = b"ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n\
+                       property float z\nproperty float nx\nproperty float ny\nproperty float nz\nproperty float s\n\
+                       property float t\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+        .to_vec();
+    for row in [
+        [0.0f32, 0., 0., 0., 0., 1., 0., 0.],
+        [1., 0., 0., 0., 0., 1., 1., 0.],
+        [1., 1., 0., 0., 1., 1., 1., 1.],
+        [0., 1., 0., 0., 0., 1., 0., 1.],
+    ] {
+        binary.extend(row.iter().flat_map(|x| x.to_le_bytes()));
+    }
+    binary.push(4);
+    binary.extend([0i32, 1, 2, 3].iter().flat_map(|x| x.to_le_bytes()));
+    let path = dir.join("quad_binary.ply");
+    std::fs::write(&path, binary).unwrap();
+    assert_eq!(proxima::io::load(&path).unwrap(), mesh);
+    // A normal that is not finite names the vertex.
+    let path = dir.join("nan.ply");
+    std::fs::write(&path, ascii.replace("1 1 0 0 1 1 1 1", "1 1 0 0 nan 1 1 1")).unwrap();
+    let error = proxima::io::load(&path).unwrap_err().to_string();
+    assert!(error.contains("vertex 2") && error.contains("normal"), "{error}");
+}
+
+#[test]
+fn corner_attributes_are_checked() {
+    let mesh = Mesh::from_triangles(vec![Vec3::ZERO, Vec3::X, Vec3::Y], &[[0, 1, 2]]).unwrap();
+    assert!(mesh.clone().with_corner_uvs(vec![[0.0, 0.0]; 2]).is_err());
+    assert!(
+        mesh.clone()
+            .with_corner_normals(vec![Vec3::Z, Vec3::Z, Vec3::NAN])
+            .is_err()
+    );
+    let with = mesh
+        .clone()
+        .with_corner_uvs(vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
+        .unwrap();
+    assert_eq!(with.corner_count(), 3);
+    assert!(mesh.corner_uvs().is_none());
+}

@@ -53,13 +53,15 @@ pub struct Args {
     #[arg(long, value_parser = parse_planarity, default_value = "1e-5")]
     planarity: f32,
     /// With --primitives faces: add where each closest point lies, columns
-    /// triangle,u,v,feature,fa,fb,nx,ny,nz,fnx,fny,fnz: the face's fan
+    /// triangle,u,v,feature,fa,fb,nx,ny,nz,fnx,fny,fnz,tu,tv: the face's fan
     /// triangle (v0, vi, vi+1) holding it, numbered over all faces' fans; its
     /// barycentric weights u, v of the triangle's second and third corners
     /// (located again in f64); the smallest feature holding it (face, edge or
     /// vertex) and that feature's vertices fa, fb (empty where it has fewer);
-    /// the vertex normals interpolated there (angle-weighted, unit length);
-    /// the triangle's unit normal.
+    /// the shading normal interpolated there (the file's normals, else
+    /// angle-weighted vertex normals; unit length); the triangle's unit
+    /// normal; the file's texture coordinates interpolated there (empty when
+    /// it has none).
     #[arg(long)]
     attributes: bool,
 }

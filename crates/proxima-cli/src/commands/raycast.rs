@@ -58,7 +58,7 @@ pub struct Args {
     #[arg(long)]
     any: bool,
     /// With --rays: add where each hit lies, the columns of `closest
-    /// --attributes` (triangle,u,v,feature,fa,fb,nx,ny,nz,fnx,fny,fnz; u, v
+    /// --attributes` (triangle,u,v,feature,fa,fb,nx,ny,nz,fnx,fny,fnz,tu,tv; u, v
     /// the ray test's own), empty for a miss.
     #[arg(long, requires = "rays", conflicts_with_all = ["any", "json"])]
     attributes: bool,

@@ -141,8 +141,14 @@ class Answers:
     """``return_feature``: the feature's vertices, (N, 2): the edge's two (in
     the face's order), the vertex and -1, or -1, -1 for a face."""
     normal: npt.NDArray[np.float64]
-    """``return_normal``: the vertex normals (:attr:`Mesh.vertex_normals`)
-    interpolated by the barycentric weights, unit length, (N, 3)."""
+    """``return_normal``: the shading normal, unit length, (N, 3): the file's
+    per-corner normals (:attr:`Mesh.corner_normals`) when it had them, else
+    the vertex normals (:attr:`Mesh.vertex_normals`), interpolated by the
+    barycentric weights."""
+    uv: npt.NDArray[np.float64]
+    """``return_uv``: the texture coordinates (:attr:`Mesh.corner_uvs`)
+    interpolated by the barycentric weights, (N, 2); ``ValueError`` naming
+    ``return_uv`` on a mesh without them."""
     face_normal: npt.NDArray[np.float64]
     """``return_normal``: the triangle's unit normal (right-handed in the
     face's order), (N, 3)."""
@@ -301,6 +307,16 @@ class Mesh:
         summed in float64; zero for a vertex no face uses. Computed once and
         kept (``"normals"`` in :meth:`built_structures`)."""
     @property
+    def corner_uvs(self) -> Optional[npt.NDArray[np.float32]]:
+        """The file's texture coordinates per face corner, (C, 2) float32 (the
+        faces' vertex lists concatenated: a seam keeps two values for one
+        vertex), or None. OBJ ``vt`` when every corner of every face names one;
+        PLY vertex ``u v`` (or ``s t``, ``texture_u texture_v``)."""
+    @property
+    def corner_normals(self) -> Optional[npt.NDArray[np.float32]]:
+        """The file's shading normals per face corner, (C, 3) float32, or None:
+        OBJ ``vn`` when every corner names one, PLY vertex ``nx ny nz``."""
+    @property
     def faces(self) -> Union[npt.NDArray[np.int64], list[npt.NDArray[np.int64]]]:
         """The faces: an (F, k) int64 array when every face has k vertices,
         otherwise a list of F int64 arrays."""
@@ -318,6 +334,7 @@ class Mesh:
         return_barycentric: bool = False,
         return_feature: bool = False,
         return_normal: bool = False,
+        return_uv: bool = False,
     ) -> Union[Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.int64]], Answers]:
         """For each of ``points`` (N, 3), the closest point of the mesh's
         ``primitives``: ``(closest (N, 3) float64, distance (N,) float64,
@@ -333,8 +350,8 @@ class Mesh:
         :class:`Answers` that adds ``triangle``, ``corners`` and
         ``barycentric`` (``return_barycentric``), ``feature`` and
         ``feature_vertices`` (``return_feature``), ``normal`` and
-        ``face_normal`` (``return_normal``); they are computed after the
-        query, and cost nothing when not asked.
+        ``face_normal`` (``return_normal``), ``uv`` (``return_uv``); they are
+        computed after the query, and cost nothing when not asked.
 
         >>> closest, distance, face = mesh.closest_points(np.zeros((1, 3)))
         """
@@ -409,6 +426,7 @@ class Mesh:
         return_barycentric: bool = False,
         return_feature: bool = False,
         return_normal: bool = False,
+        return_uv: bool = False,
     ) -> Union[Tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]], Answers]:
         """The first face each ray ``origin + t * direction / |direction|``
         (t >= 0) hits: ``(t (N,) float64, index (N,) int64)``, t the distance

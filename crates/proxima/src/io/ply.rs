@@ -72,7 +72,8 @@ enum Kind {
 /// What a property means to us.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Role {
-    /// Vertex coordinate 0, 1 or 2.
+    /// A vertex value: coordinate 0, 1 or 2, normal component 3, 4 or 5
+    /// (`nx ny nz`), texture coordinate 6 or 7 ([`UV_NAMES`]).
     Coordinate(usize),
     /// The index list of a face.
     Indices,
@@ -134,10 +135,16 @@ pub(super) fn parse(bytes: &[u8], path: &Path, budget: Budget) -> Result<Mesh, L
     // `parse_header` checked that the counts fit the data (so fit in memory) and
     // that the vertex count fits 32-bit indices.
     let vertex_count = usize::try_from(vertex_count).unwrap_or(usize::MAX);
+    let vertex_has = |slot: usize| {
+        let vertex = header.elements.get(header.vertex);
+        vertex.is_some_and(|e| has_role(e, |r| r == Role::Coordinate(slot)))
+    };
     let mut reader = Reader {
         path,
         vertex_count,
         positions: Vec::new(),
+        normals: vertex_has(3).then(Vec::new),
+        uvs: vertex_has(6).then(Vec::new),
         faces: Faces::with_capacity(0, 0),
         encoding: header.encoding,
     };
@@ -162,7 +169,25 @@ pub(super) fn parse(bytes: &[u8], path: &Path, budget: Budget) -> Result<Mesh, L
             }
         }
     }
-    reader.faces.finish(reader.positions, path)
+    let Reader {
+        normals,
+        uvs,
+        faces,
+        positions,
+        ..
+    } = reader;
+    let mut mesh = faces.finish(positions, path)?;
+    // Per-vertex values, given to each corner that uses the vertex.
+    let indices: Vec<u32> = mesh.faces().flatten().copied().collect();
+    if let Some(uvs) = uvs {
+        let corners = indices.iter().map(|&v| uvs[v as usize]).collect();
+        mesh = mesh.with_corner_uvs(corners).map_err(|e| error_at(path, None, e))?;
+    }
+    if let Some(normals) = normals {
+        let corners = indices.iter().map(|&v| normals[v as usize]).collect();
+        mesh = mesh.with_corner_normals(corners).map_err(|e| error_at(path, None, e))?;
+    }
+    Ok(mesh)
 }
 
 /// Reads the header: magic, format, elements and their properties.
@@ -286,8 +311,23 @@ fn parse_header<'a>(bytes: &'a [u8], path: &Path) -> Result<Header<'a>, LoadErro
     })
 }
 
-/// Marks the coordinate and face-index properties; returns the index of the
-/// vertex element.
+/// The names of a vertex's normal.
+const NORMAL_NAMES: [&[u8]; 3] = [b"nx", b"ny", b"nz"];
+
+/// The names a vertex's texture coordinates go by, in order of preference.
+const UV_NAMES: [[&[u8]; 2]; 4] = [
+    [b"u", b"v"],
+    [b"s", b"t"],
+    [b"texture_u", b"texture_v"],
+    [b"texture_s", b"texture_t"],
+];
+
+/// The vertex values read: x, y, z, nx, ny, nz, u, v.
+const VERTEX_VALUES: usize = 8;
+
+/// Marks the vertex values (the first of [`UV_NAMES`] whose two scalars are
+/// both there, and `nx ny nz` when all three are scalars there) and the
+/// face-index properties; returns the index of the vertex element.
 fn assign_roles(elements: &mut [Element], end_line: usize, path: &Path) -> Result<usize, LoadError> {
     let mut vertex = None;
     let mut face_seen = false;
@@ -307,6 +347,29 @@ fn assign_roles(elements: &mut [Element], end_line: usize, path: &Path) -> Resul
                         return Err(syntax(path, Some(element.line), message));
                     }
                     property.role = Role::Coordinate(axis);
+                }
+                let optional: Vec<&[&[u8]]> = std::iter::once(&NORMAL_NAMES[..])
+                    .chain(UV_NAMES.iter().map(|names| &names[..]))
+                    .collect();
+                let mut uv_found = false;
+                for (group, names) in optional.into_iter().enumerate() {
+                    if group > 0 && uv_found {
+                        break;
+                    }
+                    let scalar = |name: &[u8]| {
+                        element
+                            .properties
+                            .iter()
+                            .position(|p| p.name == name && matches!(p.kind, Kind::Scalar(_)))
+                    };
+                    let found: Option<Vec<usize>> = names.iter().map(|n| scalar(n)).collect();
+                    if let Some(found) = found {
+                        let first = if group == 0 { 3 } else { 6 };
+                        for (k, property) in found.into_iter().enumerate() {
+                            element.properties[property].role = Role::Coordinate(first + k);
+                        }
+                        uv_found = group > 0;
+                    }
                 }
             }
             b"face" => {
@@ -340,6 +403,9 @@ struct Reader<'p> {
     path: &'p Path,
     vertex_count: usize,
     positions: Vec<Vec3>,
+    /// Per vertex, when the header names them.
+    normals: Option<Vec<Vec3>>,
+    uvs: Option<Vec<[f32; 2]>>,
     faces: Faces,
     encoding: Encoding,
 }
@@ -374,7 +440,7 @@ impl Reader<'_> {
         }
         let is_vertex = has_role(element, |r| matches!(r, Role::Coordinate(_)));
         for i in 0..element.count {
-            let mut xyz = [0.0f32; 3];
+            let mut xyz = [0.0f32; VERTEX_VALUES];
             for property in &element.properties {
                 let next = |tokens: &mut TokenStream<'a>| next_value(tokens, element, i, self.path);
                 match (property.kind, property.role) {
@@ -431,8 +497,7 @@ impl Reader<'_> {
                 return Err(syntax(self.path, Some(line), message));
             }
             if is_vertex {
-                let p = check_finite(Vec3::from_array(xyz), self.positions.len(), self.path, Some(line))?;
-                self.positions.push(p);
+                self.vertex(xyz, Some(line))?;
             }
         }
         Ok(())
@@ -456,7 +521,7 @@ impl Reader<'_> {
                 );
                 truncated(self.path, None, message)
             };
-            let mut xyz = [0.0f32; 3];
+            let mut xyz = [0.0f32; VERTEX_VALUES];
             for property in &element.properties {
                 match (property.kind, property.role) {
                     (Kind::Scalar(t), Role::Coordinate(axis)) => {
@@ -493,13 +558,32 @@ impl Reader<'_> {
                 }
             }
             if is_vertex {
-                self.positions.push(check_finite(
-                    Vec3::from_array(xyz),
-                    self.positions.len(),
-                    self.path,
-                    None,
-                )?);
+                self.vertex(xyz, None)?;
             }
+        }
+        Ok(())
+    }
+
+    /// Keeps a vertex's values: its position, and its normal and texture
+    /// coordinates when the header has them.
+    fn vertex(&mut self, values: [f32; VERTEX_VALUES], line: Option<usize>) -> Result<(), LoadError> {
+        let p = Vec3::new(values[0], values[1], values[2]);
+        self.positions
+            .push(check_finite(p, self.positions.len(), self.path, line)?);
+        let index = self.positions.len() - 1;
+        let not_finite = |what: &str| syntax(self.path, line, format!("vertex {index}: {what} is not finite"));
+        if let Some(normals) = &mut self.normals {
+            let n = Vec3::new(values[3], values[4], values[5]);
+            if !n.is_finite() {
+                return Err(not_finite("its normal"));
+            }
+            normals.push(n);
+        }
+        if let Some(uvs) = &mut self.uvs {
+            if !(values[6].is_finite() && values[7].is_finite()) {
+                return Err(not_finite("its texture coordinate"));
+            }
+            uvs.push([values[6], values[7]]);
         }
         Ok(())
     }

@@ -37,6 +37,25 @@ pub enum MeshError {
     /// Face offsets that do not start at 0, decrease, or miss the end of the indices.
     #[error("face offsets must start at 0, never decrease, and end at the number of indices")]
     BadOffsets,
+    /// Per-corner attributes (normals, texture coordinates) that are not one
+    /// per face corner.
+    #[error("{count} {what} for {corners} face corners; a mesh needs one per corner")]
+    CornerCount {
+        /// What the attributes are.
+        what: &'static str,
+        /// How many were given.
+        count: usize,
+        /// How many corners the faces have.
+        corners: usize,
+    },
+    /// A per-corner attribute with a NaN or infinite component.
+    #[error("{what} of face corner {corner}: not finite")]
+    NonFiniteCorner {
+        /// What the attribute is.
+        what: &'static str,
+        /// 0-based corner.
+        corner: usize,
+    },
     /// More elements than 32-bit indices can address.
     #[error("{what}: {count} is more than the 2^32 - 1 that 32-bit indices can address")]
     TooLarge {

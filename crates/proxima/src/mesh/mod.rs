@@ -35,6 +35,16 @@ pub struct Mesh {
     /// Face `f` uses `indices[offsets[f]..offsets[f + 1]]`; `offsets[0] == 0`.
     offsets: Vec<u32>,
     indices: Vec<u32>,
+    /// Optional per face corner (parallel to `indices`), from the file.
+    corners: CornerAttributes,
+}
+
+/// What a file may give each face corner: shading normals and texture
+/// coordinates, kept per corner so that seams and hard edges survive.
+#[derive(Clone, Debug, Default, PartialEq)]
+struct CornerAttributes {
+    normals: Option<Vec<Vec3>>,
+    uvs: Option<Vec<[f32; 2]>>,
 }
 
 /// The empty mesh: no vertices, no faces.
@@ -44,6 +54,7 @@ impl Default for Mesh {
             positions: Vec::new(),
             offsets: vec![0],
             indices: Vec::new(),
+            corners: CornerAttributes::default(),
         }
     }
 }
@@ -87,7 +98,66 @@ impl Mesh {
             positions,
             offsets,
             indices,
+            corners: CornerAttributes::default(),
         })
+    }
+
+    /// The mesh with a shading normal per face corner (`normals[k]` for the
+    /// corner `k` of the faces' concatenated index lists, as
+    /// [`face_offset`](Self::face_offset) numbers them). Fails unless there
+    /// is one per corner, each finite. They need not be unit length.
+    pub fn with_corner_normals(mut self, normals: Vec<Vec3>) -> Result<Self, MeshError> {
+        self.check_corners("normals", normals.len(), normals.iter().position(|n| !n.is_finite()))?;
+        self.corners.normals = Some(normals);
+        Ok(self)
+    }
+
+    /// The mesh with texture coordinates per face corner (numbered as for
+    /// [`with_corner_normals`](Self::with_corner_normals)). Fails unless
+    /// there is one per corner, each finite.
+    pub fn with_corner_uvs(mut self, uvs: Vec<[f32; 2]>) -> Result<Self, MeshError> {
+        let bad = uvs.iter().position(|uv| !uv.iter().all(|c| c.is_finite()));
+        self.check_corners("texture coordinates", uvs.len(), bad)?;
+        self.corners.uvs = Some(uvs);
+        Ok(self)
+    }
+
+    fn check_corners(&self, what: &'static str, count: usize, non_finite: Option<usize>) -> Result<(), MeshError> {
+        if count != self.indices.len() {
+            return Err(MeshError::CornerCount {
+                what,
+                count,
+                corners: self.indices.len(),
+            });
+        }
+        match non_finite {
+            Some(corner) => Err(MeshError::NonFiniteCorner { what, corner }),
+            None => Ok(()),
+        }
+    }
+
+    /// The shading normals per face corner, when the mesh has them.
+    pub fn corner_normals(&self) -> Option<&[Vec3]> {
+        self.corners.normals.as_deref()
+    }
+
+    /// The texture coordinates per face corner, when the mesh has them.
+    pub fn corner_uvs(&self) -> Option<&[[f32; 2]]> {
+        self.corners.uvs.as_deref()
+    }
+
+    /// The number of face corners (the faces' vertex counts summed).
+    pub fn corner_count(&self) -> usize {
+        self.indices.len()
+    }
+
+    /// The first corner of face `f`: its corners are `face_offset(f)..`
+    /// `face_offset(f + 1)`, in the order of [`face`](Self::face).
+    ///
+    /// # Panics
+    /// When `f` is above [`Mesh::face_count`].
+    pub fn face_offset(&self, f: usize) -> usize {
+        self.offsets[f] as usize
     }
 
     /// A mesh from positions and one index list per face.

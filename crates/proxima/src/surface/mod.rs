@@ -134,18 +134,45 @@ impl SurfacePoint {
         (b - a).cross(c - a).normalize_or_zero()
     }
 
-    /// The normal interpolated from per-vertex `normals` (such as
-    /// [`vertex_normals`]) by the barycentric weights, unit length; the face
-    /// normal where the weighted sum vanishes.
+    /// The shading normal: the file's per-corner normals
+    /// ([`Mesh::corner_normals`]) when the mesh has them, else the per-vertex
+    /// `normals` (such as [`vertex_normals`]), interpolated by the
+    /// barycentric weights, unit length; the face normal where the weighted
+    /// sum vanishes.
     ///
     /// # Panics
-    /// When `normals` has fewer entries than the mesh has vertices.
+    /// When the mesh has no corner normals and `normals` has fewer entries
+    /// than it has vertices.
     pub fn interpolated_normal(&self, mesh: &Mesh, normals: &[Vec3]) -> DVec3 {
-        let sum: DVec3 = (0..3)
-            .map(|k| normals[self.corners[k] as usize].as_dvec3() * self.barycentric[k])
-            .sum();
+        let at = match mesh.corner_normals() {
+            Some(corner_normals) => self.corner_slots(mesh).map(|k| corner_normals[k]),
+            None => self.corners.map(|v| normals[v as usize]),
+        };
+        let sum: DVec3 = (0..3).map(|k| at[k].as_dvec3() * self.barycentric[k]).sum();
         let n = sum.normalize_or_zero();
         if n == DVec3::ZERO { self.face_normal(mesh) } else { n }
+    }
+
+    /// The texture coordinates interpolated by the barycentric weights,
+    /// when the mesh has them ([`Mesh::corner_uvs`]).
+    pub fn uv(&self, mesh: &Mesh) -> Option<[f64; 2]> {
+        let uvs = mesh.corner_uvs()?;
+        let mut uv = [0.0; 2];
+        for (w, k) in self.barycentric.iter().zip(self.corner_slots(mesh)) {
+            uv[0] += w * f64::from(uvs[k][0]);
+            uv[1] += w * f64::from(uvs[k][1]);
+        }
+        Some(uv)
+    }
+
+    /// The triangle's corners as face corners (the numbering of
+    /// [`Mesh::corner_normals`] and [`Mesh::corner_uvs`]): the face's first,
+    /// and its `i + 1`-th and `i + 2`-th for fan triangle `i`.
+    pub fn corner_slots(&self, mesh: &Mesh) -> [usize; 3] {
+        let face = self.face as usize;
+        let first = mesh.face_offset(face);
+        let i = self.triangle as usize - mesh.first_triangle(face);
+        [first, first + i + 1, first + i + 2]
     }
 }
 
