@@ -1232,6 +1232,8 @@ fn cases() -> Vec<Case> {
             .file("r.txt", b"0 0 1 0 0 -1\n"),
         case("surface_gradient_of_points_only", &["sdf", "{dir}/ok.obj", "--grid", "4", "--gradient", "--out", "{dir}/g.npy"], 2, &["'--grid <N>' cannot be used with '--gradient'"])
             .triangle(),
+        case("surface_attribute_index_out_of_range", &["closest", "{dir}/uv.obj", "--point", "0,0,0"], 1, &["proxima: ", "uv.obj:5: face 0 refers to texture coordinate 7, but the file defines 1"])
+            .file("uv.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/7\n"),
         case("points_beyond_the_memory_budget", &["knn", "{dir}/c.xyz", "--queries", "{dir}/c.xyz", "-k", "100000"], 1, &["proxima: -k 100000: needs about", "memory budget of 1.0 KiB"])
             .file("c.xyz", b"0 0 0\n1 1 1\n")
             .env(&[("PROXIMA_MEMORY_BUDGET", "1K")]),

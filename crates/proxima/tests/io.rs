@@ -574,7 +574,7 @@ fn load_errors_name_the_path() {
 
 #[test]
 fn obj_negative_indices_are_relative_to_the_vertices_so_far() {
-    let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\nv 1 1 0\nf -3 -1 -2\nf 2/1 -1//3 3/1/1\n";
+    let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\nv 1 1 0\nf -3 -1 -2\nvt 0 0\nvn 0 0 1\nvn 0 1 0\nvn 1 0 0\nf 2/1 -1//3 3/1/1\n";
     let mesh = parse_as(text.as_bytes(), Format::Obj).unwrap();
     let faces: Vec<&[u32]> = mesh.faces().collect();
     assert_eq!(faces, [&[0, 1, 2][..], &[1, 3, 2], &[1, 3, 2]]);

@@ -520,3 +520,54 @@ fn corner_attributes_are_checked() {
     assert_eq!(with.corner_count(), 3);
     assert!(mesh.corner_uvs().is_none());
 }
+
+/// A GLB triangle with NORMAL and TEXCOORD_0, shown by a node scaled
+/// (2, 1, 1): the normals turn by the inverse transpose; a second primitive
+/// without them drops that kind for the whole mesh.
+#[test]
+fn glb_normals_and_uvs_become_corner_values() {
+    let floats = |v: &[f32]| v.iter().flat_map(|x| x.to_le_bytes()).collect::<Vec<u8>>();
+    let mut bin = floats(&[0., 0., 0., 1., 0., 0., 0., 1., 0.]); // positions, 36 bytes
+    let s = std::f32::consts::FRAC_1_SQRT_2;
+    bin.extend(floats(&[s, s, 0., s, s, 0., 0., 0., 1.])); // normals, 36 bytes
+    bin.extend(floats(&[0., 0., 1., 0., 0., 1.])); // uvs, 24 bytes
+    let document = |second_primitive: &str| {
+        format!(
+            r#"{{"asset":{{"version":"2.0"}},"buffers":[{{"byteLength":96}}],
+            "bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":36}},{{"buffer":0,"byteOffset":36,"byteLength":36}},{{"buffer":0,"byteOffset":72,"byteLength":24}}],
+            "accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3"}},{{"bufferView":1,"componentType":5126,"count":3,"type":"VEC3"}},{{"bufferView":2,"componentType":5126,"count":3,"type":"VEC2"}}],
+            "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0,"NORMAL":1,"TEXCOORD_0":2}}}}{second_primitive}]}}],
+            "nodes":[{{"mesh":0,"scale":[2,1,1]}}]}}"#
+        )
+    };
+    let dir = common::temp_dir("glb_attributes");
+    let path = dir.join("t.glb");
+    std::fs::write(&path, common::glb_writer::glb(&document(""), &bin)).unwrap();
+    let mesh = proxima::io::load(&path).unwrap();
+    assert_eq!(mesh.positions()[1], Vec3::new(2.0, 0.0, 0.0));
+    assert_eq!(mesh.corner_uvs().unwrap(), [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]);
+    let n = mesh.corner_normals().unwrap();
+    assert!(
+        (n[0] - Vec3::new(0.5, 1.0, 0.0).normalize()).length() < 1e-6,
+        "{:?}",
+        n[0]
+    );
+    assert_eq!(n[2], Vec3::Z);
+    // The same triangle again, with UVs only: no normals kept.
+    std::fs::write(
+        &path,
+        common::glb_writer::glb(&document(r#",{"attributes":{"POSITION":0,"TEXCOORD_0":2}}"#), &bin),
+    )
+    .unwrap();
+    let mesh = proxima::io::load(&path).unwrap();
+    assert!(mesh.corner_normals().is_none());
+    assert_eq!(mesh.corner_uvs().unwrap().len(), 6);
+    // A NORMAL accessor of the wrong type is named.
+    std::fs::write(
+        &path,
+        common::glb_writer::glb(&document("").replace(r#""NORMAL":1"#, r#""NORMAL":2"#), &bin),
+    )
+    .unwrap();
+    let error = proxima::io::load(&path).unwrap_err().to_string();
+    assert!(error.contains("NORMAL") && error.contains("accessors[2]"), "{error}");
+}

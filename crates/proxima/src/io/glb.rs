@@ -14,7 +14,9 @@
 //! each node's `matrix` or `translation`/`rotation`/`scale`, composed from the
 //! root in f64; the primitives of mode 4 (triangles), 5 (strip) and 6 (fan),
 //! their `POSITION` (float, or the integer types of `KHR_mesh_quantization`,
-//! normalized or not) and `indices` (unsigned 8, 16 or 32 bits, or none).
+//! normalized or not) and `indices` (unsigned 8, 16 or 32 bits, or none);
+//! `NORMAL` (turned by the node's transform, inverse transposed) and
+//! `TEXCOORD_0`, kept per face corner when every primitive read has them.
 //! Points and lines (modes 0 to 3) are skipped. Each primitive of each node
 //! that shows it adds its own vertices (nothing is welded), so an instanced
 //! mesh appears once per node, in place.
@@ -69,6 +71,8 @@ const KEPT_MEMBERS: &[&str] = &[
     "primitives",
     "attributes",
     "POSITION",
+    "NORMAL",
+    "TEXCOORD_0",
     "indices",
     "mode",
     "extensions",
@@ -109,7 +113,26 @@ pub(super) fn parse(bytes: &[u8], path: &Path, budget: Budget) -> Result<Mesh, L
     for (mesh, transform) in instances {
         document.add_mesh(mesh, &transform, &mut out)?;
     }
-    Mesh::from_compact(out.positions, out.offsets, out.indices).map_err(|e| LoadError::new(path, None, e))
+    let Output {
+        positions,
+        offsets,
+        indices,
+        normals,
+        uvs,
+    } = out;
+    // Per vertex, given to every corner that uses the vertex.
+    let corner_normals = normals.map(|n: Vec<Vec3>| indices.iter().map(|&v| n[v as usize]).collect::<Vec<_>>());
+    let corner_uvs = uvs.map(|t: Vec<[f32; 2]>| indices.iter().map(|&v| t[v as usize]).collect::<Vec<_>>());
+    let mut mesh = Mesh::from_compact(positions, offsets, indices).map_err(|e| LoadError::new(path, None, e))?;
+    if let Some(normals) = corner_normals {
+        mesh = mesh
+            .with_corner_normals(normals)
+            .map_err(|e| LoadError::new(path, None, e))?;
+    }
+    if let Some(uvs) = corner_uvs {
+        mesh = mesh.with_corner_uvs(uvs).map_err(|e| LoadError::new(path, None, e))?;
+    }
+    Ok(mesh)
 }
 
 /// The JSON chunk as a `Value` holding only the [`KEPT_MEMBERS`], and the
@@ -333,6 +356,9 @@ struct Output {
     positions: Vec<Vec3>,
     offsets: Vec<u32>,
     indices: Vec<u32>,
+    /// Per vertex, while every primitive so far has had them.
+    normals: Option<Vec<Vec3>>,
+    uvs: Option<Vec<[f32; 2]>>,
 }
 
 impl Output {
@@ -343,6 +369,8 @@ impl Output {
             positions: Vec::new(),
             offsets: Vec::new(),
             indices: Vec::new(),
+            normals: Some(Vec::new()),
+            uvs: Some(Vec::new()),
         };
         let refused = |_| {
             let error = std::io::Error::new(
@@ -748,6 +776,7 @@ impl<'a> Document<'a> {
                 let p = DVec3::new(positions.get(i, 0), positions.get(i, 1), positions.get(i, 2));
                 out.positions.push(transform.transform_point3(p).as_vec3());
             }
+            self.add_vertex_attributes(attributes, &at, positions.count, transform, out)?;
             let indices = match self.integer(primitive, "indices", &at)? {
                 None => None,
                 Some(indices) => {
@@ -800,6 +829,64 @@ impl<'a> Document<'a> {
                     }
                 }
             }
+        }
+        Ok(())
+    }
+
+    /// The `NORMAL` and `TEXCOORD_0` of a primitive's `vertices` vertices,
+    /// added to `out` while every primitive has had them (the first without
+    /// drops that kind). Normals are turned by the inverse transpose of the
+    /// node's transform and normalized; values that are not finite, or an
+    /// accessor of another type or count, are refused naming it.
+    fn add_vertex_attributes(
+        &self,
+        attributes: &Value,
+        at: &str,
+        vertices: usize,
+        transform: &DMat4,
+        out: &mut Output,
+    ) -> Result<(), LoadError> {
+        let mut read = |name: &str, components: usize| -> Result<Option<Elements<'a>>, LoadError> {
+            let Some(index) = self.integer(attributes, name, &format!("{at}.attributes"))? else {
+                return Ok(None);
+            };
+            let elements = self.elements(index, &format!("{at}.attributes.{name}"))?;
+            if elements.components != components || elements.count != vertices {
+                return Err(self.error(format!(
+                    "accessors[{index}] ({name} of {at}) is not {vertices} elements of {components} components"
+                )));
+            }
+            Ok(Some(elements))
+        };
+        let normals = read("NORMAL", 3)?;
+        let uvs = read("TEXCOORD_0", 2)?;
+        let not_finite = |name: &str, i: usize| self.error(format!("{at}: {name} of vertex {i} is not finite"));
+        match (normals, &mut out.normals) {
+            (Some(normals), Some(list)) => {
+                let turn = glam::DMat3::from_mat4(*transform).inverse().transpose();
+                for i in 0..vertices {
+                    let n = DVec3::new(normals.get(i, 0), normals.get(i, 1), normals.get(i, 2));
+                    if !n.is_finite() {
+                        return Err(not_finite("NORMAL", i));
+                    }
+                    list.push((turn * n).normalize_or_zero().as_vec3());
+                }
+            }
+            (None, _) => out.normals = None,
+            (Some(_), None) => {}
+        }
+        match (uvs, &mut out.uvs) {
+            (Some(uvs), Some(list)) => {
+                for i in 0..vertices {
+                    let uv = [uvs.get(i, 0) as f32, uvs.get(i, 1) as f32];
+                    if !uv.iter().all(|c| c.is_finite()) {
+                        return Err(not_finite("TEXCOORD_0", i));
+                    }
+                    list.push(uv);
+                }
+            }
+            (None, _) => out.uvs = None,
+            (Some(_), None) => {}
         }
         Ok(())
     }
