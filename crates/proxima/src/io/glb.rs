@@ -846,7 +846,7 @@ impl<'a> Document<'a> {
         transform: &DMat4,
         out: &mut Output,
     ) -> Result<(), LoadError> {
-        let mut read = |name: &str, components: usize| -> Result<Option<Elements<'a>>, LoadError> {
+        let read = |name: &str, components: usize| -> Result<Option<Elements<'a>>, LoadError> {
             let Some(index) = self.integer(attributes, name, &format!("{at}.attributes"))? else {
                 return Ok(None);
             };
