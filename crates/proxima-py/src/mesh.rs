@@ -335,7 +335,7 @@ impl PyMesh {
         answers_or_tuple(
             py,
             leading,
-            columns.or_else(|| options.any().then(|| SurfaceColumns::empty(options))),
+            columns.or_else(|| options.any().then(|| SurfaceColumns::empty(options, &self.index))),
         )
     }
 

@@ -32,118 +32,92 @@ impl SurfaceOptions {
     }
 }
 
-/// One answer's surface values, flattened.
-#[derive(Clone, Copy)]
-struct Row {
-    triangle: i64,
-    corners: [i64; 3],
-    barycentric: [f64; 3],
-    feature: i8,
-    feature_vertices: [i64; 2],
-    normal: [f64; 3],
-    face_normal: [f64; 3],
-    uv: [f64; 2],
+/// One column: its values row after row, and its width.
+enum Column {
+    Int(Vec<i64>, usize),
+    Code(Vec<i8>),
+    Real(Vec<f64>, usize),
 }
 
-/// A query without an answer: -1 and NaN.
-const MISSING: Row = Row {
-    triangle: -1,
-    corners: [-1; 3],
-    barycentric: [f64::NAN; 3],
-    feature: -1,
-    feature_vertices: [-1; 2],
-    normal: [f64::NAN; 3],
-    face_normal: [f64::NAN; 3],
-    uv: [f64::NAN; 2],
-};
-
-/// The arrays `options` asks for, of the surface points `at` (on all
-/// cores of the current pool, without the GIL): named, ready for
-/// [`Answers`].
+/// The arrays `options` asks for, of the surface points `at` (computed
+/// without the GIL, each column in one pass over the answers; the normals
+/// on all cores of the current pool): named, ready for [`Answers`].
 pub struct SurfaceColumns {
-    options: SurfaceOptions,
-    rows: Vec<Row>,
+    columns: Vec<(&'static str, Column)>,
 }
 
 impl SurfaceColumns {
-    /// The rows of `at` on `index`'s mesh.
+    /// The columns of `at` on `index`'s mesh; -1 and NaN for a query
+    /// without an answer.
     pub fn new(index: &MeshIndex, at: &[Option<SurfacePoint>], options: SurfaceOptions) -> Self {
         let mesh = index.mesh();
-        let normals = options.normal.then(|| index.vertex_normals());
-        let rows = at
-            .par_iter()
-            .with_min_len(1024)
-            .map(|at| {
-                let Some(at) = at else { return MISSING };
-                let (normal, face_normal) = match normals {
-                    Some(normals) => (
-                        at.interpolated_normal(mesh, normals).to_array(),
-                        at.face_normal(mesh).to_array(),
-                    ),
-                    None => ([f64::NAN; 3], [f64::NAN; 3]),
-                };
-                let vertex = |v: u32| if v == u32::MAX { -1 } else { i64::from(v) };
-                Row {
-                    triangle: i64::from(at.triangle),
-                    corners: at.corners.map(i64::from),
-                    barycentric: at.barycentric,
-                    feature: at.feature.code() as i8,
-                    feature_vertices: at.feature.vertices().map(vertex),
-                    normal,
-                    face_normal,
-                    uv: match options.uv {
-                        true => at.uv(mesh).unwrap_or([f64::NAN; 2]),
-                        false => [f64::NAN; 2],
-                    },
-                }
-            })
-            .collect();
-        Self { options, rows }
+        let ints = |width: usize, f: &dyn Fn(&SurfacePoint) -> [i64; 3]| {
+            let mut out = Vec::with_capacity(width * at.len());
+            for a in at {
+                let values = a.as_ref().map_or([-1; 3], f);
+                out.extend_from_slice(&values[..width]);
+            }
+            Column::Int(out, width)
+        };
+        let reals = |width: usize, f: &(dyn Fn(&SurfacePoint) -> [f64; 3] + Sync)| {
+            let rows: Vec<[f64; 3]> = at
+                .par_iter()
+                .with_min_len(4096)
+                .map(|a| a.as_ref().map_or([f64::NAN; 3], f))
+                .collect();
+            Column::Real(rows.iter().flat_map(|r| &r[..width]).copied().collect(), width)
+        };
+        let mut columns = Vec::new();
+        if options.barycentric {
+            columns.push(("triangle", ints(1, &|a| [i64::from(a.triangle), 0, 0])));
+            columns.push(("corners", ints(3, &|a| a.corners.map(i64::from))));
+            columns.push(("barycentric", reals(3, &|a| a.barycentric)));
+        }
+        if options.feature {
+            let codes = at
+                .iter()
+                .map(|a| a.as_ref().map_or(-1, |a| a.feature.code() as i8))
+                .collect();
+            columns.push(("feature", Column::Code(codes)));
+            let vertex = |v: u32| if v == u32::MAX { -1 } else { i64::from(v) };
+            let vertices = move |a: &SurfacePoint| {
+                let [x, y] = a.feature.vertices().map(vertex);
+                [x, y, 0]
+            };
+            columns.push(("feature_vertices", ints(2, &vertices)));
+        }
+        if options.normal {
+            // Not computed for a query of no points.
+            let normals = if at.is_empty() { &[][..] } else { index.vertex_normals() };
+            columns.push(("normal", reals(3, &|a| a.interpolated_normal(mesh, normals).to_array())));
+            columns.push(("face_normal", reals(3, &|a| a.face_normal(mesh).to_array())));
+        }
+        if options.uv {
+            let uv = |a: &SurfacePoint| a.uv(mesh).map_or([f64::NAN; 3], |[u, v]| [u, v, 0.0]);
+            columns.push(("uv", reals(2, &uv)));
+        }
+        Self { columns }
     }
 
     /// No rows (a query of no points).
-    pub fn empty(options: SurfaceOptions) -> Self {
-        Self {
-            options,
-            rows: Vec::new(),
-        }
+    pub fn empty(options: SurfaceOptions, index: &MeshIndex) -> Self {
+        Self::new(index, &[], options)
     }
 
     /// The named arrays.
     pub fn into_fields(self, py: Python<'_>) -> PyResult<Vec<(&'static str, Py<PyAny>)>> {
-        let rows = &self.rows;
-        let mut fields = Vec::new();
-        let column = |f: fn(&Row) -> i64| rows.iter().map(f).collect::<Vec<_>>();
-        let flat = |f: fn(&Row) -> &[f64]| rows.iter().flat_map(f).copied().collect::<Vec<_>>();
-        let flat_i = |f: fn(&Row) -> &[i64]| rows.iter().flat_map(f).copied().collect::<Vec<_>>();
-        if self.options.barycentric {
-            fields.push(("triangle", arrays::vector(py, column(|r| r.triangle)).into_py_any(py)?));
-            fields.push((
-                "corners",
-                arrays::matrix(py, flat_i(|r| &r.corners), 3)?.into_py_any(py)?,
-            ));
-            fields.push((
-                "barycentric",
-                arrays::matrix(py, flat(|r| &r.barycentric), 3)?.into_py_any(py)?,
-            ));
-        }
-        if self.options.feature {
-            let codes: Vec<i8> = rows.iter().map(|r| r.feature).collect();
-            fields.push(("feature", arrays::vector(py, codes).into_py_any(py)?));
-            let vertices = flat_i(|r| &r.feature_vertices);
-            fields.push(("feature_vertices", arrays::matrix(py, vertices, 2)?.into_py_any(py)?));
-        }
-        if self.options.normal {
-            fields.push(("normal", arrays::matrix(py, flat(|r| &r.normal), 3)?.into_py_any(py)?));
-            fields.push((
-                "face_normal",
-                arrays::matrix(py, flat(|r| &r.face_normal), 3)?.into_py_any(py)?,
-            ));
-        }
-        if self.options.uv {
-            fields.push(("uv", arrays::matrix(py, flat(|r| &r.uv), 2)?.into_py_any(py)?));
-        }
-        Ok(fields)
+        self.columns
+            .into_iter()
+            .map(|(name, column)| {
+                let array = match column {
+                    Column::Int(values, 1) => arrays::vector(py, values).into_py_any(py)?,
+                    Column::Int(values, width) => arrays::matrix(py, values, width)?.into_py_any(py)?,
+                    Column::Code(values) => arrays::vector(py, values).into_py_any(py)?,
+                    Column::Real(values, width) => arrays::matrix(py, values, width)?.into_py_any(py)?,
+                };
+                Ok((name, array))
+            })
+            .collect()
     }
 }
 
