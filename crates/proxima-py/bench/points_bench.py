@@ -22,27 +22,18 @@ row is the fastest of R runs. Output JSON: seconds per row and the ratio.
 """
 
 import argparse
-import json
 import time
 
 import numpy as np
 from scipy.spatial import cKDTree
 
 import proxima
+from _timing import fastest, report
 
 try:
     from pykdtree.kdtree import KDTree as PyKDTree
 except ImportError:  # optional peer
     PyKDTree = None
-
-
-def fastest(reps, work):
-    best = float("inf")
-    for _ in range(reps):
-        start = time.perf_counter()
-        work()
-        best = min(best, time.perf_counter() - start)
-    return best
 
 
 def main():
@@ -117,11 +108,7 @@ def main():
     rows.append({"query": f"chamfer {n}x{n}", "proxima": ours, "scipy": theirs, "ratio_scipy": theirs / ours})
 
     out = {"points": args.points, "queries": args.queries, "build": build, "rows": rows}
-    text = json.dumps(out, indent=2)
-    print(text)
-    if args.out:
-        with open(args.out, "w") as f:
-            f.write(text)
+    report(out, args.out)
 
 
 if __name__ == "__main__":

@@ -19,24 +19,14 @@ row (the issue's bound: 1.15).
 """
 
 import argparse
-import json
-import time
 from pathlib import Path
 
 import numpy as np
 
 import proxima
+from _timing import fastest, report
 
 DRAGON = Path(__file__).resolve().parents[4] / "shared" / "data" / "dragon_vrip.ply.gz"
-
-
-def fastest(reps, work):
-    best = float("inf")
-    for _ in range(reps):
-        start = time.perf_counter()
-        work()
-        best = min(best, time.perf_counter() - start)
-    return best
 
 
 def main():
@@ -71,11 +61,7 @@ def main():
     ratios = {
         name: seconds[name] / seconds[name.split("+")[0]] for name in seconds if "+" in name
     }
-    report = {"mesh": args.mesh, "n": args.n, "reps": args.reps, "seconds": seconds, "ratios": ratios}
-    text = json.dumps(report, indent=2)
-    print(text)
-    if args.out:
-        Path(args.out).write_text(text + "\n")
+    report({"mesh": args.mesh, "n": args.n, "reps": args.reps, "seconds": seconds, "ratios": ratios}, args.out)
 
 
 if __name__ == "__main__":

@@ -26,24 +26,14 @@ proxima's speed-up over each peer.
 """
 
 import argparse
-import json
-import time
 from pathlib import Path
 
 import numpy as np
 
 import proxima
+from _timing import report, timed
 
 SPOT = Path(__file__).resolve().parents[4] / "shared" / "data" / "spot_triangulated.obj"
-
-
-def fastest(reps, work):
-    best, result = float("inf"), None
-    for _ in range(reps):
-        start = time.perf_counter()
-        result = work()
-        best = min(best, time.perf_counter() - start)
-    return best, result
 
 
 def camera_rays(lo, hi, size):
@@ -89,7 +79,7 @@ def main():
     def ours():
         return mesh.cast_rays(origins, directions, threads=1, return_uv=True).uv
 
-    seconds["proxima"], uv = fastest(args.reps, ours)
+    seconds["proxima"], uv = timed(args.reps, ours)
     hits = int(np.sum(~np.isnan(uv[:, 0])))
 
     try:
@@ -112,7 +102,7 @@ def main():
             return out
 
         open3d()
-        seconds["open3d"], theirs = fastest(args.reps, open3d)
+        seconds["open3d"], theirs = timed(args.reps, open3d)
         agree["open3d"] = agreement(uv, theirs)
     except ImportError:
         pass
@@ -130,16 +120,16 @@ def main():
         return out
 
     lookup(origins[:10], directions[:10])  # builds its intersector
-    seconds["trimesh"], theirs = fastest(1, lambda: lookup(origins, directions))
+    seconds["trimesh"], theirs = timed(1, lambda: lookup(origins, directions))
     agree["trimesh"] = agreement(uv, theirs)
     k = min(args.loop_pixels, len(origins))
-    loop, _ = fastest(1, lambda: [lookup(origins[i : i + 1], directions[i : i + 1]) for i in range(k)])
+    loop, _ = timed(1, lambda: [lookup(origins[i : i + 1], directions[i : i + 1]) for i in range(k)])
     seconds["trimesh per pixel (scaled)"] = loop / k * len(origins)
 
     for peer in seconds:
         if peer != "proxima":
             ratios[peer] = seconds[peer] / seconds["proxima"]
-    report = {
+    values = {
         "mesh": args.mesh,
         "image": [args.size, args.size],
         "hits": hits,
@@ -148,10 +138,7 @@ def main():
         "proxima_speedup": ratios,
         "uv_agreement": agree,
     }
-    text = json.dumps(report, indent=2)
-    print(text)
-    if args.out:
-        Path(args.out).write_text(text + "\n")
+    report(values, args.out)
 
 
 if __name__ == "__main__":
