@@ -3,7 +3,7 @@
 //!
 //! Each mesh is a [`MeshIndex`]; its faces' 4-wide tree (built on first use
 //! and shared with every other query) is walked against the other mesh's
-//! tree in one descent ([`descent`]), pairs of subtrees opened four by four
+//! tree in one descent (`descent`), pairs of subtrees opened four by four
 //! children, the second tree's boxes moved into the first's frame. At the
 //! leaves the triangles are placed in the world by [`RigidPose::apply`]
 //! (`f64`, a fixed order of operations), and
@@ -13,7 +13,7 @@
 //!   those placed coordinates: orientation predicates evaluated exactly
 //!   ([`triangle_intersection`]); closed triangles, so touching counts;
 //! - distances ([`distance`], [`distance_below`], [`pairs_within`]) are the
-//!   `f64` minimum over the triangle pairs of [`triangle_distance`]: the
+//!   `f64` minimum over the triangle pairs of [`triangle_distance()`]: the
 //!   same value brute force over all pairs computes.
 //!
 //! Surfaces, not volumes: a mesh wholly inside another without their
@@ -46,15 +46,13 @@ mod self_intersection;
 pub mod triangle_distance;
 pub mod triangle_intersection;
 
+pub use crate::primitive::closest_f64::{point_triangle_closest, segment_segment_closest};
 pub use collide::{intersecting_pairs, intersects, intersects_batch, pairs_within};
 pub use distance::{PairDistance, distance, distance_batch, distance_below, distance_below_batch};
 pub use error::{MAX_TRANSLATION, PairError};
 pub use pose::{PoseError, RigidPose};
 pub use self_intersection::self_intersections;
-pub use triangle_distance::{
-    TrianglePairDistance, point_triangle_closest, segment_segment_closest, separated_triangle_distance,
-    triangle_distance,
-};
+pub use triangle_distance::{TrianglePairDistance, separated_triangle_distance, triangle_distance};
 pub use triangle_intersection::{neighbours_intersect, segment_meets_triangle, triangles_intersect};
 
 use crate::index::MeshIndex;

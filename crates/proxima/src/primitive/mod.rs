@@ -6,6 +6,7 @@
 //! [`Bounded::bounds`] can go into a tree; one that can also say its
 //! [`ClosestPoint::closest_point`] answers closest-point queries.
 
+pub mod closest_f64;
 mod closest_polygon;
 pub(crate) mod closest_triangle;
 mod convex_box;

@@ -36,7 +36,7 @@ pub use normals::vertex_normals;
 
 use crate::math::{DVec3, Vec3};
 use crate::mesh::Mesh;
-use crate::pair::point_triangle_closest;
+use crate::primitive::closest_f64::point_triangle_closest;
 use crate::query::{ClosestHit, RayHit};
 use rayon::prelude::*;
 
