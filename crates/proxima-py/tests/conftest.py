@@ -157,3 +157,10 @@ def assert_not_panic(exc):
 def pytest_configure(config):
     # `-m ray` / `-m "not ray"` select the tests that start a local Ray instance.
     config.addinivalue_line("markers", "ray: starts a local Ray instance (proxima.dataset on Ray)")
+
+
+def pytest_collection_modifyitems(config, items):
+    """The autograd adapters' tests run last: importing JAX starts threads,
+    and the Ray tests fork worker processes, which JAX warns may deadlock
+    once its threads exist."""
+    items.sort(key=lambda item: item.fspath.basename == "test_autodiff.py")
