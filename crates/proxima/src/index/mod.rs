@@ -259,7 +259,7 @@ impl MeshIndex {
     /// Where on the surface each closest-point answer of
     /// [`closest`](Self::closest) on [`PrimitiveKind::Faces`] lies (triangle,
     /// barycentrics, feature; [`SurfacePoint::closest`]), computed after the
-    /// query on all cores; `None` where the answer is.
+    /// query on all cores; `None` where the query had no answer.
     pub fn surface_points(&self, points: &[Vec3], hits: &[Option<ClosestHit>]) -> Vec<Option<SurfacePoint>> {
         let triangles: Vec<u32> = hits.iter().map(|h| h.map_or(u32::MAX, |h| h.primitive)).collect();
         in_triangle_order(&triangles, |i| {
