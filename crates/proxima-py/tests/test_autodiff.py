@@ -101,3 +101,12 @@ def test_torch_gradients_where_torch_is_installed():
         points.grad = None
         vertices.grad = None
     assert torch.autograd.gradcheck(lambda p: proxima.torch.signed_distance(SPHERE, p), (points,), eps=1e-3, atol=5e-3)
+
+
+def test_jax_arrays_are_accepted_as_input():
+    points = away_from_surface_and_axis(SPHERE, 5, 4).astype(np.float32)
+    plain = SPHERE.closest_points(points)
+    from_jax = SPHERE.closest_points(jnp.asarray(points))
+    for a, b in zip(plain, from_jax):
+        assert np.array_equal(a, b)
+    assert np.array_equal(SPHERE.signed_distance(jnp.asarray(points)), SPHERE.signed_distance(points))
