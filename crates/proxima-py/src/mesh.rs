@@ -308,13 +308,8 @@ impl PyMesh {
         return_uv: bool,
     ) -> PyResult<Py<PyAny>> {
         let kind = kind(primitives)?;
-        let options = SurfaceOptions {
-            barycentric: return_barycentric,
-            feature: return_feature,
-            normal: return_normal,
-            uv: return_uv,
-        };
-        surface::require_uvs(options, self.mesh())?;
+        let asked = [return_barycentric, return_feature, return_normal, return_uv];
+        let options = SurfaceOptions::asked(self.mesh(), asked)?;
         surface::require_faces(options, primitives)?;
         let points = arrays::points(points, "points", Check::QueryPoint)?;
         let points = points.as_slice();
@@ -484,13 +479,8 @@ impl PyMesh {
         return_normal: bool,
         return_uv: bool,
     ) -> PyResult<Py<PyAny>> {
-        let options = SurfaceOptions {
-            barycentric: return_barycentric,
-            feature: return_feature,
-            normal: return_normal,
-            uv: return_uv,
-        };
-        surface::require_uvs(options, self.mesh())?;
+        let asked = [return_barycentric, return_feature, return_normal, return_uv];
+        let options = SurfaceOptions::asked(self.mesh(), asked)?;
         let (origins, directions) = crate::rays::ray_arrays(origins, directions)?;
         let (origins, directions) = (origins.as_slice(), directions.as_slice());
         self.require_faces("cast_rays")?;

@@ -26,6 +26,24 @@ pub struct SurfaceOptions {
 }
 
 impl SurfaceOptions {
+    /// The options of a query's `return_barycentric`, `return_feature`,
+    /// `return_normal` and `return_uv`; refuses `return_uv` on a mesh
+    /// without texture coordinates.
+    pub fn asked(mesh: &proxima::Mesh, [barycentric, feature, normal, uv]: [bool; 4]) -> PyResult<Self> {
+        if uv && mesh.corner_uvs().is_none() {
+            return Err(value_error(
+                "return_uv",
+                "the mesh has no texture coordinates (OBJ vt with every face corner naming one, PLY u v or s t)",
+            ));
+        }
+        Ok(Self {
+            barycentric,
+            feature,
+            normal,
+            uv,
+        })
+    }
+
     /// Whether any array is asked for (the query then returns [`Answers`]).
     pub fn any(self) -> bool {
         self.barycentric || self.feature || self.normal || self.uv
@@ -119,17 +137,6 @@ impl SurfaceColumns {
             })
             .collect()
     }
-}
-
-/// Refuses `return_uv` on a mesh without texture coordinates.
-pub fn require_uvs(options: SurfaceOptions, mesh: &proxima::Mesh) -> PyResult<()> {
-    if options.uv && mesh.corner_uvs().is_none() {
-        return Err(value_error(
-            "return_uv",
-            "the mesh has no texture coordinates (OBJ vt with every face corner naming one, PLY u v or s t)",
-        ));
-    }
-    Ok(())
 }
 
 /// Refuses surface options on a query of another kind than faces.
