@@ -45,4 +45,16 @@ pub enum BuildError {
         /// Number of source indices.
         sources: usize,
     },
+    /// A refit was given primitives that are not the tree's, moved: another
+    /// count, or a slot's primitive from another source (the mesh's faces,
+    /// or its planar polygons, changed).
+    #[error("the tree holds {tree} primitives, but the refit was given {primitives}{}", .slot.map_or(String::new(), |s| format!(", slot {s} from another source")))]
+    RefitMismatch {
+        /// Primitives given.
+        primitives: usize,
+        /// Primitives in the tree.
+        tree: usize,
+        /// The first slot whose primitive came from another source.
+        slot: Option<usize>,
+    },
 }

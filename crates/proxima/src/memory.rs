@@ -89,6 +89,18 @@ impl<T: Pod> HugePageArray<T> {
         })
     }
 
+    /// The values, to change in place (a refit rewrites a tree's boxes
+    /// where they lie).
+    pub(crate) fn as_mut_slice(&mut self) -> &mut [T] {
+        match &mut self.storage {
+            Storage::Heap(values) => values,
+            #[cfg(target_os = "linux")]
+            Storage::Mapped { map, offset, len } => {
+                bytemuck::cast_slice_mut(&mut map[*offset..*offset + *len * std::mem::size_of::<T>()])
+            }
+        }
+    }
+
     /// `true` when the values live in a mapping advised for huge pages
     /// (whether the kernel granted them is its own decision; see
     /// [`huge_page_bytes`]).

@@ -85,6 +85,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let config = IndexConfig {
         build: args.split.config(),
         planarity: args.planarity,
+        ..IndexConfig::default()
     };
     // Structures are built on first use: the linear scan builds none.
     let index = MeshIndex::with_config(mesh, config);

@@ -7,6 +7,7 @@
 //! and invariants (`validate.rs`).
 
 mod ray;
+mod refit;
 mod validate;
 
 pub(crate) use ray::RaySlabs;

@@ -114,7 +114,7 @@ impl BuildItem for BoxItem {
 /// their primitive; the widened box keeps the box distance a true lower bound,
 /// which is what makes pruning exact.
 #[inline]
-fn widen(b: Aabb) -> Aabb {
+pub(crate) fn widen(b: Aabb) -> Aabb {
     let scale = b.min.abs().max(b.max.abs()).max_element();
     b.inflate(scale * 8.0 * f32::EPSILON)
 }
@@ -268,7 +268,7 @@ fn input_error(boxes: impl Iterator<Item = Aabb> + Clone) -> BuildError {
 ///
 /// Children always come after their parent in the array, so one pass
 /// backwards meets every child before its parent. Node 1 is padding.
-fn refit<T: Bounded + Sync>(pairs: &mut [BoxPair], primitives: &[T]) {
+pub(crate) fn refit<T: Bounded + Sync>(pairs: &mut [BoxPair], primitives: &[T]) {
     let set = |node: &mut BoxNode, b: Aabb| node.set_volume(b);
     // Leaves first, in parallel: they read every primitive once.
     pairs.par_iter_mut().for_each(|pair| {

@@ -14,14 +14,16 @@ mod frustum;
 mod hierarchy;
 mod median;
 mod node;
+mod quality;
 mod structure;
 mod walk;
 
 pub use config::{BuildConfig, MAX_COORDINATE, MAX_DEPTH, MAX_QUERY_COORDINATE, SplitMethod};
 pub(crate) use frustum::frustum_walk;
-pub(crate) use hierarchy::build_hierarchy;
+pub(crate) use hierarchy::{build_hierarchy, refit, widen};
 pub(crate) use node::NodePair;
 pub use node::{Node, NodeVolume};
+pub(crate) use quality::{check_primitives, surface_area_cost};
 pub use structure::TreeStats;
 pub(crate) use structure::check_structure;
 pub(crate) use walk::{BinaryQuery, nearest_walk, walk};

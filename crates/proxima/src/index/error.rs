@@ -2,6 +2,7 @@
 
 use crate::BuildError;
 use crate::kind::PrimitiveKind;
+use crate::mesh::MeshError;
 
 /// A query a mesh cannot answer, or a structure that could not be built.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -19,6 +20,18 @@ pub enum IndexError {
         vertices: usize,
         /// The mesh's faces.
         faces: usize,
+    },
+    /// New vertex positions that are not one finite position per vertex
+    /// ([`MeshIndex::update_vertices`](super::MeshIndex::update_vertices)).
+    #[error("{0}")]
+    Positions(#[from] MeshError),
+    /// A new vertex position beyond the coordinates a tree takes.
+    #[error("vertex {vertex} has a coordinate beyond ±{bound:e}, where squared distances overflow f32")]
+    PositionTooLarge {
+        /// The vertex.
+        vertex: usize,
+        /// The largest accepted magnitude.
+        bound: f32,
     },
     /// A structure's build failed (beyond the tree's limits).
     #[error(transparent)]

@@ -40,4 +40,20 @@ impl<T> Lazy<T> {
     pub fn get(&self) -> Option<&T> {
         self.value.get()
     }
+
+    /// The value, if it has been built, to change it (no other caller can
+    /// be building it: the borrow is exclusive).
+    pub fn get_mut(&mut self) -> Option<&mut T> {
+        self.value.get_mut()
+    }
+
+    /// Takes the value out, leaving nothing built.
+    pub fn take(&mut self) -> Option<T> {
+        self.value.take()
+    }
+
+    /// Puts `value` in, replacing what was built.
+    pub fn put(&mut self, value: T) {
+        self.value = OnceLock::from(value);
+    }
 }

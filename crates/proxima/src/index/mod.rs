@@ -21,9 +21,11 @@
 
 mod error;
 mod lazy;
+mod refit;
 
 pub use error::IndexError;
 pub use lazy::Lazy;
+pub use refit::{RefitPolicy, Updated};
 
 use crate::frustum::Frustum;
 use crate::kind::{KindFamily, KindGeneric, MeshPrimitive, PerKind, PrimitiveKind};
@@ -36,6 +38,7 @@ use crate::surface::{SurfacePoint, in_triangle_order, vertex_normals};
 use crate::wide_tree::OrientedBounds;
 use crate::{BuildConfig, RayTree, Triangle, WideTree};
 use std::borrow::Cow;
+use std::collections::HashMap;
 use std::sync::Arc;
 
 /// How a [`MeshIndex`] builds its trees.
@@ -46,6 +49,9 @@ pub struct IndexConfig {
     /// The relative planarity tolerance of [`PrimitiveKind::Polygons`] (see
     /// [`Mesh::extract_polygons`]).
     pub planarity: f32,
+    /// Whether [`MeshIndex::update_vertices`] refits the trees or
+    /// rebuilds them.
+    pub refit: RefitPolicy,
 }
 
 impl Default for IndexConfig {
@@ -53,6 +59,7 @@ impl Default for IndexConfig {
         Self {
             build: BuildConfig::default(),
             planarity: DEFAULT_PLANARITY_TOLERANCE,
+            refit: RefitPolicy::default(),
         }
     }
 }
@@ -85,6 +92,9 @@ pub struct MeshIndex {
     rays: Lazy<RayTree>,
     oriented: Lazy<OrientedBounds>,
     normals: Lazy<Vec<Vec3>>,
+    /// Each tree's surface-area cost when it was built, recorded by the
+    /// first update of its positions (until then the tree is as built).
+    build_costs: HashMap<&'static str, f64>,
 }
 
 /// Fails with [`IndexError::EmptyMesh`] when `mesh` has no vertices: no
@@ -127,6 +137,7 @@ impl MeshIndex {
             rays: Lazy::default(),
             oriented: Lazy::default(),
             normals: Lazy::default(),
+            build_costs: HashMap::new(),
         }
     }
 

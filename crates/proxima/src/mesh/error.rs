@@ -48,6 +48,14 @@ pub enum MeshError {
         /// How many corners the faces have.
         corners: usize,
     },
+    /// New positions for a mesh's vertices, but not one per vertex.
+    #[error("{count} positions for {vertices} vertices; a mesh moves every vertex, in order")]
+    VertexCount {
+        /// How many positions were given.
+        count: usize,
+        /// How many vertices the mesh has.
+        vertices: usize,
+    },
     /// A per-corner attribute with a NaN or infinite component.
     #[error("{what} of face corner {corner}: not finite")]
     NonFiniteCorner {

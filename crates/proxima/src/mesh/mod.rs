@@ -189,6 +189,35 @@ impl Mesh {
         Self::from_compact(positions, offsets, indices)
     }
 
+    /// Moves the vertices to `positions`, one per vertex in the same
+    /// order, the faces unchanged (a deforming mesh's new frame). The
+    /// file's corner normals, if any, are dropped: they described the
+    /// surface as it was (texture coordinates stay). Fails, changing
+    /// nothing, unless there are as many positions as vertices, each
+    /// finite.
+    ///
+    /// ```
+    /// use proxima::{Mesh, MeshError, Vec3};
+    /// let mut mesh = Mesh::from_triangles(vec![Vec3::ZERO, Vec3::X, Vec3::Y], &[[0, 1, 2]]).unwrap();
+    /// mesh.set_positions(&[Vec3::Z, Vec3::X, Vec3::Y]).unwrap();
+    /// assert_eq!(mesh.positions()[0], Vec3::Z);
+    /// assert_eq!(mesh.set_positions(&[Vec3::Z]), Err(MeshError::VertexCount { count: 1, vertices: 3 }));
+    /// ```
+    pub fn set_positions(&mut self, positions: &[Vec3]) -> Result<(), MeshError> {
+        if positions.len() != self.positions.len() {
+            return Err(MeshError::VertexCount {
+                count: positions.len(),
+                vertices: self.positions.len(),
+            });
+        }
+        if let Some(index) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(MeshError::NonFiniteVertex { index });
+        }
+        self.positions.copy_from_slice(positions);
+        self.corners.normals = None;
+        Ok(())
+    }
+
     /// Vertex positions, in file order (including vertices no face uses).
     pub fn positions(&self) -> &[Vec3] {
         &self.positions

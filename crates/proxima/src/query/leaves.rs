@@ -1,8 +1,11 @@
 //! The primitives of a structure in leaf order, with where each came from.
 
 use super::ClosestHit;
+use crate::error::BuildError;
 use crate::math::Vec3A;
 use crate::memory::prefetch;
+use crate::primitive::PrimitiveSet;
+use rayon::prelude::*;
 
 /// The primitives of a tree in leaf order (each leaf a contiguous range of
 /// slots), with for each slot its position in the build input and the mesh
@@ -27,6 +30,49 @@ impl<T> Leaves<T> {
             indices,
             sources,
         }
+    }
+
+    /// Puts in every slot the primitive of `set` of the slot's input index:
+    /// the same primitives, moved (a refit). Fails with
+    /// [`BuildError::RefitMismatch`] unless `set` holds as many primitives
+    /// as the slots, each from the source the slot's came from; nothing is
+    /// changed then.
+    pub(crate) fn refill(&mut self, set: &PrimitiveSet<T>) -> Result<(), BuildError>
+    where
+        T: Copy + Send + Sync,
+    {
+        let mismatch = |slot| BuildError::RefitMismatch {
+            primitives: set.primitives.len(),
+            tree: self.primitives.len(),
+            slot,
+        };
+        if set.primitives.len() != self.primitives.len() || set.sources.len() != set.primitives.len() {
+            return Err(mismatch(None));
+        }
+        let (indices, sources) = (&self.indices, &self.sources);
+        if let Some(slot) = (0..indices.len())
+            .into_par_iter()
+            .find_first(|&slot| set.sources[indices[slot] as usize] != sources[slot])
+        {
+            return Err(mismatch(Some(slot)));
+        }
+        self.refill_trusted(set);
+        Ok(())
+    }
+
+    /// [`refill`](Self::refill) for a `set` known to match (extracted
+    /// from the same faces, whose primitives do not depend on the
+    /// positions), without the check.
+    pub(crate) fn refill_trusted(&mut self, set: &PrimitiveSet<T>)
+    where
+        T: Copy + Send + Sync,
+    {
+        debug_assert_eq!(set.primitives.len(), self.primitives.len());
+        self.primitives
+            .par_iter_mut()
+            .zip(self.indices.par_iter())
+            .with_min_len(4096)
+            .for_each(|(primitive, &index)| *primitive = set.primitives[index as usize]);
     }
 
     /// The primitives in leaf order.

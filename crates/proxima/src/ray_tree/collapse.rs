@@ -3,6 +3,9 @@
 use super::{LEAF, PACKET_INDEX, PAIR, RayNode, RayTree, WIDTH};
 use crate::aabb::Aabb;
 use crate::aabb_tree::AabbTree;
+// Boxes widened as the binary build widens its node boxes (the per-ray
+// widening of the slab test assumes boxes at least that wide).
+use crate::build::widen;
 use crate::memory::HugePageVec;
 use crate::primitive::{Bounded, Triangle};
 use crate::query::SpatialIndex;
@@ -35,14 +38,6 @@ fn open(tree: &AabbTree<Triangle>, ranges: &[Range<u32>], index: usize) -> ([usi
             .is_none()
             .then(|| tree.node(c).bounds().surface_area())
     })
-}
-
-/// Widens a box by a few ulps of its largest coordinate, as the binary
-/// build widens its node boxes (the per-ray widening of the slab test
-/// assumes boxes at least that wide).
-fn widen(b: Aabb) -> Aabb {
-    let scale = b.min.abs().max(b.max.abs()).max_element();
-    b.inflate(scale * 8.0 * f32::EPSILON)
 }
 
 /// Nodes and packets as they are made.

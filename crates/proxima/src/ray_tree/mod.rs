@@ -41,6 +41,7 @@
 mod avx2;
 mod batch;
 mod collapse;
+mod refit;
 mod slabs;
 mod walk;
 

@@ -218,6 +218,14 @@ impl<'a> Packer<'a> {
     }
 }
 
+/// [`WideTree::cull_slack`] for `tree`: 16 ulps of its largest coordinate.
+pub(super) fn cull_slack<T>(tree: &AabbTree<T>) -> f32 {
+    tree.root().map_or(0.0, |root| {
+        let b = root.bounds();
+        16.0 * f32::EPSILON * b.min.abs().max(b.max.abs()).max_element()
+    })
+}
+
 impl<T: WidePrimitive> WideTree<T> {
     /// Collapses the binary tree into wide nodes; the binary tree is kept and
     /// its primitives are shared, not copied. Linear in the number of nodes.
@@ -281,10 +289,7 @@ impl<T: WidePrimitive> WideTree<T> {
             }
         }
         let packets = packer.finish();
-        let cull_slack = tree.root().map_or(0.0, |root| {
-            let b = root.bounds();
-            16.0 * f32::EPSILON * b.min.abs().max(b.max.abs()).max_element()
-        });
+        let cull_slack = cull_slack(&tree);
         Self {
             tree,
             nodes: nodes.finish(),

@@ -30,11 +30,13 @@
 //! in `avx2.rs` (the crate's only `unsafe` code).
 
 pub(crate) use convert::{open_largest, subtree_ranges};
+pub(crate) use refit::repack;
 mod convert;
 mod nearest;
 mod oriented;
 mod primitive;
 mod ray;
+mod refit;
 mod walk;
 
 pub use oriented::{OrientedBounds, OrientedBox};

@@ -1,0 +1,244 @@
+//! A mesh that moves: new vertex positions, the same faces, and every
+//! structure built so far refit to them (or rebuilt, as the policy says).
+
+use super::{IndexError, MeshIndex};
+use crate::build::MAX_COORDINATE;
+use crate::kind::{KindGeneric, MeshPrimitive, PrimitiveKind};
+use crate::math::Vec3;
+use crate::mesh::MeshError;
+use crate::sdf::Sign;
+use crate::{RayTree, WideTree};
+use std::sync::Arc;
+
+/// Whether [`MeshIndex::update_vertices`] refits a tree or rebuilds it.
+/// Answers never depend on it (every query equals a fresh build's on the
+/// same positions, whatever the tree's shape); only speed does: a refit
+/// keeps the shape built for the old positions, and queries slow down as
+/// its boxes come to overlap.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum RefitPolicy {
+    /// Always refit: the cheapest update, for small motions.
+    Refit,
+    /// Always rebuild: what a fresh index would hold.
+    Rebuild,
+    /// Refit, then rebuild each tree whose surface-area cost
+    /// ([`WideTree::surface_area_cost`]) has grown past this many times its
+    /// cost when it was built.
+    RebuildPast(f64),
+}
+
+impl RefitPolicy {
+    /// The default ratio of [`RebuildPast`](Self::RebuildPast).
+    pub const DEFAULT_RATIO: f64 = 1.5;
+
+    fn rebuilds(self, ratio: f64) -> bool {
+        match self {
+            Self::Refit => false,
+            Self::Rebuild => true,
+            Self::RebuildPast(limit) => ratio.is_nan() || ratio > limit,
+        }
+    }
+}
+
+impl Default for RefitPolicy {
+    fn default() -> Self {
+        Self::RebuildPast(Self::DEFAULT_RATIO)
+    }
+}
+
+/// What [`MeshIndex::update_vertices`] did to one structure.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Updated {
+    /// The structure, named as in [`MeshIndex::built`].
+    pub structure: &'static str,
+    /// `true` when it was built anew; `false` when refit (trees) or
+    /// recomputed over the same tree (winding numbers, pseudonormals,
+    /// oriented boxes, normals).
+    pub rebuilt: bool,
+    /// For a tree, its surface-area cost after the refit over its cost at
+    /// build (1 for a tree just built, `NaN` where it could not be refit);
+    /// for the other structures, 1.
+    pub cost_ratio: f64,
+}
+
+impl MeshIndex {
+    /// Moves the mesh's vertices to `positions` (one per vertex, in order;
+    /// the faces unchanged) and brings every structure built so far up to
+    /// date, as the configuration's [`RefitPolicy`] says: the trees of each
+    /// primitive kind and the ray tree are refit in place (or rebuilt), the
+    /// signed-distance fields' winding-number expansions and pseudonormals,
+    /// the oriented boxes and the vertex normals are computed again over
+    /// the refit trees. Structures not built yet stay so. The file's corner
+    /// normals are dropped ([`Mesh::set_positions`](crate::Mesh::set_positions)).
+    ///
+    /// Afterwards every query gives what a new index over the moved mesh
+    /// would. Returns what was done to each structure.
+    ///
+    /// Fails, changing nothing, when `positions` is not one finite position
+    /// per vertex ([`IndexError::Positions`]) or holds a coordinate beyond
+    /// [`MAX_COORDINATE`] ([`IndexError::PositionTooLarge`]).
+    ///
+    /// ```
+    /// use proxima::prelude::*;
+    /// use proxima::index::MeshIndex;
+    /// let mesh = proxima::mesh::generate::noisy_icosphere(3, 1);
+    /// let mut index = MeshIndex::new(mesh.clone());
+    /// let p = Vec3::new(0.2, 0.1, 3.0);
+    /// index.closest(PrimitiveKind::Faces, &[p]).unwrap();
+    /// let moved: Vec<Vec3> = mesh.positions().iter().map(|v| *v * 2.0).collect();
+    /// let updated = index.update_vertices(&moved).unwrap();
+    /// assert_eq!(updated[0].structure, "faces");
+    /// let fresh = MeshIndex::new(index.mesh().clone());
+    /// assert_eq!(index.closest(PrimitiveKind::Faces, &[p]), fresh.closest(PrimitiveKind::Faces, &[p]));
+    /// ```
+    pub fn update_vertices(&mut self, positions: &[Vec3]) -> Result<Vec<Updated>, IndexError> {
+        let vertices = self.mesh.vertex_count();
+        if positions.len() != vertices {
+            return Err(MeshError::VertexCount {
+                count: positions.len(),
+                vertices,
+            }
+            .into());
+        }
+        if let Some(index) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(MeshError::NonFiniteVertex { index }.into());
+        }
+        if let Some(vertex) = positions.iter().position(|p| p.abs().max_element() > MAX_COORDINATE) {
+            return Err(IndexError::PositionTooLarge {
+                vertex,
+                bound: MAX_COORDINATE,
+            });
+        }
+        self.mesh.set_positions(positions)?;
+        let policy = self.config.refit;
+        let mut report = Vec::new();
+        // The fields and oriented boxes hold or read the faces' tree: out of
+        // the way first, so that the refit finds the tree unshared.
+        let fields = [
+            (Sign::WindingNumber, self.winding.take().is_some()),
+            (Sign::Pseudonormal, self.pseudonormal.take().is_some()),
+        ];
+        let oriented = self.oriented.take().is_some();
+        let normals = self.normals.take().is_some();
+        for kind in PrimitiveKind::ALL {
+            kind.dispatch(UpdateTree {
+                index: self,
+                policy,
+                report: &mut report,
+            })?;
+        }
+        let recomputed = |structure| Updated {
+            structure,
+            rebuilt: false,
+            cost_ratio: 1.0,
+        };
+        for (sign, built) in fields {
+            if built {
+                self.field(sign)?;
+                report.push(recomputed(match sign {
+                    Sign::WindingNumber => "winding",
+                    Sign::Pseudonormal => "pseudonormal",
+                }));
+            }
+        }
+        self.update_ray_tree(policy, &mut report)?;
+        if oriented {
+            self.oriented_bounds()?;
+            report.push(recomputed("oriented"));
+        }
+        if normals {
+            self.vertex_normals();
+            report.push(recomputed("normals"));
+        }
+        Ok(report)
+    }
+
+    fn update_ray_tree(&mut self, policy: RefitPolicy, report: &mut Vec<Updated>) -> Result<(), IndexError> {
+        let Some(tree) = self.rays.get_mut() else {
+            return Ok(());
+        };
+        let set = self.mesh.triangles();
+        let at_build = *self
+            .build_costs
+            .entry("rays")
+            .or_insert_with(|| tree.surface_area_cost());
+        // The faces' triangles, moved within the checked coordinates.
+        let refit = policy != RefitPolicy::Rebuild;
+        if refit {
+            tree.refit_trusted(&set);
+        }
+        let ratio = if refit {
+            tree.surface_area_cost() / at_build
+        } else {
+            f64::NAN
+        };
+        let rebuilt = !refit || policy.rebuilds(ratio);
+        if rebuilt {
+            self.rays.take();
+            self.build_costs.remove("rays");
+            let tree = RayTree::build_set(set, &RayTree::config())?;
+            self.rays.put(tree);
+        }
+        report.push(Updated {
+            structure: "rays",
+            rebuilt,
+            cost_ratio: ratio,
+        });
+        Ok(())
+    }
+}
+
+/// Refits (or rebuilds) the tree of one primitive type, if built.
+struct UpdateTree<'a> {
+    index: &'a mut MeshIndex,
+    policy: RefitPolicy,
+    report: &'a mut Vec<Updated>,
+}
+
+impl KindGeneric for UpdateTree<'_> {
+    type Output = Result<(), IndexError>;
+    fn call<T: MeshPrimitive>(self) -> Self::Output {
+        let Self { index, policy, report } = self;
+        let name = T::KIND.name();
+        let Some(shared) = T::of_kind_mut(&mut index.trees).get_mut() else {
+            return Ok(());
+        };
+        let set = T::extract(&index.mesh, index.config.planarity);
+        // Cloned only if a caller still holds the tree.
+        let tree = Arc::make_mut(shared);
+        let at_build = *index
+            .build_costs
+            .entry(name)
+            .or_insert_with(|| tree.surface_area_cost());
+        // A polygon that is no longer planar is split: another set of
+        // primitives, which only a build can take (the refit says so).
+        let refit = policy != RefitPolicy::Rebuild
+            && if T::KIND == PrimitiveKind::Polygons {
+                tree.refit(&set).is_ok()
+            } else {
+                // Vertices, edges and fan triangles come from the faces
+                // alone, and the coordinates are checked.
+                tree.refit_trusted(&set);
+                true
+            };
+        let ratio = if refit {
+            tree.surface_area_cost() / at_build
+        } else {
+            f64::NAN
+        };
+        let rebuilt = !refit || policy.rebuilds(ratio);
+        if rebuilt {
+            let lazy = T::of_kind_mut(&mut index.trees);
+            lazy.take();
+            index.build_costs.remove(name);
+            let tree = WideTree::build_set(set, &index.config.build)?;
+            T::of_kind_mut(&mut index.trees).put(Arc::new(tree));
+        }
+        report.push(Updated {
+            structure: name,
+            rebuilt,
+            cost_ratio: ratio,
+        });
+        Ok(())
+    }
+}
