@@ -27,7 +27,7 @@ use rayon::prelude::*;
 /// >>> closest, distance, face = mesh.closest_points([[0, 0, 0]])
 /// >>> face.tolist()
 /// [0]
-#[pyclass(module = "proxima", name = "Mesh", frozen)]
+#[pyclass(module = "proxima", name = "Mesh")]
 pub struct PyMesh {
     /// The mesh and the structures built on it so far (the library's index:
     /// the command line and the viewer ask the same one).
@@ -203,6 +203,26 @@ impl PyMesh {
     fn vertices<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f32>>> {
         let flat: Vec<f32> = self.mesh().positions().iter().flat_map(|p| p.to_array()).collect();
         arrays::matrix(py, flat, 3)
+    }
+
+    /// Moves the vertices to ``positions`` ((V, 3), one row per vertex, in
+    /// order; the faces unchanged) and refits every structure built so far
+    /// (see the type stubs); returns what was done to each.
+    fn update_vertices<'py>(
+        &mut self,
+        py: Python<'py>,
+        positions: &Bound<'py, PyAny>,
+    ) -> PyResult<Vec<(&'static str, bool, f64)>> {
+        let positions = arrays::points(positions, "positions", Check::Finite)?;
+        let positions = positions.as_slice();
+        let index = &mut self.index;
+        let updated = py
+            .detach(|| index.update_vertices(positions))
+            .map_err(|e| value_error("positions", e))?;
+        Ok(updated
+            .into_iter()
+            .map(|u| (u.structure, u.rebuilt, u.cost_ratio))
+            .collect())
     }
 
     /// Every vertex's unit normal, angle-weighted from its faces, (V, 3)
@@ -765,7 +785,7 @@ impl PyMesh {
         pose_self: Option<&Bound<'_, PyAny>>,
         threads: Option<i64>,
     ) -> PyResult<Py<PyAny>> {
-        pairs::intersects(py, &self.index, &other.get().index, pose, pose_self, threads)
+        pairs::intersects(py, &self.index, &other.borrow().index, pose, pose_self, threads)
     }
 
     /// The pairs of faces (face of this mesh, face of `other`) that meet,
@@ -779,7 +799,7 @@ impl PyMesh {
         pose_self: Option<&Bound<'py, PyAny>>,
         threads: Option<i64>,
     ) -> PyResult<Bound<'py, PyArray2<i64>>> {
-        pairs::pairs(py, &self.index, &other.get().index, None, pose, pose_self, threads)
+        pairs::pairs(py, &self.index, &other.borrow().index, None, pose, pose_self, threads)
     }
 
     /// The pairs of faces at distance at most `distance`: (K, 2) int64, sorted.
@@ -797,7 +817,7 @@ impl PyMesh {
         pairs::pairs(
             py,
             &self.index,
-            &other.get().index,
+            &other.borrow().index,
             Some(distance),
             pose,
             pose_self,
@@ -829,8 +849,8 @@ pub fn distance<'py>(
 ) -> PyResult<Py<PyAny>> {
     pairs::distance(
         py,
-        &a.get().index,
-        &b.get().index,
+        &a.borrow().index,
+        &b.borrow().index,
         pose_a,
         pose_b,
         max_distance,

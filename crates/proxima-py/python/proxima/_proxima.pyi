@@ -306,6 +306,34 @@ class Mesh:
         (fan triangles for polygons) weighted by their angles at the vertex,
         summed in float64; zero for a vertex no face uses. Computed once and
         kept (``"normals"`` in :meth:`built_structures`)."""
+    def update_vertices(self, positions: npt.ArrayLike) -> list[tuple[str, bool, float]]:
+        """Moves the vertices to ``positions`` ((V, 3), one row per vertex in
+        the same order; the faces stay) and brings every structure built so
+        far up to date: the trees are refit in place (the same shape, new
+        boxes) or rebuilt where a refit has worn them past 1.5 times their
+        surface-area cost at build; the signed-distance fields' expansions
+        and normals are computed again. Structures not built yet stay so.
+        The file's corner normals are dropped (they described the old
+        surface); corner UVs stay.
+
+        Every query afterwards answers exactly as a new ``Mesh`` over the
+        moved vertices would; only the speed depends on refit or rebuild.
+        Returns ``(structure, rebuilt, cost_ratio)`` per structure updated
+        (``cost_ratio``: a tree's surface-area cost over its cost at build,
+        NaN where it could not be refit, 1 for the other structures).
+
+        Raises ValueError naming ``positions`` for another vertex count, a
+        NaN or infinite coordinate, or one beyond 2**60; the mesh and its
+        structures are then unchanged. The GIL is released; a call while
+        another thread queries the same mesh raises RuntimeError (the mesh
+        is borrowed) rather than wait.
+
+        >>> import numpy as np, proxima
+        >>> mesh = proxima.Mesh(np.eye(3), [[0, 1, 2]])
+        >>> _ = mesh.closest_points([[0, 0, 0]])
+        >>> mesh.update_vertices(np.eye(3) * 2)
+        [('faces', False, 1.0)]
+        """
     @property
     def corner_uvs(self) -> Optional[npt.NDArray[np.float32]]:
         """The file's texture coordinates per face corner, (C, 2) float32 (the
