@@ -21,7 +21,8 @@
 //! |---|---|
 //! | Input | [`io`] (OBJ, PLY, STL, OFF, GLB, gzip; limits), [`mesh`] ([`Mesh`]), [`kind`] ([`PrimitiveKind`]: vertices, edges, faces, polygons) |
 //! | Primitives | [`primitive`] ([`Point`], [`LineSegment`], [`Triangle`], [`ConvexPolygon`]; traits [`Bounded`], [`ClosestPoint`], [`BoxOverlap`], [`RayIntersect`]), [`frustum`] ([`Frustum`], [`FrustumOverlap`]), [`ray`] ([`Ray`]) |
-//! | Mesh index | [`index`] ([`MeshIndex`]: one mesh and every structure on it, built on first use; what the command line, viewer and Python package ask) |
+//! | Mesh index | [`index`] ([`MeshIndex`]: one mesh and every structure on it, built on first use; what the command line, viewer and Python package ask; [`MeshIndex::update_vertices`] refits them for a deforming mesh) |
+//! | Scenes | [`scene`] ([`scene::Scene`]: meshes placed by rigid poses, sharing their indices; closest point, signed distance of the union, first and any hit; [`scene::Scene::set_pose`] refits the top level) |
 //! | Point clouds | [`points`] ([`points::PointCloud`]: k-nearest, exact radius search and the ball query in compressed rows, the self-join within a radius; [`points::chamfer`], [`points::hausdorff`]) |
 //! | Surface answers | [`surface`] ([`surface::SurfacePoint`]: the triangle, barycentrics and feature of a closest point or ray hit; [`surface::vertex_normals`]; interpolated and face normals) |
 //! | Two meshes | [`pair`] ([`pair::distance`], [`pair::intersects`], [`pair::intersecting_pairs`], [`pair::pairs_within`], [`pair::self_intersections`], pose batches; [`pair::RigidPose`]): one descent of both faces' trees, exact triangle-pair tests |
@@ -61,6 +62,7 @@ pub mod query;
 pub mod ray;
 pub mod ray_tree;
 pub mod sample;
+pub mod scene;
 pub mod sdf;
 mod simd;
 pub mod sphere;

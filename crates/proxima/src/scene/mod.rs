@@ -1,0 +1,237 @@
+//! Scenes of rigid instances: many meshes, each placed by a pose, asked as
+//! one (closest point, signed distance, first and any hit).
+//!
+//! An [`Instance`] is a [`MeshIndex`] (shared: the same mesh placed several
+//! times keeps one set of trees) and a [`RigidPose`] from the mesh's frame
+//! to the world's. A top-level tree over the instances' world boxes sends
+//! each query to the instances it may concern; there the query is carried
+//! into the mesh's frame (in `f64`, rounded once to `f32`) and answered by
+//! the mesh's own trees, and the answer carried back. Moving an instance
+//! ([`Scene::set_pose`]) refits the top level only.
+//!
+//! Answers are brute force's over every instance's triangles placed in
+//! `f64`, up to that one rounding of the query into the instance's frame
+//! (a few ulps of its coordinates); ties between instances go to the lower
+//! instance index. A mirroring pose is refused ([`RigidPose`] takes
+//! rotations only): the mesh's inside would become its outside.
+//!
+//! ```
+//! use proxima::prelude::*;
+//! use proxima::index::MeshIndex;
+//! use proxima::pair::RigidPose;
+//! use proxima::scene::Scene;
+//! use std::sync::Arc;
+//! let sphere = Arc::new(MeshIndex::new(proxima::mesh::generate::noisy_icosphere(8, 1)));
+//! let at = |x: f64| RigidPose::translation_only(proxima::DVec3::new(x, 0.0, 0.0)).unwrap();
+//! let mut scene = Scene::new(vec![(sphere.clone(), at(0.0)), (sphere, at(5.0))]).unwrap();
+//! let hit = scene.closest(Vec3::new(4.0, 0.0, 0.0)).unwrap();
+//! assert_eq!(hit.instance, 1);
+//! let ray = scene.first_hit(Vec3::new(-10.0, 0.01, 0.0), Vec3::X, 0.0, f32::INFINITY).unwrap().unwrap();
+//! assert_eq!(ray.instance, 0);
+//! scene.set_pose(1, at(-5.0)).unwrap();
+//! assert_eq!(scene.first_hit(Vec3::new(-10.0, 0.01, 0.0), Vec3::X, 0.0, f32::INFINITY).unwrap().unwrap().instance, 1);
+//! ```
+
+mod closest;
+mod error;
+mod ray;
+
+pub use closest::{SceneHit, SceneSignedDistance};
+pub use error::SceneError;
+pub use ray::SceneRayHit;
+
+use crate::aabb::Aabb;
+use crate::aabb_tree::AabbTree;
+use crate::build::BuildConfig;
+use crate::index::MeshIndex;
+use crate::kind::PrimitiveKind;
+use crate::math::{DVec3, Vec3};
+use crate::pair::RigidPose;
+use crate::primitive::{Bounded, BoundingPoints, PrimitiveSet};
+use crate::query::SpatialIndex;
+use std::sync::Arc;
+
+/// A mesh placed in the scene: its index (shared between instances of the
+/// same mesh) and its pose, from the mesh's frame to the world's.
+#[derive(Clone)]
+pub struct Instance {
+    mesh: Arc<MeshIndex>,
+    pose: RigidPose,
+    inverse: RigidPose,
+}
+
+impl Instance {
+    /// The mesh and its structures.
+    pub fn mesh(&self) -> &Arc<MeshIndex> {
+        &self.mesh
+    }
+
+    /// The pose, from the mesh's frame to the world's.
+    pub fn pose(&self) -> &RigidPose {
+        &self.pose
+    }
+
+    /// `p` (world) in the mesh's frame, rounded once to `f32`.
+    #[inline]
+    pub(crate) fn to_local(&self, p: Vec3) -> Vec3 {
+        self.inverse.apply(p).as_vec3()
+    }
+
+    /// A direction (world) in the mesh's frame.
+    #[inline]
+    pub(crate) fn direction_to_local(&self, d: Vec3) -> Vec3 {
+        (self.inverse.rotation() * d.as_dvec3()).as_vec3()
+    }
+
+    /// The world box of the mesh's box under the pose: the eight corners
+    /// placed in `f64`, rounded outwards, and widened by a few ulps of the
+    /// largest coordinate, so that it holds every point the mesh's queries
+    /// may give back (each computed in the mesh's frame from a rounded
+    /// query).
+    fn world_bounds(&self) -> Aabb {
+        let local = self.mesh.mesh().bounds();
+        let (lo, hi) = (local.min.as_dvec3(), local.max.as_dvec3());
+        let (mut min, mut max) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for corner in 0..8 {
+            let c = DVec3::new(
+                if corner & 1 == 0 { lo.x } else { hi.x },
+                if corner & 2 == 0 { lo.y } else { hi.y },
+                if corner & 4 == 0 { lo.z } else { hi.z },
+            );
+            let w = self.pose.apply_f64(c);
+            (min, max) = (min.min(w), max.max(w));
+        }
+        let b = Aabb::new(min.as_vec3(), max.as_vec3());
+        let scale = b.min.abs().max(b.max.abs()).max_element().max(local.diagonal());
+        b.inflate(scale * 32.0 * f32::EPSILON)
+    }
+}
+
+/// An instance's world box: the top-level tree's primitive.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct InstanceBox(Aabb);
+
+impl Bounded for InstanceBox {
+    fn bounds(&self) -> Aabb {
+        self.0
+    }
+}
+
+impl BoundingPoints for InstanceBox {
+    fn push_bounding_points(&self, out: &mut Vec<Vec3>) {
+        out.extend([self.0.min, self.0.max]);
+    }
+}
+
+/// Rebuild the top-level tree when refits have made it this many times
+/// costlier than built (as [`RefitPolicy`](crate::index::RefitPolicy)'s default).
+const TOP_REBUILD_RATIO: f64 = 1.5;
+
+/// Many meshes, each placed by a rigid pose, asked as one (see the module
+/// notes).
+pub struct Scene {
+    instances: Vec<Instance>,
+    /// Over the instances' world boxes; `None` for an empty scene.
+    top: Option<AabbTree<InstanceBox>>,
+    /// The top tree's surface-area cost when built.
+    top_cost: f64,
+}
+
+impl Scene {
+    /// A scene of `instances`, each a mesh index and its pose. Builds the
+    /// top level now and each mesh's trees on first use (the faces' tree,
+    /// the ray tree, the signed-distance fields), once per mesh however
+    /// many times it is placed. Fails when a mesh has no faces, or a placed
+    /// box lies beyond the coordinates a tree takes.
+    pub fn new(instances: Vec<(Arc<MeshIndex>, RigidPose)>) -> Result<Self, SceneError> {
+        let instances: Vec<Instance> = instances
+            .into_iter()
+            .enumerate()
+            .map(|(i, (mesh, pose))| {
+                mesh.require(PrimitiveKind::Faces)
+                    .map_err(|source| SceneError::Mesh { instance: i, source })?;
+                Ok(Instance {
+                    inverse: pose.inverse(),
+                    mesh,
+                    pose,
+                })
+            })
+            .collect::<Result<_, SceneError>>()?;
+        if instances.len() >= u32::MAX as usize {
+            return Err(SceneError::TooMany { count: instances.len() });
+        }
+        let mut scene = Self {
+            instances,
+            top: None,
+            top_cost: 0.0,
+        };
+        scene.build_top()?;
+        Ok(scene)
+    }
+
+    fn boxes(&self) -> PrimitiveSet<InstanceBox> {
+        PrimitiveSet::from_primitives(self.instances.iter().map(|i| InstanceBox(i.world_bounds())).collect())
+    }
+
+    fn build_top(&mut self) -> Result<(), SceneError> {
+        if self.instances.is_empty() {
+            self.top = None;
+            return Ok(());
+        }
+        let config = BuildConfig {
+            min_size: 1,
+            ..BuildConfig::fast_queries()
+        };
+        let tree = AabbTree::build_set(self.boxes(), &config).map_err(SceneError::Placement)?;
+        self.top_cost = tree.surface_area_cost();
+        self.top = Some(tree);
+        Ok(())
+    }
+
+    /// Moves instance `index` to `pose`: its world box anew, and the top
+    /// level refit (rebuilt once refits have made it 1.5 times costlier
+    /// than built). The meshes' own trees are not touched. Fails, changing
+    /// nothing, for an index out of range or a box beyond the coordinates
+    /// a tree takes.
+    pub fn set_pose(&mut self, index: usize, pose: RigidPose) -> Result<(), SceneError> {
+        let count = self.instances.len();
+        let Some(instance) = self.instances.get(index) else {
+            return Err(SceneError::InstanceOutOfRange { index, count });
+        };
+        let moved = Instance {
+            mesh: instance.mesh.clone(),
+            inverse: pose.inverse(),
+            pose,
+        };
+        let bounds = moved.world_bounds();
+        crate::build::check_primitives(&[InstanceBox(bounds)]).map_err(SceneError::Placement)?;
+        self.instances[index] = moved;
+        let boxes = self.boxes();
+        let top = self.top.as_mut().expect("a scene with instances has a top level");
+        top.refit_trusted(&boxes);
+        if top.surface_area_cost() > TOP_REBUILD_RATIO * self.top_cost {
+            self.build_top()?;
+        }
+        Ok(())
+    }
+
+    /// The instances, in the order given.
+    pub fn instances(&self) -> &[Instance] {
+        &self.instances
+    }
+
+    /// Number of instances.
+    pub fn len(&self) -> usize {
+        self.instances.len()
+    }
+
+    /// `true` for a scene without instances.
+    pub fn is_empty(&self) -> bool {
+        self.instances.is_empty()
+    }
+
+    /// The world box of every instance (empty for an empty scene).
+    pub fn bounds(&self) -> Aabb {
+        self.top.as_ref().map_or(Aabb::EMPTY, |t| t.bounds())
+    }
+}

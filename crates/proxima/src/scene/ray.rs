@@ -1,0 +1,172 @@
+//! Rays through a scene: the first hit of any instance, and whether any is hit.
+
+use super::Scene;
+use crate::aabb_tree::{AabbNode, RaySlabs};
+use crate::build::{BinaryQuery, walk};
+use crate::error::RayError;
+use crate::math::{DVec3, Vec3};
+use crate::query::{RayQuery, SpatialIndex};
+use crate::ray::Ray;
+use rayon::prelude::*;
+use std::ops::{ControlFlow, Range};
+
+/// Where a ray first hits a scene.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SceneRayHit {
+    /// The instance.
+    pub instance: u32,
+    /// The face of the instance's mesh.
+    pub face: u32,
+    /// The fan triangle of that face (its index in the mesh's triangles).
+    pub triangle: u32,
+    /// The ray parameter (the distance along a unit direction; a rigid pose
+    /// keeps lengths, so it is the same in the mesh's frame).
+    pub t: f32,
+    /// The hit point, in the world's frame.
+    pub point: DVec3,
+    /// Barycentric weight of the triangle's vertex `b`.
+    pub u: f32,
+    /// Barycentric weight of the triangle's vertex `c`.
+    pub v: f32,
+}
+
+/// The top-level walk for rays: boxes by entry parameter, each instance's
+/// ray tree asked up to the nearest hit so far.
+struct Rays<'a> {
+    scene: &'a Scene,
+    indices: &'a [u32],
+    slabs: RaySlabs,
+    origin: Vec3,
+    direction: Vec3,
+    t_min: f32,
+    t_hi: f32,
+    any: bool,
+    best: Option<SceneRayHit>,
+    error: Option<RayError>,
+}
+
+impl BinaryQuery<AabbNode> for Rays<'_> {
+    const TOUCH_GRANDCHILDREN: bool = false;
+    #[inline]
+    fn key(&self, node: &AabbNode) -> f32 {
+        let b = node.bounds();
+        let (enter, exit) = self.slabs.interval(b.min, b.max, self.t_min, self.t_hi);
+        if enter <= exit { enter } else { f32::INFINITY }
+    }
+    fn bound(&self) -> f32 {
+        self.t_hi.min(f32::MAX)
+    }
+    fn leaf(&mut self, range: Range<usize>) -> ControlFlow<()> {
+        for slot in range {
+            let index = self.indices[slot];
+            let instance = &self.scene.instances[index as usize];
+            let tree = instance.mesh.ray_tree().expect("a scene's meshes have faces");
+            let (o, d) = (
+                instance.to_local(self.origin),
+                instance.direction_to_local(self.direction),
+            );
+            let hit = if self.any {
+                tree.some_hit(o, d, self.t_min, self.t_hi)
+            } else {
+                tree.first_hit(o, d, self.t_min, self.t_hi)
+            };
+            match hit {
+                Err(error) => {
+                    self.error = Some(error);
+                    return ControlFlow::Break(());
+                }
+                Ok(Some(hit)) if self.best.is_none_or(|b| (hit.t, index) < (b.t, b.instance)) => {
+                    self.best = Some(SceneRayHit {
+                        instance: index,
+                        face: hit.source,
+                        triangle: hit.primitive,
+                        t: hit.t,
+                        point: instance.pose.apply(hit.point),
+                        u: hit.u,
+                        v: hit.v,
+                    });
+                    self.t_hi = hit.t;
+                    if self.any {
+                        return ControlFlow::Break(());
+                    }
+                }
+                Ok(_) => {}
+            }
+        }
+        ControlFlow::Continue(())
+    }
+}
+
+impl Scene {
+    fn cast(
+        &self,
+        origin: Vec3,
+        direction: Vec3,
+        t_min: f32,
+        t_max: f32,
+        any: bool,
+    ) -> Result<Option<SceneRayHit>, RayError> {
+        Ray::with_range(origin, direction, t_min, t_max)?;
+        let Some(top) = self.top.as_ref() else { return Ok(None) };
+        let bounds = top.bounds();
+        let mut query = Rays {
+            scene: self,
+            indices: top.leaves().indices(),
+            slabs: RaySlabs::new(origin, direction, bounds.min, bounds.max),
+            origin,
+            direction,
+            t_min,
+            t_hi: t_max,
+            any,
+            best: None,
+            error: None,
+        };
+        walk::<AabbNode, _, _>(top.pairs(), top.depth(), &mut query, &mut ());
+        match query.error {
+            Some(error) => Err(error),
+            None => Ok(query.best),
+        }
+    }
+
+    /// The first hit of the ray `origin + t · direction`, `t` in
+    /// `[t_min, t_max]`, on any instance: the smallest `t`, ties to the
+    /// lower instance index, then as the instance's ray tree breaks them.
+    /// Fails as [`RayQuery::first_hit`] does for a ray that is not one.
+    pub fn first_hit(
+        &self,
+        origin: Vec3,
+        direction: Vec3,
+        t_min: f32,
+        t_max: f32,
+    ) -> Result<Option<SceneRayHit>, RayError> {
+        self.cast(origin, direction, t_min, t_max, false)
+    }
+
+    /// Whether the ray hits any instance with `t` in `[t_min, t_max]`
+    /// (stops at the first hit found).
+    pub fn any_hit(&self, origin: Vec3, direction: Vec3, t_min: f32, t_max: f32) -> Result<bool, RayError> {
+        Ok(self.cast(origin, direction, t_min, t_max, true)?.is_some())
+    }
+
+    /// [`first_hit`](Self::first_hit) of every `(origin, direction)`, on
+    /// all cores, in input order.
+    pub fn first_hit_batch(
+        &self,
+        rays: &[(Vec3, Vec3)],
+        t_min: f32,
+        t_max: f32,
+    ) -> Vec<Result<Option<SceneRayHit>, RayError>> {
+        rays.par_iter()
+            .with_min_len(64)
+            .map(|&(o, d)| self.first_hit(o, d, t_min, t_max))
+            .collect()
+    }
+
+    /// [`any_hit`](Self::any_hit) of every ray, on all cores, in input order.
+    pub fn any_hit_batch(&self, rays: &[(Vec3, Vec3)], t_min: f32, t_max: f32) -> Vec<Result<bool, RayError>> {
+        rays.par_iter()
+            .with_min_len(64)
+            .map(|&(o, d)| self.any_hit(o, d, t_min, t_max))
+            .collect()
+    }
+}
