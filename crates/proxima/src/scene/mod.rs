@@ -43,12 +43,16 @@ pub use ray::SceneRayHit;
 use crate::aabb::Aabb;
 use crate::aabb_tree::AabbTree;
 use crate::build::BuildConfig;
+use crate::index::IndexError;
 use crate::index::MeshIndex;
 use crate::kind::PrimitiveKind;
 use crate::math::{DVec3, Vec3};
 use crate::pair::RigidPose;
+use crate::primitive::Triangle;
 use crate::primitive::{Bounded, BoundingPoints, PrimitiveSet};
 use crate::query::SpatialIndex;
+use crate::wide_tree::WideChild;
+use std::collections::HashMap;
 use std::sync::Arc;
 
 /// A mesh placed in the scene: its index (shared between instances of the
@@ -58,6 +62,11 @@ pub struct Instance {
     mesh: Arc<MeshIndex>,
     pose: RigidPose,
     inverse: RigidPose,
+    /// The corners of the boxes two levels under the root of the mesh's
+    /// faces tree (shared by the instances of one mesh): placed, their
+    /// box is much tighter than the placed root box's, at a few dozen
+    /// points to move.
+    hull: Arc<[Vec3]>,
 }
 
 impl Instance {
@@ -83,28 +92,51 @@ impl Instance {
         (self.inverse.rotation() * d.as_dvec3()).as_vec3()
     }
 
-    /// The world box of the mesh's box under the pose: the eight corners
-    /// placed in `f64`, rounded outwards, and widened by a few ulps of the
-    /// largest coordinate, so that it holds every point the mesh's queries
-    /// may give back (each computed in the mesh's frame from a rounded
-    /// query).
+    /// The world box of the instance: its hull points placed in `f64`,
+    /// rounded outwards, and widened by a few ulps of the largest
+    /// coordinate (and of the mesh's size), so that it holds every point
+    /// the mesh's queries may give back (each computed in the mesh's frame
+    /// from a rounded query).
     fn world_bounds(&self) -> Aabb {
-        let local = self.mesh.mesh().bounds();
-        let (lo, hi) = (local.min.as_dvec3(), local.max.as_dvec3());
         let (mut min, mut max) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-        for corner in 0..8 {
-            let c = DVec3::new(
-                if corner & 1 == 0 { lo.x } else { hi.x },
-                if corner & 2 == 0 { lo.y } else { hi.y },
-                if corner & 4 == 0 { lo.z } else { hi.z },
-            );
-            let w = self.pose.apply_f64(c);
+        for p in self.hull.iter() {
+            let w = self.pose.apply(*p);
             (min, max) = (min.min(w), max.max(w));
         }
         let b = Aabb::new(min.as_vec3(), max.as_vec3());
-        let scale = b.min.abs().max(b.max.abs()).max_element().max(local.diagonal());
+        let size = (max - min).length() as f32;
+        let scale = b.min.abs().max(b.max.abs()).max_element().max(size);
         b.inflate(scale * 32.0 * f32::EPSILON)
     }
+}
+
+/// The corners of the boxes two levels under the root of `mesh`'s faces
+/// tree (see [`Instance`]), built if needed.
+fn hull_points(mesh: &MeshIndex) -> Result<Vec<Vec3>, IndexError> {
+    let tree = mesh.tree::<Triangle>()?;
+    let mut boxes = Vec::new();
+    if tree.node_count() > 0 {
+        for lane in 0..4 {
+            match tree.child(0, lane) {
+                WideChild::Inner(child) => boxes.extend((0..4).map(|l| tree.nodes()[child].child_bounds(l))),
+                WideChild::Leaf(_) => boxes.push(tree.nodes()[0].child_bounds(lane)),
+                WideChild::Empty => {}
+            }
+        }
+    }
+    Ok(boxes
+        .into_iter()
+        .filter(|b| !b.is_empty())
+        .flat_map(|b| {
+            (0..8).map(move |c| {
+                Vec3::new(
+                    if c & 1 == 0 { b.min.x } else { b.max.x },
+                    if c & 2 == 0 { b.min.y } else { b.max.y },
+                    if c & 4 == 0 { b.min.z } else { b.max.z },
+                )
+            })
+        })
+        .collect())
 }
 
 /// An instance's world box: the top-level tree's primitive.
@@ -131,6 +163,8 @@ const TOP_REBUILD_RATIO: f64 = 1.5;
 /// notes).
 pub struct Scene {
     instances: Vec<Instance>,
+    /// Each instance's world box, in instance order.
+    boxes: PrimitiveSet<InstanceBox>,
     /// Over the instances' world boxes; `None` for an empty scene.
     top: Option<AabbTree<InstanceBox>>,
     /// The top tree's surface-area cost when built.
@@ -144,33 +178,42 @@ impl Scene {
     /// many times it is placed. Fails when a mesh has no faces, or a placed
     /// box lies beyond the coordinates a tree takes.
     pub fn new(instances: Vec<(Arc<MeshIndex>, RigidPose)>) -> Result<Self, SceneError> {
+        // One hull per mesh, however many times it is placed.
+        let mut hulls: HashMap<*const MeshIndex, Arc<[Vec3]>> = HashMap::new();
         let instances: Vec<Instance> = instances
             .into_iter()
             .enumerate()
             .map(|(i, (mesh, pose))| {
-                mesh.require(PrimitiveKind::Faces)
-                    .map_err(|source| SceneError::Mesh { instance: i, source })?;
+                let error = |source| SceneError::Mesh { instance: i, source };
+                mesh.require(PrimitiveKind::Faces).map_err(error)?;
+                let hull = match hulls.get(&Arc::as_ptr(&mesh)) {
+                    Some(hull) => hull.clone(),
+                    None => {
+                        let hull: Arc<[Vec3]> = hull_points(&mesh).map_err(error)?.into();
+                        hulls.insert(Arc::as_ptr(&mesh), hull.clone());
+                        hull
+                    }
+                };
                 Ok(Instance {
                     inverse: pose.inverse(),
                     mesh,
                     pose,
+                    hull,
                 })
             })
             .collect::<Result<_, SceneError>>()?;
         if instances.len() >= u32::MAX as usize {
             return Err(SceneError::TooMany { count: instances.len() });
         }
+        let boxes = PrimitiveSet::from_primitives(instances.iter().map(|i| InstanceBox(i.world_bounds())).collect());
         let mut scene = Self {
             instances,
+            boxes,
             top: None,
             top_cost: 0.0,
         };
         scene.build_top()?;
         Ok(scene)
-    }
-
-    fn boxes(&self) -> PrimitiveSet<InstanceBox> {
-        PrimitiveSet::from_primitives(self.instances.iter().map(|i| InstanceBox(i.world_bounds())).collect())
     }
 
     fn build_top(&mut self) -> Result<(), SceneError> {
@@ -182,7 +225,7 @@ impl Scene {
             min_size: 1,
             ..BuildConfig::fast_queries()
         };
-        let tree = AabbTree::build_set(self.boxes(), &config).map_err(SceneError::Placement)?;
+        let tree = AabbTree::build_set(self.boxes.clone(), &config).map_err(SceneError::Placement)?;
         self.top_cost = tree.surface_area_cost();
         self.top = Some(tree);
         Ok(())
@@ -202,13 +245,14 @@ impl Scene {
             mesh: instance.mesh.clone(),
             inverse: pose.inverse(),
             pose,
+            hull: instance.hull.clone(),
         };
-        let bounds = moved.world_bounds();
-        crate::build::check_primitives(&[InstanceBox(bounds)]).map_err(SceneError::Placement)?;
+        let bounds = InstanceBox(moved.world_bounds());
+        crate::build::check_primitives(&[bounds]).map_err(SceneError::Placement)?;
         self.instances[index] = moved;
-        let boxes = self.boxes();
+        self.boxes.primitives[index] = bounds;
         let top = self.top.as_mut().expect("a scene with instances has a top level");
-        top.refit_trusted(&boxes);
+        top.refit_trusted(&self.boxes);
         if top.surface_area_cost() > TOP_REBUILD_RATIO * self.top_cost {
             self.build_top()?;
         }

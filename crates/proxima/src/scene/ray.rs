@@ -145,7 +145,19 @@ impl Scene {
     /// Whether the ray hits any instance with `t` in `[t_min, t_max]`
     /// (stops at the first hit found).
     pub fn any_hit(&self, origin: Vec3, direction: Vec3, t_min: f32, t_max: f32) -> Result<bool, RayError> {
-        Ok(self.cast(origin, direction, t_min, t_max, true)?.is_some())
+        Ok(self.some_hit(origin, direction, t_min, t_max)?.is_some())
+    }
+
+    /// The hit [`any_hit`](Self::any_hit) stops at: some hit with `t` in
+    /// `[t_min, t_max]`, not always the first, or `None`.
+    pub fn some_hit(
+        &self,
+        origin: Vec3,
+        direction: Vec3,
+        t_min: f32,
+        t_max: f32,
+    ) -> Result<Option<SceneRayHit>, RayError> {
+        self.cast(origin, direction, t_min, t_max, true)
     }
 
     /// [`first_hit`](Self::first_hit) of every `(origin, direction)`, on
