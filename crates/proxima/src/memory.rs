@@ -92,13 +92,7 @@ impl<T: Pod> HugePageArray<T> {
     /// The values, to change in place (a refit rewrites a tree's boxes
     /// where they lie).
     pub(crate) fn as_mut_slice(&mut self) -> &mut [T] {
-        match &mut self.storage {
-            Storage::Heap(values) => values,
-            #[cfg(target_os = "linux")]
-            Storage::Mapped { map, offset, len } => {
-                bytemuck::cast_slice_mut(&mut map[*offset..*offset + *len * std::mem::size_of::<T>()])
-            }
-        }
+        self.storage.as_mut_slice()
     }
 
     /// `true` when the values live in a mapping advised for huge pages
@@ -181,13 +175,7 @@ impl<T: Pod> HugePageVec<T> {
 
     /// The elements, to change in place.
     pub(crate) fn as_mut_slice(&mut self) -> &mut [T] {
-        match &mut self.storage {
-            Storage::Heap(values) => values,
-            #[cfg(target_os = "linux")]
-            Storage::Mapped { map, offset, len } => {
-                bytemuck::cast_slice_mut(&mut map[*offset..*offset + *len * std::mem::size_of::<T>()])
-            }
-        }
+        self.storage.as_mut_slice()
     }
 
     /// The finished array, without a copy.
@@ -197,6 +185,18 @@ impl<T: Pod> HugePageVec<T> {
             let _ = map.advise(memmap2::Advice::HugePage);
         }
         HugePageArray { storage: self.storage }
+    }
+}
+
+impl<T: Pod> Storage<T> {
+    fn as_mut_slice(&mut self) -> &mut [T] {
+        match self {
+            Storage::Heap(values) => values,
+            #[cfg(target_os = "linux")]
+            Storage::Mapped { map, offset, len } => {
+                bytemuck::cast_slice_mut(&mut map[*offset..*offset + *len * std::mem::size_of::<T>()])
+            }
+        }
     }
 }
 

@@ -8,6 +8,7 @@ use crate::math::Vec3;
 use crate::mesh::MeshError;
 use crate::sdf::Sign;
 use crate::{RayTree, WideTree};
+use std::collections::HashMap;
 use std::sync::Arc;
 
 /// Whether [`MeshIndex::update_vertices`] refits a tree or rebuilds it.
@@ -158,24 +159,20 @@ impl MeshIndex {
             return Ok(());
         };
         let set = self.mesh.triangles();
-        let at_build = *self
-            .build_costs
-            .entry("rays")
-            .or_insert_with(|| tree.surface_area_cost());
         // The faces' triangles, moved within the checked coordinates.
-        let refit = policy != RefitPolicy::Rebuild;
-        if refit {
-            tree.refit_trusted(&set);
-        }
-        let ratio = if refit {
-            tree.surface_area_cost() / at_build
-        } else {
-            f64::NAN
-        };
-        let rebuilt = !refit || policy.rebuilds(ratio);
+        let (ratio, rebuilt) = refit_or_rebuild(
+            &mut self.build_costs,
+            "rays",
+            policy,
+            tree,
+            RayTree::surface_area_cost,
+            |tree| {
+                tree.refit_trusted(&set);
+                true
+            },
+        );
         if rebuilt {
             self.rays.take();
-            self.build_costs.remove("rays");
             let tree = RayTree::build_set(set, &RayTree::config())?;
             self.rays.put(tree);
         }
@@ -206,31 +203,27 @@ impl KindGeneric for UpdateTree<'_> {
         let set = T::extract(&index.mesh, index.config.planarity);
         // Cloned only if a caller still holds the tree.
         let tree = Arc::make_mut(shared);
-        let at_build = *index
-            .build_costs
-            .entry(name)
-            .or_insert_with(|| tree.surface_area_cost());
-        // A polygon that is no longer planar is split: another set of
-        // primitives, which only a build can take (the refit says so).
-        let refit = policy != RefitPolicy::Rebuild
-            && if T::KIND == PrimitiveKind::Polygons {
-                tree.refit(&set).is_ok()
-            } else {
-                // Vertices, edges and fan triangles come from the faces
-                // alone, and the coordinates are checked.
-                tree.refit_trusted(&set);
-                true
-            };
-        let ratio = if refit {
-            tree.surface_area_cost() / at_build
-        } else {
-            f64::NAN
-        };
-        let rebuilt = !refit || policy.rebuilds(ratio);
+        let (ratio, rebuilt) = refit_or_rebuild(
+            &mut index.build_costs,
+            name,
+            policy,
+            tree,
+            WideTree::surface_area_cost,
+            |tree| {
+                // A polygon that is no longer planar is split: another set
+                // of primitives, which only a build can take (the refit
+                // says so). Vertices, edges and fan triangles come from
+                // the faces alone, and the coordinates are checked.
+                if T::KIND == PrimitiveKind::Polygons {
+                    tree.refit(&set).is_ok()
+                } else {
+                    tree.refit_trusted(&set);
+                    true
+                }
+            },
+        );
         if rebuilt {
-            let lazy = T::of_kind_mut(&mut index.trees);
-            lazy.take();
-            index.build_costs.remove(name);
+            T::of_kind_mut(&mut index.trees).take();
             let tree = WideTree::build_set(set, &index.config.build)?;
             T::of_kind_mut(&mut index.trees).put(Arc::new(tree));
         }
@@ -241,4 +234,27 @@ impl KindGeneric for UpdateTree<'_> {
         });
         Ok(())
     }
+}
+
+/// Refits a tree whose cost at build is recorded under `name` (recorded
+/// now, from the tree as it is, on its first update), unless the policy
+/// always rebuilds; `refit` does the refit and says whether the tree took
+/// the set. Returns the cost ratio (NaN when not refit) and whether the
+/// tree is to be rebuilt, in which case its record is dropped.
+fn refit_or_rebuild<X>(
+    costs: &mut HashMap<&'static str, f64>,
+    name: &'static str,
+    policy: RefitPolicy,
+    tree: &mut X,
+    cost: fn(&X) -> f64,
+    refit: impl FnOnce(&mut X) -> bool,
+) -> (f64, bool) {
+    let at_build = *costs.entry(name).or_insert_with(|| cost(tree));
+    let refit = policy != RefitPolicy::Rebuild && refit(tree);
+    let ratio = if refit { cost(tree) / at_build } else { f64::NAN };
+    let rebuilt = !refit || policy.rebuilds(ratio);
+    if rebuilt {
+        costs.remove(name);
+    }
+    (ratio, rebuilt)
 }
