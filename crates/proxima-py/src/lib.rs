@@ -18,6 +18,7 @@ mod pairs;
 mod points;
 mod poses;
 mod rays;
+mod scene;
 mod surface;
 mod threads;
 mod traverse;
@@ -67,6 +68,7 @@ fn _proxima(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<pairs::PyPairDistance>()?;
     m.add_class::<surface::Answers>()?;
     m.add_class::<points::PyPoints>()?;
+    m.add_class::<scene::PyScene>()?;
     m.add_function(wrap_pyfunction!(points::chamfer, m)?)?;
     m.add_function(wrap_pyfunction!(points::hausdorff, m)?)?;
     m.add_function(wrap_pyfunction!(load, m)?)?;

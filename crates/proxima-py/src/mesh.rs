@@ -17,6 +17,7 @@ use pyo3::IntoPyObjectExt;
 use pyo3::prelude::*;
 use pyo3::types::{PyList, PyTuple};
 use rayon::prelude::*;
+use std::sync::Arc;
 
 /// A polygon mesh and the structures that answer queries on it, each built
 /// on first use and kept (see the package's type stubs for the full
@@ -30,8 +31,9 @@ use rayon::prelude::*;
 #[pyclass(module = "proxima", name = "Mesh")]
 pub struct PyMesh {
     /// The mesh and the structures built on it so far (the library's index:
-    /// the command line and the viewer ask the same one).
-    pub(crate) index: MeshIndex,
+    /// the command line and the viewer ask the same one), shared with the
+    /// scenes it is placed in.
+    pub(crate) index: Arc<MeshIndex>,
 }
 
 /// Distances and indices, one row per point (`k_nearest`).
@@ -45,7 +47,7 @@ impl PyMesh {
     /// A mesh with nothing built yet.
     pub fn wrap(mesh: Mesh) -> Self {
         Self {
-            index: MeshIndex::new(mesh),
+            index: Arc::new(MeshIndex::new(mesh)),
         }
     }
 
@@ -123,7 +125,7 @@ fn kind(primitives: &str) -> PyResult<PrimitiveKind> {
 }
 
 /// `sign=` as a sign method.
-fn sign(text: &str) -> PyResult<Sign> {
+pub(crate) fn sign(text: &str) -> PyResult<Sign> {
     match text {
         "winding" => Ok(Sign::WindingNumber),
         "pseudonormal" => Ok(Sign::Pseudonormal),
@@ -215,7 +217,13 @@ impl PyMesh {
     ) -> PyResult<Vec<(&'static str, bool, f64)>> {
         let positions = arrays::points(positions, "positions", Check::Finite)?;
         let positions = positions.as_slice();
-        let index = &mut self.index;
+        let Some(index) = Arc::get_mut(&mut self.index) else {
+            return Err(value_error(
+                "positions",
+                "the mesh is placed in a Scene, which shares its structures: move it there with Scene.set_pose, \
+                 or deform a copy (proxima.Mesh(mesh.vertices, mesh.faces))",
+            ));
+        };
         let updated = py
             .detach(|| index.update_vertices(positions))
             .map_err(|e| value_error("positions", e))?;

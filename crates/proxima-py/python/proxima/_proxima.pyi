@@ -658,3 +658,66 @@ def hausdorff(
     """The Hausdorff distance between point sets ``a`` and ``b``: the
     largest distance from a point of either set to the other (with
     ``one_sided``, from ``a`` to ``b`` only)."""
+
+class Scene:
+    """Meshes placed by rigid poses, asked as one: closest points, signed
+    distance of the union, first and any hit, each answer naming the
+    instance and its face. The same ``Mesh`` placed several times shares
+    its structures (built once, on first use). A top-level tree over the
+    instances' world boxes sends each query to the instances it concerns;
+    there it is carried into the mesh's frame (float64, rounded once to
+    float32) and answered by the mesh's own trees. Answers are brute force's
+    over every placed triangle, up to that rounding; ties between instances
+    go to the lower index. ``set_pose`` refits the top level only.
+
+    A mesh placed in a scene cannot ``update_vertices`` (the scene shares its
+    structures): ``ValueError`` naming ``positions``.
+
+    >>> import numpy as np, proxima
+    >>> sphere = proxima.noisy_icosphere(8)
+    >>> moved = np.eye(4); moved[0, 3] = 5.0
+    >>> scene = proxima.Scene([(sphere, None), (sphere, moved)])
+    >>> closest, distance, instance, face = scene.closest_points([[4.0, 0.0, 0.0]])
+    >>> instance.tolist()
+    [1]
+    """
+
+    def __init__(self, instances: Sequence[Tuple[Mesh, Optional[npt.ArrayLike]]]) -> None:
+        """``instances``: (mesh, pose) pairs, pose a (4, 4) rigid matrix
+        (rotation and translation; mirrors and scales refused) or None for
+        the identity. ``ValueError`` naming ``instances[i]`` for a pair that
+        is not one, ``instances[i][1]`` for a bad pose, ``instances`` for a
+        mesh without faces."""
+    def __len__(self) -> int: ...
+    def pose(self, index: int) -> npt.NDArray[np.float64]:
+        """The pose of instance ``index``, (4, 4) float64."""
+    def set_pose(self, index: int, pose: npt.ArrayLike) -> None:
+        """Moves instance ``index`` to ``pose`` (a (4, 4) rigid matrix): the
+        top level is refit (rebuilt once refits made it 1.5 times costlier),
+        the meshes' own trees are not touched: microseconds. ``ValueError``
+        naming ``index`` out of range, ``pose`` for a pose that is not rigid."""
+    def closest_points(
+        self, points: npt.ArrayLike, threads: Optional[int] = None
+    ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.int64], npt.NDArray[np.int64]]:
+        """``(closest (N, 3), distance (N,), instance (N,), face (N,))``, the
+        closest point in world coordinates; NaN, inf and -1 for an empty scene."""
+    def signed_distance(
+        self, points: npt.ArrayLike, sign: Literal["winding", "pseudonormal"] = "winding", threads: Optional[int] = None
+    ) -> npt.NDArray[np.float64]:
+        """The scene's signed distance, (N,) float64: the distance to the
+        closest point of any instance, negative where the point is inside
+        any instance (the union of their solids), each signed by ``sign``."""
+    def contains(
+        self, points: npt.ArrayLike, sign: Literal["winding", "pseudonormal"] = "winding", threads: Optional[int] = None
+    ) -> npt.NDArray[np.bool_]:
+        """Whether each point is inside some instance, (N,) bool."""
+    def cast_rays(
+        self,
+        origins: npt.ArrayLike,
+        directions: npt.ArrayLike,
+        any_hit: bool = False,
+        threads: Optional[int] = None,
+    ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.int64], npt.NDArray[np.int64]]:
+        """The first hit of each ray on any instance (with ``any_hit``, some
+        hit, found sooner): ``(t (N,), instance (N,), face (N,))``; ``inf``
+        and -1 for a miss. Directions are normalized: ``t`` is a distance."""
