@@ -36,6 +36,7 @@ pub mod ray_sets;
 pub mod rays;
 pub mod report;
 pub mod sdf;
+pub mod timing;
 
 pub use args::{Args, Peers, QueryKind, QuerySet, Split};
 pub use command::run;

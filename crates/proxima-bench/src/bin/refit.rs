@@ -25,13 +25,7 @@ use proxima::prelude::*;
 use proxima::sdf::{Pseudonormals, Sign, WindingNumbers};
 use proxima::{RayTree, WideTree};
 use proxima_bench::load_named;
-use std::time::Instant;
-
-fn value(args: &[String], flag: &str, default: f64) -> f64 {
-    args.iter()
-        .position(|a| a == flag)
-        .map_or(default, |i| args[i + 1].parse().expect(flag))
-}
+use proxima_bench::timing::{flag_value, timed};
 
 /// The wave: every vertex moved along y by `amplitude` × diagonal × a
 /// sine of its x.
@@ -79,19 +73,13 @@ fn best(rounds: usize, variants: &mut [&mut dyn FnMut() -> f64]) -> Vec<f64> {
     out
 }
 
-fn timed(f: impl FnOnce()) -> f64 {
-    let start = Instant::now();
-    f();
-    start.elapsed().as_secs_f64()
-}
-
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let name = args.first().expect("MESH").clone();
-    let threads = value(&args, "--threads", 1.0) as usize;
-    let rounds = value(&args, "--rounds", 5.0) as usize;
-    let queries = value(&args, "--queries", 100_000.0) as usize;
-    let amplitude = value(&args, "--amplitude", 0.01) as f32;
+    let threads = flag_value(&args, "--threads", 1.0) as usize;
+    let rounds = flag_value(&args, "--rounds", 5.0) as usize;
+    let queries = flag_value(&args, "--queries", 100_000.0) as usize;
+    let amplitude = flag_value(&args, "--amplitude", 0.01) as f32;
     let mesh = load_named(&name).expect("mesh");
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
     pool.install(|| {
