@@ -320,7 +320,7 @@ class Mesh:
         moved vertices would; only the speed depends on refit or rebuild.
         Returns ``(structure, rebuilt, cost_ratio)`` per structure updated
         (``cost_ratio``: a tree's surface-area cost over its cost at build,
-        NaN where it could not be refit, 1 for the other structures).
+        NaN where it was not refit but rebuilt, 1 for the other structures).
 
         Raises ValueError naming ``positions`` for another vertex count, a
         NaN or infinite coordinate, or one beyond 2**60; the mesh and its

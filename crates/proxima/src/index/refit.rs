@@ -57,8 +57,8 @@ pub struct Updated {
     /// oriented boxes, normals).
     pub rebuilt: bool,
     /// For a tree, its surface-area cost after the refit over its cost at
-    /// build (1 for a tree just built, `NaN` where it could not be refit);
-    /// for the other structures, 1.
+    /// build; `NaN` where it was not refit (the `Rebuild` policy, or a set
+    /// of primitives the tree could not take). For the other structures, 1.
     pub cost_ratio: f64,
 }
 

@@ -1,6 +1,7 @@
 //! Rays through a scene: the first hit of any instance, and whether any is hit.
 
 use super::Scene;
+use crate::aabb::Aabb;
 use crate::aabb_tree::{AabbNode, RaySlabs};
 use crate::build::{BinaryQuery, walk};
 use crate::error::RayError;
@@ -65,6 +66,9 @@ impl BinaryQuery<AabbNode> for Rays<'_> {
                 instance.to_local(self.origin),
                 instance.direction_to_local(self.direction),
             );
+            if misses_root(tree.bounds(), o, d, self.t_min, self.t_hi) {
+                continue;
+            }
             let hit = if self.any {
                 tree.some_hit(o, d, self.t_min, self.t_hi)
             } else {
@@ -95,6 +99,21 @@ impl BinaryQuery<AabbNode> for Rays<'_> {
         }
         ControlFlow::Continue(())
     }
+}
+
+/// Whether the ray (in the mesh's frame) misses the mesh's box, by the
+/// widened slab test the mesh's tree opens its walk with: most instances a
+/// ray's path crosses in the top level are missed, and this spares them
+/// the walk's setup (the checks, the far-origin test, the watertight
+/// shear). Rays from beyond 512 box diagonals, which the tree moves first
+/// (`FarRay`), are left to it.
+#[inline]
+fn misses_root(b: Aabb, o: Vec3, d: Vec3, t_min: f32, t_hi: f32) -> bool {
+    if b.is_empty() || (o - b.center()).abs().max_element() > 512.0 * b.diagonal() {
+        return false;
+    }
+    let (enter, exit) = RaySlabs::new(o, d, b.min, b.max).interval(b.min, b.max, t_min, t_hi);
+    !(enter <= exit)
 }
 
 impl Scene {
