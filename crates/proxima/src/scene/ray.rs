@@ -113,7 +113,8 @@ fn misses_root(b: Aabb, o: Vec3, d: Vec3, t_min: f32, t_hi: f32) -> bool {
         return false;
     }
     let (enter, exit) = RaySlabs::new(o, d, b.min, b.max).interval(b.min, b.max, t_min, t_hi);
-    !(enter <= exit)
+    // A NaN (none expected: the slabs turn 0 · ∞ into ±∞) rejects nothing.
+    enter > exit
 }
 
 impl Scene {
