@@ -131,6 +131,45 @@ impl PyScene {
         .into_py_any(py)
     }
 
+    /// The ``k`` faces of any instances nearest to each point: ``(distance
+    /// (N, k) float64, instance (N, k) int64, face (N, k) int64)``, nearest
+    /// first, padded with inf and -1.
+    #[pyo3(signature = (points, k, threads = None))]
+    fn k_nearest<'py>(
+        &self,
+        py: Python<'py>,
+        points: &Bound<'py, PyAny>,
+        k: i64,
+        threads: Option<i64>,
+    ) -> PyResult<Py<PyAny>> {
+        if k < 1 {
+            return Err(value_error("k", format!("{k} is less than 1")));
+        }
+        let points = arrays::points(points, "points", Check::QueryPoint)?;
+        let points = points.as_slice();
+        crate::budget::check_budget("k", k, points.len() as u128 * k as u128, 64)?;
+        let k = k as usize;
+        let answers = threads::run(py, threads, || self.scene.k_nearest_batch(points, k))?;
+        let n = points.len() * k;
+        let (mut distance, mut instance, mut face) = (vec![f64::INFINITY; n], vec![-1i64; n], vec![-1i64; n]);
+        for (row, hits) in answers.iter().enumerate() {
+            for (j, h) in hits.iter().enumerate() {
+                distance[row * k + j] = h.distance as f64;
+                instance[row * k + j] = h.instance as i64;
+                face[row * k + j] = h.face as i64;
+            }
+        }
+        PyTuple::new(
+            py,
+            [
+                arrays::matrix(py, distance, k)?.into_py_any(py)?,
+                arrays::matrix(py, instance, k)?.into_py_any(py)?,
+                arrays::matrix(py, face, k)?.into_py_any(py)?,
+            ],
+        )?
+        .into_py_any(py)
+    }
+
     /// The scene's signed distance at each point: negative inside any
     /// instance, (N,) float64.
     #[pyo3(signature = (points, sign = "winding", threads = None))]

@@ -60,6 +60,26 @@ def test_closest_points_equal_brute_force(world):
     np.testing.assert_allclose(np.linalg.norm(closest - points, axis=1), distance, rtol=1e-5, atol=1e-5)
 
 
+def test_k_nearest_equals_the_merged_mesh(world):
+    scene, _, vertices, faces, owner = world
+    merged = proxima.Mesh(vertices.astype(np.float32), faces)
+    points = np.random.default_rng(8).uniform(-4, 4, (100, 3))
+    distance, instance, face = scene.k_nearest(points, 5)
+    merged_distance, _ = merged.k_nearest(points, 5)
+    np.testing.assert_allclose(distance, merged_distance, rtol=1e-5, atol=1e-5)
+    expected = triangle_distances(points, vertices, faces)
+    rows = np.repeat(np.arange(len(points)), 5)
+    named = np.array([np.flatnonzero((owner[:, 0] == i) & (owner[:, 1] == f))[0] for i, f in zip(instance.ravel(), face.ravel())])
+    np.testing.assert_allclose(expected[rows, named], distance.ravel(), rtol=1e-5, atol=1e-5)
+    small = proxima.Scene([(proxima.noisy_icosphere(1), None)])
+    d, i, f = small.k_nearest([[0, 0, 0]], 25)
+    assert np.isfinite(d[0, :20]).all() and np.isinf(d[0, 20:]).all() and (i[0, 20:] == -1).all()
+    with pytest.raises(ValueError, match="k: 0 is less than 1"):
+        scene.k_nearest(points, 0)
+    with pytest.raises(ValueError, match="k"):
+        scene.k_nearest(points, 2**40)
+
+
 def test_rays_and_signs_equal_the_merged_mesh(world):
     scene, _, vertices, faces, owner = world
     merged = proxima.Mesh(vertices.astype(np.float32), faces)

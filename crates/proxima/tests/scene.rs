@@ -365,3 +365,37 @@ fn bad_input_is_refused_and_changes_nothing() {
     assert_eq!(empty.first_hit(p, Vec3::X, 0.0, f32::INFINITY), Ok(None));
     assert!(!empty.contains(p, Sign::WindingNumber));
 }
+
+/// The `k` nearest faces equal brute force's: each face at its distance
+/// (faces of these meshes are single triangles), the distances the `k`
+/// smallest, nearest first; fewer than `k` where the scene has fewer.
+#[test]
+fn k_nearest_faces_equal_brute_force() {
+    let (scene, _) = scene(12, 18);
+    let points = proxima::sample::uniform_in(&scene.bounds(), 120, 19);
+    for k in [1, 7, 40] {
+        let batch = scene.k_nearest_batch(&points, k);
+        for (p, hits) in points.iter().zip(&batch) {
+            assert_eq!(hits, &scene.k_nearest(*p, k));
+            let mut all = brute_distances(&scene, *p);
+            all.sort_by(|a, b| a.0.total_cmp(&b.0));
+            assert_eq!(hits.len(), k);
+            let tolerance = 1e-5 * (1.0 + p.abs().max_element() as f64);
+            for (j, hit) in hits.iter().enumerate() {
+                assert!((hit.distance as f64 - all[j].0).abs() <= tolerance, "{p} k={k} #{j}");
+                let own = all.iter().find(|x| (x.1, x.2) == (hit.instance, hit.triangle)).unwrap();
+                assert!((own.0 - hit.distance as f64).abs() <= tolerance);
+                if j > 0 {
+                    assert!(hits[j - 1].distance <= hit.distance);
+                }
+            }
+        }
+    }
+    let few = Scene::new(vec![(
+        Arc::new(MeshIndex::new(common::bumpy_sphere(1, 1))),
+        RigidPose::IDENTITY,
+    )])
+    .unwrap();
+    assert_eq!(few.k_nearest(Vec3::ZERO, 1000).len(), 20);
+    assert!(few.k_nearest(Vec3::ZERO, 0).is_empty() && few.k_nearest(Vec3::NAN, 3).is_empty());
+}

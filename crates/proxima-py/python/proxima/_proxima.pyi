@@ -701,6 +701,14 @@ class Scene:
     ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.int64], npt.NDArray[np.int64]]:
         """``(closest (N, 3), distance (N,), instance (N,), face (N,))``, the
         closest point in world coordinates; NaN, inf and -1 for an empty scene."""
+    def k_nearest(
+        self, points: npt.ArrayLike, k: int, threads: Optional[int] = None
+    ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.int64], npt.NDArray[np.int64]]:
+        """The ``k`` faces of any instances nearest to each point, nearest
+        first (ties by instance, then face; a face once, at its nearest
+        point): ``(distance (N, k), instance (N, k), face (N, k))``, padded
+        with inf and -1 where the scene has fewer faces. ``ValueError``
+        naming ``k`` below 1 or beyond the memory budget."""
     def signed_distance(
         self, points: npt.ArrayLike, sign: Literal["winding", "pseudonormal"] = "winding", threads: Optional[int] = None
     ) -> npt.NDArray[np.float64]:

@@ -14,7 +14,7 @@ use std::ops::{ControlFlow, Range};
 /// Relative slack on distances compared across instances: each is computed
 /// in its own frame from a rounded query, so a box is pruned, or an
 /// instance's search bounded, only beyond the best distance by this much.
-const ACROSS_FRAMES: f32 = 1e-5;
+pub(super) const ACROSS_FRAMES: f32 = 1e-5;
 
 /// The closest point of a scene to a query.
 #[derive(Clone, Copy, Debug, PartialEq)]

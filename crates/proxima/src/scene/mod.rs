@@ -1,5 +1,5 @@
 //! Scenes of rigid instances: many meshes, each placed by a pose, asked as
-//! one (closest point, signed distance, first and any hit).
+//! one (closest point, k nearest faces, signed distance, first and any hit).
 //!
 //! An [`Instance`] is a [`MeshIndex`] (shared: the same mesh placed several
 //! times keeps one set of trees) and a [`RigidPose`] from the mesh's frame
@@ -34,8 +34,10 @@
 
 mod closest;
 mod error;
+mod nearest;
 mod ray;
 
+use closest::ACROSS_FRAMES;
 pub use closest::{SceneHit, SceneSignedDistance};
 pub use error::SceneError;
 pub use ray::SceneRayHit;
