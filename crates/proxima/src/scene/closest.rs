@@ -14,7 +14,7 @@ use std::ops::{ControlFlow, Range};
 /// Relative slack on distances compared across instances: each is computed
 /// in its own frame from a rounded query, so a box is pruned, or an
 /// instance's search bounded, only beyond the best distance by this much.
-pub(super) const ACROSS_FRAMES: f32 = 1e-5;
+const ACROSS_FRAMES: f32 = 1e-5;
 
 /// The closest point of a scene to a query.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -41,89 +41,53 @@ pub struct SceneSignedDistance {
     pub closest: SceneHit,
 }
 
-/// The top-level walk for the closest point: boxes by distance, each
-/// instance's tree asked within the best distance so far.
-struct Closest<'a> {
-    scene: &'a Scene,
+/// The one top-level walk of the point queries (closest, inside, k
+/// nearest): instance boxes by squared distance from the query, nearer
+/// first, pruned beyond `bound_squared`. `visit` answers for one instance
+/// (by index) and gives the new bound, or breaks the walk.
+struct NearBoxes<'a, F> {
     indices: &'a [u32],
-    p: Vec3,
-    p_a: Vec3A,
-    best: Option<SceneHit>,
+    p: Vec3A,
     bound_squared: f32,
+    visit: F,
 }
 
-impl BinaryQuery<AabbNode> for Closest<'_> {
+impl<F: FnMut(u32) -> ControlFlow<(), f32>> BinaryQuery<AabbNode> for NearBoxes<'_, F> {
     const TOUCH_GRANDCHILDREN: bool = false;
     #[inline]
     fn key(&self, node: &AabbNode) -> f32 {
-        node.distance_squared(self.p_a)
+        node.distance_squared(self.p)
     }
     fn bound(&self) -> f32 {
         self.bound_squared
     }
     fn leaf(&mut self, range: Range<usize>) -> ControlFlow<()> {
         for slot in range {
-            let index = self.indices[slot];
-            let instance = &self.scene.instances[index as usize];
-            let tree = instance.mesh.tree::<Triangle>().expect("a scene's meshes have faces");
-            let max = self.best.map_or(f32::INFINITY, |b| b.distance * (1.0 + ACROSS_FRAMES));
-            let Some(hit) = tree.closest_within(instance.to_local(self.p), max) else {
-                continue;
-            };
-            let better = self
-                .best
-                .is_none_or(|b| (hit.distance, index) < (b.distance, b.instance));
-            if better {
-                self.best = Some(SceneHit {
-                    instance: index,
-                    face: hit.source,
-                    triangle: hit.primitive,
-                    point: instance.pose.apply(hit.point),
-                    distance: hit.distance,
-                });
-                let bound = hit.distance * (1.0 + ACROSS_FRAMES);
-                self.bound_squared = bound * bound;
-            }
+            self.bound_squared = (self.visit)(self.indices[slot])?;
         }
         ControlFlow::Continue(())
     }
 }
 
-/// The top-level walk for the side: every instance whose box holds the
-/// query, until one holds it inside.
-struct Inside<'a> {
-    scene: &'a Scene,
-    indices: &'a [u32],
-    p: Vec3,
-    p_a: Vec3A,
-    sign: Sign,
-    inside: bool,
+/// The squared bound that admits instances up to `distance` away, with
+/// the slack of comparisons across frames.
+pub(super) fn bound_squared(distance: f32) -> f32 {
+    let bound = distance * (1.0 + ACROSS_FRAMES);
+    bound * bound
 }
 
-impl BinaryQuery<AabbNode> for Inside<'_> {
-    const TOUCH_GRANDCHILDREN: bool = false;
-    #[inline]
-    fn key(&self, node: &AabbNode) -> f32 {
-        node.distance_squared(self.p_a)
-    }
-    fn bound(&self) -> f32 {
-        0.0
-    }
-    fn leaf(&mut self, range: Range<usize>) -> ControlFlow<()> {
-        for slot in range {
-            let instance = &self.scene.instances[self.indices[slot] as usize];
-            let field = instance.mesh.field(self.sign).expect("a scene's meshes have faces");
-            let local = instance.to_local(self.p);
-            let inside = match self.sign {
-                Sign::WindingNumber => field.contains(local),
-                Sign::Pseudonormal => field.signed_distance(local).is_some_and(|s| s.is_inside()),
-            };
-            if inside {
-                self.inside = true;
-                return ControlFlow::Break(());
-            }
-        }
-        ControlFlow::Continue(())
+impl Scene {
+    /// Walks the instances whose boxes lie within `bound_squared` of `p`
+    /// (finite), nearest box first, with `visit` (see [`NearBoxes`]).
+    pub(super) fn walk_near(&self, p: Vec3, bound_squared: f32, visit: impl FnMut(u32) -> ControlFlow<(), f32>) {
+        let Some(top) = self.top.as_ref() else { return };
+        let mut query = NearBoxes {
+            indices: top.leaves().indices(),
+            p: p.into(),
+            bound_squared,
+            visit,
+        };
+        walk::<AabbNode, _, _>(top.pairs(), top.depth(), &mut query, &mut ());
     }
 }
 
@@ -133,20 +97,28 @@ impl Scene {
     /// to the lower instance index; within an instance, as its tree's
     /// [`closest`](crate::query::NearestQuery::closest).
     pub fn closest(&self, p: Vec3) -> Option<SceneHit> {
-        let top = self.top.as_ref()?;
         if !p.is_finite() {
             return None;
         }
-        let mut query = Closest {
-            scene: self,
-            indices: top.leaves().indices(),
-            p,
-            p_a: p.into(),
-            best: None,
-            bound_squared: f32::INFINITY,
-        };
-        walk::<AabbNode, _, _>(top.pairs(), top.depth(), &mut query, &mut ());
-        query.best
+        let mut best: Option<SceneHit> = None;
+        self.walk_near(p, f32::INFINITY, |index| {
+            let instance = &self.instances[index as usize];
+            let tree = instance.mesh.tree::<Triangle>().expect("a scene's meshes have faces");
+            let max = best.map_or(f32::INFINITY, |b| b.distance * (1.0 + ACROSS_FRAMES));
+            if let Some(hit) = tree.closest_within(instance.to_local(p), max)
+                && best.is_none_or(|b| (hit.distance, index) < (b.distance, b.instance))
+            {
+                best = Some(SceneHit {
+                    instance: index,
+                    face: hit.source,
+                    triangle: hit.primitive,
+                    point: instance.pose.apply(hit.point),
+                    distance: hit.distance,
+                });
+            }
+            ControlFlow::Continue(best.map_or(f32::INFINITY, |b| bound_squared(b.distance)))
+        });
+        best
     }
 
     /// [`closest`](Self::closest) of every point, on all cores, in input order.
@@ -157,20 +129,26 @@ impl Scene {
     /// Whether `p` is inside some instance, each instance signed by `sign`
     /// (its winding number above ½, or its closest feature's pseudonormal).
     pub fn contains(&self, p: Vec3, sign: Sign) -> bool {
-        let Some(top) = self.top.as_ref() else { return false };
         if !p.is_finite() {
             return false;
         }
-        let mut query = Inside {
-            scene: self,
-            indices: top.leaves().indices(),
-            p,
-            p_a: p.into(),
-            sign,
-            inside: false,
-        };
-        walk::<AabbNode, _, _>(top.pairs(), top.depth(), &mut query, &mut ());
-        query.inside
+        // Only boxes that hold `p` (at distance 0), until one instance does.
+        let mut inside = false;
+        self.walk_near(p, 0.0, |index| {
+            let instance = &self.instances[index as usize];
+            let field = instance.mesh.field(sign).expect("a scene's meshes have faces");
+            let local = instance.to_local(p);
+            inside = match sign {
+                Sign::WindingNumber => field.contains(local),
+                Sign::Pseudonormal => field.signed_distance(local).is_some_and(|s| s.is_inside()),
+            };
+            if inside {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(0.0)
+            }
+        });
+        inside
     }
 
     /// The signed distance of the scene at `p`: the distance to the

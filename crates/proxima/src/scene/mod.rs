@@ -37,7 +37,6 @@ mod error;
 mod nearest;
 mod ray;
 
-use closest::ACROSS_FRAMES;
 pub use closest::{SceneHit, SceneSignedDistance};
 pub use error::SceneError;
 pub use ray::SceneRayHit;
