@@ -38,6 +38,15 @@ pub enum PairError {
         /// What was given.
         value: f64,
     },
+    /// A Hausdorff tolerance that is not positive, or finer than the
+    /// meshes' `f32` coordinates can resolve.
+    #[error("tolerance = {value}: must be positive and at least {minimum:e} (1e-7 of the meshes' size)")]
+    BadTolerance {
+        /// What was given.
+        value: f64,
+        /// The smallest accepted for these meshes.
+        minimum: f64,
+    },
     /// The answers of a batch would not fit in the memory budget.
     #[error(transparent)]
     Budget(#[from] BudgetError),

@@ -40,6 +40,7 @@ mod collide;
 pub(crate) mod descent;
 mod distance;
 mod error;
+mod hausdorff;
 pub mod pose;
 mod queue;
 mod self_intersection;
@@ -50,6 +51,9 @@ pub use crate::primitive::closest_f64::{point_triangle_closest, segment_segment_
 pub use collide::{intersecting_pairs, intersects, intersects_batch, pairs_within};
 pub use distance::{PairDistance, distance, distance_batch, distance_below, distance_below_batch};
 pub use error::{MAX_TRANSLATION, PairError};
+pub use hausdorff::{
+    DirectedHausdorff, MAX_DEPTH as HAUSDORFF_MAX_DEPTH, MeshHausdorff, directed_hausdorff, hausdorff,
+};
 pub use pose::{PoseError, RigidPose};
 pub use self_intersection::self_intersections;
 pub use triangle_distance::{TrianglePairDistance, separated_triangle_distance, triangle_distance};

@@ -37,7 +37,7 @@ mod oriented;
 mod primitive;
 mod ray;
 mod refit;
-mod walk;
+pub(crate) mod walk;
 
 pub use oriented::{OrientedBounds, OrientedBox};
 pub use primitive::WidePrimitive;
