@@ -112,6 +112,8 @@
 //! parsed with `str::parse::<f32>` (correctly rounded, so a double written in
 //! the file becomes the nearest `f32`). Timings: `docs/perf-log.md`.
 
+#[cfg(feature = "draco")]
+mod draco;
 mod error;
 mod glb;
 mod load_budget;
