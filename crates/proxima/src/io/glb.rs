@@ -21,8 +21,21 @@
 //! that shows it adds its own vertices (nothing is welded), so an instanced
 //! mesh appears once per node, in place.
 //!
-//! Refused, each with a message naming the JSON element: compressed geometry
-//! (`KHR_draco_mesh_compression`, `EXT_meshopt_compression`), sparse
+//! A triangle primitive compressed with `KHR_draco_mesh_compression` (with
+//! the `draco` feature, on by default) is decoded from its buffer view by
+//! `io/draco.rs`: its accessors hold only counts and types, which the
+//! decoded stream must meet exactly, and its `POSITION`, `NORMAL` and
+//! `TEXCOORD_0` are those the extension maps to Draco attribute ids; from
+//! then on it is read as any primitive (node transforms, normals turned). It
+//! may decode to at most the attribute bytes the memory budget leaves once
+//! the whole mesh is counted. It is decoded again for each node that shows
+//! it. Refused, naming the primitive: a stream that does not decode (`…:
+//! Draco data: <why>`), other counts than its accessors', an attribute
+//! stored uncompressed beside the stream, no `indices`, a mode other than 4;
+//! without the feature, every such primitive.
+//!
+//! Refused, each with a message naming the JSON element: meshopt-compressed
+//! geometry (`EXT_meshopt_compression`), sparse
 //! accessors, buffers outside the file (a `uri`), a node hierarchy that is not
 //! a tree (a cycle is found whether a scene names the roots or not), offsets
 //! or sizes past their buffer, and indices past the vertices. Scenes whose
