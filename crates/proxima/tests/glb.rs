@@ -435,8 +435,8 @@ fn malformed_files_are_typed_errors_naming_the_element() {
         (
             Syntax,
             &["extensionsRequired"],
-            json!(["KHR_draco_mesh_compression"]),
-            &["KHR_draco_mesh_compression"],
+            json!(["EXT_meshopt_compression"]),
+            &["EXT_meshopt_compression"],
         ),
     ];
     for (expect, path, value, words) in edits {

@@ -21,8 +21,21 @@
 //! that shows it adds its own vertices (nothing is welded), so an instanced
 //! mesh appears once per node, in place.
 //!
-//! Refused, each with a message naming the JSON element: compressed geometry
-//! (`KHR_draco_mesh_compression`, `EXT_meshopt_compression`), sparse
+//! A triangle primitive compressed with `KHR_draco_mesh_compression` (with
+//! the `draco` feature, on by default) is decoded from its buffer view by
+//! `io/draco.rs`: its accessors hold only counts and types, which the
+//! decoded stream must meet exactly, and its `POSITION`, `NORMAL` and
+//! `TEXCOORD_0` are those the extension maps to Draco attribute ids; from
+//! then on it is read as any primitive (node transforms, normals turned). It
+//! may decode to at most the attribute bytes the memory budget leaves once
+//! the whole mesh is counted. It is decoded again for each node that shows
+//! it. Refused, naming the primitive: a stream that does not decode (`…:
+//! Draco data: <why>`), other counts than its accessors', an attribute
+//! stored uncompressed beside the stream, no `indices`, a mode other than 4;
+//! without the feature, every such primitive.
+//!
+//! Refused, each with a message naming the JSON element: meshopt-compressed
+//! geometry (`EXT_meshopt_compression`), sparse
 //! accessors, buffers outside the file (a `uri`), a node hierarchy that is not
 //! a tree (a cycle is found whether a scene names the roots or not), offsets
 //! or sizes past their buffer, and indices past the vertices. Scenes whose
@@ -40,6 +53,7 @@ use crate::mesh::Mesh;
 use glam::{DMat4, DQuat, DVec3};
 use serde::de::{DeserializeSeed, Deserializer, IgnoredAny, MapAccess, SeqAccess, Visitor};
 use serde_json::Value;
+use std::borrow::Cow;
 use std::cell::Cell;
 use std::collections::HashMap;
 use std::path::Path;
@@ -109,9 +123,14 @@ pub(super) fn parse(bytes: &[u8], path: &Path, budget: Budget) -> Result<Mesh, L
     document.check_extensions()?;
     let instances = document.instances()?;
     let [vertices, triangles] = document.check_instances(&instances, [held, json_bytes], budget)?;
+    // What the budget leaves once the file and the whole mesh are counted:
+    // the most a Draco stream may decode to, held only while its primitive
+    // is copied.
+    let need = Budget::need(held + json_bytes, vertices, triangles);
+    let spare = u64::try_from(u128::from(budget.bytes).saturating_sub(need)).unwrap_or(u64::MAX);
     let mut out = Output::with_capacity(vertices, triangles, path)?;
     for (mesh, transform) in instances {
-        document.add_mesh(mesh, &transform, &mut out)?;
+        document.add_mesh(mesh, &transform, spare, &mut out)?;
     }
     let Output {
         positions,
@@ -448,9 +467,10 @@ impl Component {
 }
 
 /// An accessor resolved to checked bytes: element `i` starts at
-/// `data[i * stride]` and holds `components` values of `component`.
+/// `data[i * stride]` and holds `components` values of `component`. The
+/// bytes are the file's, or those of a decoded Draco stream.
 struct Elements<'a> {
-    data: &'a [u8],
+    data: Cow<'a, [u8]>,
     stride: usize,
     count: usize,
     components: usize,
@@ -458,7 +478,44 @@ struct Elements<'a> {
     normalized: bool,
 }
 
+/// What a primitive's triangles are made from, in accessors or decoded:
+/// `indices` with the accessor that names them in messages.
+struct Geometry<'a> {
+    positions: Elements<'a>,
+    normals: Option<Elements<'a>>,
+    uvs: Option<Elements<'a>>,
+    indices: Option<(u64, Elements<'a>)>,
+}
+
 impl Elements<'_> {
+    /// Decoded f32 values, `components` to an element.
+    #[cfg(feature = "draco")]
+    fn floats(values: &[f32], components: usize) -> Elements<'static> {
+        let data: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
+        Elements {
+            data: Cow::Owned(data),
+            stride: 4 * components,
+            count: values.len() / components,
+            components,
+            component: Component::F32,
+            normalized: false,
+        }
+    }
+
+    /// Decoded indices, one to an element.
+    #[cfg(feature = "draco")]
+    fn indices(values: &[u32]) -> Elements<'static> {
+        let data: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
+        Elements {
+            data: Cow::Owned(data),
+            stride: 4,
+            count: values.len(),
+            components: 1,
+            component: Component::U32,
+            normalized: false,
+        }
+    }
+
     fn get(&self, i: usize, c: usize) -> f64 {
         let at = i * self.stride + c * self.component.size();
         self.component.read(&self.data[at..], self.normalized)
@@ -514,9 +571,15 @@ impl<'a> Document<'a> {
     fn check_extensions(&self) -> Result<(), LoadError> {
         for extension in self.array(self.root, "extensionsRequired", "the document")? {
             let name = extension.as_str().unwrap_or("");
-            if name == "KHR_draco_mesh_compression" || name == "EXT_meshopt_compression" {
+            if name == "EXT_meshopt_compression" {
                 return Err(self.error(format!(
                     "geometry compressed with {name} is not read; decompress it first (for example `gltf-transform copy`)"
+                )));
+            }
+            if name == "KHR_draco_mesh_compression" && !cfg!(feature = "draco") {
+                return Err(self.error(format!(
+                    "geometry compressed with {name} is not read by this build (proxima's `draco` feature is off); \
+                     decompress it first (for example `gltf-transform copy`)"
                 )));
             }
         }
@@ -740,7 +803,7 @@ impl<'a> Document<'a> {
         Ok(counts)
     }
 
-    fn add_mesh(&self, mesh: u64, transform: &DMat4, out: &mut Output) -> Result<(), LoadError> {
+    fn add_mesh(&self, mesh: u64, transform: &DMat4, spare: u64, out: &mut Output) -> Result<(), LoadError> {
         let value = self.item("meshes", mesh, "a node")?;
         let at = format!("meshes[{mesh}]");
         for (p, primitive) in self.array(value, "primitives", &at)?.iter().enumerate() {
@@ -752,55 +815,42 @@ impl<'a> Document<'a> {
             if mode > 6 {
                 return Err(self.error(format!("{at}.mode is {mode}, not a glTF primitive mode")));
             }
-            if primitive
+            let draco = primitive
                 .get("extensions")
-                .is_some_and(|e| e.get("KHR_draco_mesh_compression").is_some())
-            {
-                return Err(self.error(format!(
-                    "{at} is compressed with KHR_draco_mesh_compression, which is not read; decompress it first"
-                )));
-            }
-            let attributes = primitive.get("attributes").unwrap_or(&Value::Null);
-            let position = self
-                .integer(attributes, "POSITION", &format!("{at}.attributes"))?
-                .ok_or_else(|| self.error(format!("{at} has no POSITION attribute")))?;
-            let positions = self.elements(position, &format!("{at}.attributes.POSITION"))?;
-            if positions.components != 3 {
-                return Err(self.error(format!("accessors[{position}] (POSITION of {at}) is not a VEC3")));
-            }
+                .and_then(|e| e.get("KHR_draco_mesh_compression"));
+            let geometry = match draco {
+                Some(extension) => self.draco_geometry(primitive, extension, mode, &at, spare)?,
+                None => self.accessor_geometry(primitive, &at)?,
+            };
+            let Geometry {
+                positions,
+                normals,
+                uvs,
+                indices,
+            } = geometry;
             // Within u32 and the budget: check_instances counted these very
-            // accessors, and reserved their room.
+            // accessors (a Draco primitive's decoded counts were checked
+            // equal to them), and reserved their room.
             let first = out.positions.len() as u32;
             let vertices = positions.count as u64;
             for i in 0..positions.count {
                 let p = DVec3::new(positions.get(i, 0), positions.get(i, 1), positions.get(i, 2));
                 out.positions.push(transform.transform_point3(p).as_vec3());
             }
-            self.add_vertex_attributes(attributes, &at, positions.count, transform, out)?;
-            let indices = match self.integer(primitive, "indices", &at)? {
-                None => None,
-                Some(indices) => {
-                    let elements = self.elements(indices, &format!("{at}.indices"))?;
-                    if elements.components != 1
-                        || !matches!(elements.component, Component::U8 | Component::U16 | Component::U32)
-                    {
+            self.add_vertex_attributes(normals, uvs, &at, positions.count, transform, out)?;
+            if let Some((index, elements)) = &indices {
+                // Every index checked first, in order, so that the first
+                // bad one is named whatever the mode.
+                for i in 0..elements.count {
+                    let v = elements.get(i, 0) as u64;
+                    if v >= vertices {
                         return Err(self.error(format!(
-                            "accessors[{indices}] (indices of {at}) is not a SCALAR of unsigned bytes, shorts or ints"
+                            "accessors[{index}] (indices of {at}): index {i} is {v}, but the primitive has {vertices} vertices"
                         )));
                     }
-                    // Every index checked first, in order, so that the first
-                    // bad one is named whatever the mode.
-                    for i in 0..elements.count {
-                        let v = elements.get(i, 0) as u64;
-                        if v >= vertices {
-                            return Err(self.error(format!(
-                                "accessors[{indices}] (indices of {at}): index {i} is {v}, but the primitive has {vertices} vertices"
-                            )));
-                        }
-                    }
-                    Some(elements)
                 }
-            };
+            }
+            let indices = indices.map(|(_, elements)| elements);
             let corners = indices.as_ref().map_or(positions.count, |e| e.count);
             // Read again where used, rather than gathered: no list of corners is held.
             let corner = |i: usize| first + indices.as_ref().map_or(i as u32, |e| e.get(i, 0) as u32);
@@ -833,19 +883,19 @@ impl<'a> Document<'a> {
         Ok(())
     }
 
-    /// The `NORMAL` and `TEXCOORD_0` of a primitive's `vertices` vertices,
-    /// added to `out` while every primitive has had them (the first without
-    /// drops that kind). Normals are turned by the inverse transpose of the
-    /// node's transform and normalized; values that are not finite, or an
-    /// accessor of another type or count, are refused naming it.
-    fn add_vertex_attributes(
-        &self,
-        attributes: &Value,
-        at: &str,
-        vertices: usize,
-        transform: &DMat4,
-        out: &mut Output,
-    ) -> Result<(), LoadError> {
+    /// The geometry of a primitive stored in accessors: `POSITION` (a VEC3),
+    /// `NORMAL` and `TEXCOORD_0` of as many elements, and `indices` (a
+    /// SCALAR of unsigned integers).
+    fn accessor_geometry(&self, primitive: &Value, at: &str) -> Result<Geometry<'a>, LoadError> {
+        let attributes = primitive.get("attributes").unwrap_or(&Value::Null);
+        let position = self
+            .integer(attributes, "POSITION", &format!("{at}.attributes"))?
+            .ok_or_else(|| self.error(format!("{at} has no POSITION attribute")))?;
+        let positions = self.elements(position, &format!("{at}.attributes.POSITION"))?;
+        if positions.components != 3 {
+            return Err(self.error(format!("accessors[{position}] (POSITION of {at}) is not a VEC3")));
+        }
+        let vertices = positions.count;
         let read = |name: &str, components: usize| -> Result<Option<Elements<'a>>, LoadError> {
             let Some(index) = self.integer(attributes, name, &format!("{at}.attributes"))? else {
                 return Ok(None);
@@ -860,6 +910,151 @@ impl<'a> Document<'a> {
         };
         let normals = read("NORMAL", 3)?;
         let uvs = read("TEXCOORD_0", 2)?;
+        let indices = match self.integer(primitive, "indices", at)? {
+            None => None,
+            Some(indices) => {
+                let elements = self.elements(indices, &format!("{at}.indices"))?;
+                if elements.components != 1
+                    || !matches!(elements.component, Component::U8 | Component::U16 | Component::U32)
+                {
+                    return Err(self.error(format!(
+                        "accessors[{indices}] (indices of {at}) is not a SCALAR of unsigned bytes, shorts or ints"
+                    )));
+                }
+                Some((indices, elements))
+            }
+        };
+        Ok(Geometry {
+            positions,
+            normals,
+            uvs,
+            indices,
+        })
+    }
+
+    /// The geometry of a primitive compressed with
+    /// `KHR_draco_mesh_compression` (the `extension` object), decoded by
+    /// [`super::draco`] from its buffer view with at most `spare` bytes of
+    /// attributes. Its accessors hold no data, only the counts and types the
+    /// decoded stream must have; the attributes read must all be in the stream.
+    #[cfg(feature = "draco")]
+    fn draco_geometry(
+        &self,
+        primitive: &Value,
+        extension: &Value,
+        mode: u64,
+        at: &str,
+        spare: u64,
+    ) -> Result<Geometry<'a>, LoadError> {
+        use super::draco::{AttributeIds, Limits, decode};
+        let ext_at = format!("{at}.extensions.KHR_draco_mesh_compression");
+        if mode != 4 {
+            return Err(self.error(format!(
+                "{at}.mode is {mode}: a primitive compressed with KHR_draco_mesh_compression is read as triangles (mode 4) only"
+            )));
+        }
+        let attributes = primitive.get("attributes").unwrap_or(&Value::Null);
+        let ids = extension.get("attributes").unwrap_or(&Value::Null);
+        // The accessor of attribute `name` (its count and components checked)
+        // and the Draco id the extension gives it; `None` when the primitive
+        // has no such attribute.
+        let attribute = |name: &str, components: usize| -> Result<Option<(u64, u32)>, LoadError> {
+            let Some(index) = self.integer(attributes, name, &format!("{at}.attributes"))? else {
+                return Ok(None);
+            };
+            let (count, found) = self.accessor_shape(index, &format!("{at}.attributes.{name}"))?;
+            if found != components {
+                return Err(self.error(format!(
+                    "accessors[{index}] ({name} of {at}) does not have {components} components"
+                )));
+            }
+            let id = self
+                .integer(ids, name, &format!("{ext_at}.attributes"))?
+                .ok_or_else(|| {
+                    self.error(format!(
+                        "{at}.attributes.{name} is not in the Draco stream ({ext_at}.attributes has no {name}): \
+                         uncompressed attributes beside a Draco stream are not read"
+                    ))
+                })?;
+            let id = u32::try_from(id)
+                .map_err(|_| self.error(format!("{ext_at}.attributes.{name} is {id}, not a Draco attribute id")))?;
+            Ok(Some((count, id)))
+        };
+        let (points, position) =
+            attribute("POSITION", 3)?.ok_or_else(|| self.error(format!("{at} has no POSITION attribute")))?;
+        let normal = attribute("NORMAL", 3)?;
+        let uv = attribute("TEXCOORD_0", 2)?;
+        for (name, found) in [("NORMAL", &normal), ("TEXCOORD_0", &uv)] {
+            if let Some((count, _)) = found.filter(|&(count, _)| count != points) {
+                return Err(self.error(format!(
+                    "{at}.attributes.{name} states {count} elements, POSITION {points}"
+                )));
+            }
+        }
+        let index = self.integer(primitive, "indices", at)?.ok_or_else(|| {
+            self.error(format!(
+                "{at} is compressed with KHR_draco_mesh_compression but has no indices"
+            ))
+        })?;
+        let (corners, components) = self.accessor_shape(index, &format!("{at}.indices"))?;
+        if components != 1 || !corners.is_multiple_of(3) {
+            return Err(self.error(format!(
+                "accessors[{index}] (indices of {at}) is not a SCALAR of whole triangles"
+            )));
+        }
+        let view = self
+            .integer(extension, "bufferView", &ext_at)?
+            .ok_or_else(|| self.error(format!("{ext_at} has no bufferView")))?;
+        let (_, stream) = self.view(view, &ext_at)?;
+        let ids = AttributeIds {
+            position,
+            normal: normal.map(|(_, id)| id),
+            uv: uv.map(|(_, id)| id),
+        };
+        let limits = Limits {
+            points,
+            faces: corners / 3,
+            bytes: spare,
+        };
+        let decoded = decode(stream, &ids, &limits).map_err(|why| self.error(format!("{at}: Draco data: {why}")))?;
+        if decoded.points as u64 != points || decoded.corners.len() as u64 != corners {
+            return Err(self.error(format!(
+                "{at}: the Draco stream decodes {} points and {} indices, but its accessors state {points} and {corners}",
+                decoded.points,
+                decoded.corners.len()
+            )));
+        }
+        Ok(Geometry {
+            positions: Elements::floats(&decoded.positions, 3),
+            normals: decoded.normals.map(|n| Elements::floats(&n, 3)),
+            uvs: decoded.uvs.map(|t| Elements::floats(&t, 2)),
+            indices: Some((index, Elements::indices(&decoded.corners))),
+        })
+    }
+
+    /// Without the `draco` feature, a compressed primitive is refused.
+    #[cfg(not(feature = "draco"))]
+    fn draco_geometry(&self, _: &Value, _: &Value, _: u64, at: &str, _: u64) -> Result<Geometry<'a>, LoadError> {
+        Err(self.error(format!(
+            "{at} is compressed with KHR_draco_mesh_compression, which this build does not read (proxima's `draco` \
+             feature is off); decompress it first"
+        )))
+    }
+
+    /// The `NORMAL` and `TEXCOORD_0` of a primitive's `vertices` vertices,
+    /// added to `out` while every primitive has had them (the first without
+    /// drops that kind). Normals are turned by the inverse transpose of the
+    /// node's transform and normalized; values that are not finite are
+    /// refused naming the primitive.
+    fn add_vertex_attributes(
+        &self,
+        normals: Option<Elements<'_>>,
+        uvs: Option<Elements<'_>>,
+        at: &str,
+        vertices: usize,
+        transform: &DMat4,
+        out: &mut Output,
+    ) -> Result<(), LoadError> {
         let not_finite = |name: &str, i: usize| self.error(format!("{at}: {name} of vertex {i} is not finite"));
         match (normals, &mut out.normals) {
             (Some(normals), Some(list)) => {
@@ -891,46 +1086,34 @@ impl<'a> Document<'a> {
         Ok(())
     }
 
-    /// Accessor `index`, checked to lie inside its buffer view and buffer.
-    fn elements(&self, index: u64, from: &str) -> Result<Elements<'a>, LoadError> {
-        let accessor = self.item("accessors", index, from)?;
-        let at = format!("accessors[{index}]");
-        if accessor.get("sparse").is_some() {
-            return Err(self.error(format!("{at} ({from}) is sparse, which is not read")));
-        }
-        let code = self.integer(accessor, "componentType", &at)?.unwrap_or(0);
-        let component = Component::from_code(code)
-            .ok_or_else(|| self.error(format!("{at}.componentType is {code}, not a glTF component type")))?;
-        let components = match accessor.get("type").and_then(Value::as_str) {
+    /// The components of an accessor's elements, from its `type`.
+    fn components(&self, accessor: &Value, at: &str) -> Result<usize, LoadError> {
+        Ok(match accessor.get("type").and_then(Value::as_str) {
             Some("SCALAR") => 1,
             Some("VEC2") => 2,
             Some("VEC3") => 3,
-            Some("VEC4") => 4,
-            Some("MAT2") => 4,
+            Some("VEC4") | Some("MAT2") => 4,
             Some("MAT3") => 9,
             Some("MAT4") => 16,
             other => return Err(self.error(format!("{at}.type is {other:?}, not a glTF accessor type"))),
-        };
-        let count = self.integer(accessor, "count", &at)?.unwrap_or(0);
-        let normalized = accessor.get("normalized").and_then(Value::as_bool).unwrap_or(false);
-        let element = (components * component.size()) as u64;
-        if count == 0 {
-            return Ok(Elements {
-                data: &[],
-                stride: 0,
-                count: 0,
-                components,
-                component,
-                normalized,
-            });
-        }
-        let view_index = self.integer(accessor, "bufferView", &at)?.ok_or_else(|| {
-            self.error(format!(
-                "{at} has no bufferView (an all-zero accessor), which is not read"
-            ))
-        })?;
-        let view = self.item("bufferViews", view_index, &at)?;
-        let view_at = format!("bufferViews[{view_index}]");
+        })
+    }
+
+    /// The `count` and components of accessor `index`, which may hold no
+    /// data (those of a Draco-compressed primitive).
+    #[cfg_attr(not(feature = "draco"), allow(dead_code))]
+    fn accessor_shape(&self, index: u64, from: &str) -> Result<(u64, usize), LoadError> {
+        let accessor = self.item("accessors", index, from)?;
+        let at = format!("accessors[{index}]");
+        let components = self.components(accessor, &at)?;
+        Ok((self.integer(accessor, "count", &at)?.unwrap_or(0), components))
+    }
+
+    /// Buffer view `index` and its bytes, checked to lie inside the binary
+    /// chunk (the one buffer a GLB file holds).
+    fn view(&self, index: u64, from: &str) -> Result<(&'a Value, &'a [u8]), LoadError> {
+        let view = self.item("bufferViews", index, from)?;
+        let view_at = format!("bufferViews[{index}]");
         let buffer = self.integer(view, "buffer", &view_at)?.unwrap_or(0);
         let buffer_value = self.item("buffers", buffer, &view_at)?;
         if buffer_value.get("uri").is_some() {
@@ -959,6 +1142,41 @@ impl<'a> Document<'a> {
                 ),
             ));
         };
+        Ok((view, &self.bin[view_offset as usize..view_end as usize]))
+    }
+
+    /// Accessor `index`, checked to lie inside its buffer view and buffer.
+    fn elements(&self, index: u64, from: &str) -> Result<Elements<'a>, LoadError> {
+        let accessor = self.item("accessors", index, from)?;
+        let at = format!("accessors[{index}]");
+        if accessor.get("sparse").is_some() {
+            return Err(self.error(format!("{at} ({from}) is sparse, which is not read")));
+        }
+        let code = self.integer(accessor, "componentType", &at)?.unwrap_or(0);
+        let component = Component::from_code(code)
+            .ok_or_else(|| self.error(format!("{at}.componentType is {code}, not a glTF component type")))?;
+        let components = self.components(accessor, &at)?;
+        let count = self.integer(accessor, "count", &at)?.unwrap_or(0);
+        let normalized = accessor.get("normalized").and_then(Value::as_bool).unwrap_or(false);
+        let element = (components * component.size()) as u64;
+        if count == 0 {
+            return Ok(Elements {
+                data: Cow::Borrowed(&[]),
+                stride: 0,
+                count: 0,
+                components,
+                component,
+                normalized,
+            });
+        }
+        let view_index = self.integer(accessor, "bufferView", &at)?.ok_or_else(|| {
+            self.error(format!(
+                "{at} has no bufferView (an all-zero accessor), which is not read"
+            ))
+        })?;
+        let (view, bytes) = self.view(view_index, &at)?;
+        let view_at = format!("bufferViews[{view_index}]");
+        let view_length = bytes.len() as u64;
         let stride = self.integer(view, "byteStride", &view_at)?.unwrap_or(element);
         if stride < element {
             return Err(self.error(format!(
@@ -981,9 +1199,9 @@ impl<'a> Document<'a> {
                 ),
             ));
         }
-        let data = &self.bin[(view_offset + offset) as usize..view_end as usize];
+        let data = &bytes[offset as usize..];
         Ok(Elements {
-            data,
+            data: Cow::Borrowed(data),
             stride: stride as usize,
             count: count as usize,
             components,

@@ -50,8 +50,10 @@
 //! - **GLB** (binary glTF 2.0): the triangles of the default scene, each node's
 //!   transform applied, every primitive of every node adding its own vertices
 //!   (an instanced mesh appears once per node); points and lines skipped.
-//!   Compressed geometry (Draco, meshopt), sparse accessors and external
-//!   buffers are refused with a message naming the element. The container and
+//!   Primitives compressed with `KHR_draco_mesh_compression` are decoded
+//!   (the `draco` feature, on by default). Meshopt-compressed geometry,
+//!   sparse accessors and external buffers are refused with a message naming
+//!   the element. The container and
 //!   the accessors are read with every offset checked; the JSON chunk is
 //!   parsed by serde_json, keeping only the members the reader uses. Details
 //!   in the `glb` module.
@@ -112,6 +114,8 @@
 //! parsed with `str::parse::<f32>` (correctly rounded, so a double written in
 //! the file becomes the nearest `f32`). Timings: `docs/perf-log.md`.
 
+#[cfg(feature = "draco")]
+mod draco;
 mod error;
 mod glb;
 mod load_budget;
