@@ -119,6 +119,7 @@ mod draco;
 mod error;
 mod glb;
 mod load_budget;
+mod npy;
 mod obj;
 mod off;
 mod ply;
@@ -128,6 +129,7 @@ mod stl;
 mod text;
 
 pub use error::{LoadError, LoadErrorKind};
+pub use npy::parse_npy_points;
 pub use points::{load_points, load_rays, parse_points, parse_rays};
 
 use crate::mesh::Mesh;

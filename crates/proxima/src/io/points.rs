@@ -11,25 +11,38 @@ use std::path::Path;
 
 /// Reads a points file within the limits of `options` (as
 /// [`load_with`](super::load_with) reads a mesh: streamed, bounded in size
-/// and line length), then [`parse_points`] it.
+/// and line length), then [`parse_points`] it; a `.npy` file (by its
+/// extension) is read whole within the same size limits and
+/// [`parse_npy_points`](super::parse_npy_points) it.
 pub fn load_points(path: impl AsRef<Path>, options: &LoadOptions) -> Result<Vec<Vec3>, LoadError> {
     let path = path.as_ref();
-    parse_lines(&read_text(path, options)?, path, parse_point)
+    let npy = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("npy"));
+    if npy {
+        return super::parse_npy_points(&read_bytes(path, options, TextGuard::binary())?, path);
+    }
+    parse_lines(
+        &read_bytes(path, options, TextGuard::text(options.max_line_bytes))?,
+        path,
+        parse_point,
+    )
 }
 
 /// Reads a rays file within the limits of `options`, then [`parse_rays`] it.
 pub fn load_rays(path: impl AsRef<Path>, options: &LoadOptions) -> Result<Vec<(Vec3, Vec3)>, LoadError> {
     let path = path.as_ref();
-    parse_lines(&read_text(path, options)?, path, parse_ray)
+    parse_lines(
+        &read_bytes(path, options, TextGuard::text(options.max_line_bytes))?,
+        path,
+        parse_ray,
+    )
 }
 
-/// The bytes of a text file, streamed and bounded in size and line length
-/// by `options`.
-fn read_text(path: &Path, options: &LoadOptions) -> Result<Vec<u8>, LoadError> {
+/// The bytes of a file, streamed and bounded in size by `options`, and
+/// checked as they come by `guard` (line length, for text).
+fn read_bytes(path: &Path, options: &LoadOptions, mut guard: TextGuard) -> Result<Vec<u8>, LoadError> {
     let file = std::fs::File::open(path).map_err(|e| LoadError::new(path, None, e))?;
     let metadata = file.metadata().map_err(|e| LoadError::new(path, None, e))?;
     let size = metadata.is_file().then_some(metadata.len());
-    let mut guard = TextGuard::text(options.max_line_bytes);
     let budget = super::read::Budget {
         bytes: options.memory_budget,
     };

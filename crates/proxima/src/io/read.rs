@@ -84,6 +84,11 @@ impl TextGuard {
         Self::with_mode(mode, count, max_line_bytes)
     }
 
+    /// A guard for a binary file that is not a mesh (`.npy` points).
+    pub(super) fn binary() -> Self {
+        Self::with_mode(Mode::Binary, Count::Nothing, usize::MAX)
+    }
+
     /// A guard for a text format that is not a mesh (points files).
     pub(super) fn text(max_line_bytes: usize) -> Self {
         Self::with_mode(Mode::Text, Count::Nothing, max_line_bytes)
