@@ -55,6 +55,8 @@ enum Command {
     Distance(commands::distance::Args),
     /// Whether two meshes placed by rigid poses meet, or which of their faces meet (`--pairs`), as CSV.
     Collide(commands::collide::Args),
+    /// The Hausdorff distance between two meshes' surfaces (bounds within a tolerance) or two point sets, as CSV.
+    Hausdorff(commands::hausdorff::Args),
     /// The pairs of faces of one mesh that cross or touch beyond what they share, as CSV.
     SelfIntersections(commands::self_intersections::Args),
     /// Interactive viewer (needs a display); `--screenshot` renders one frame to a PNG.
@@ -78,6 +80,7 @@ fn main() -> ExitCode {
         Command::Raycast(args) => commands::raycast::run(args),
         Command::Sdf(args) => commands::sdf::run(args),
         Command::Distance(args) => commands::distance::run(args),
+        Command::Hausdorff(args) => commands::hausdorff::run(args),
         Command::Collide(args) => commands::collide::run(args),
         Command::SelfIntersections(args) => commands::self_intersections::run(args),
     };

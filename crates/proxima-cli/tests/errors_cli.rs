@@ -183,6 +183,30 @@ fn glb_cycle() -> Vec<u8> {
     common::glb(json, &positions)
 }
 
+/// A Draco-compressed primitive whose stream is not Draco data.
+fn glb_draco_damaged() -> Vec<u8> {
+    let stream = b"DRACO\x02\x02\x01\x01\x00\x00\x00garbage!".to_vec();
+    let json = format!(
+        r#"{{"asset":{{"version":"2.0"}},"buffers":[{{"byteLength":{n}}}],"bufferViews":[{{"buffer":0,"byteLength":{n}}}],
+        "accessors":[{{"componentType":5126,"type":"VEC3","count":3}},{{"componentType":5125,"type":"SCALAR","count":3}}],
+        "extensionsUsed":["KHR_draco_mesh_compression"],
+        "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"indices":1,
+            "extensions":{{"KHR_draco_mesh_compression":{{"bufferView":0,"attributes":{{"POSITION":0}}}}}}}}]}}],
+        "nodes":[{{"mesh":0}}]}}"#,
+        n = stream.len()
+    );
+    common::glb(&json, &stream)
+}
+
+/// A `.npy` array of integers, not of floats.
+fn npy_of_integers() -> Vec<u8> {
+    let dict = "{'descr': '<i4', 'fortran_order': False, 'shape': (1, 3), }";
+    let mut bytes = b"\x93NUMPY\x01\x00\x76\x00".to_vec();
+    bytes.extend(format!("{dict:<117}\n").bytes());
+    bytes.extend([0u8; 12]);
+    bytes
+}
+
 fn long_line() -> Vec<u8> {
     let mut bytes = b"v 0 0 0\nv ".to_vec();
     bytes.extend(std::iter::repeat_n(b'1', 2 << 20));
@@ -269,6 +293,8 @@ fn cases() -> Vec<Case> {
             &["cycle.glb: nodes[0] is reached twice: the node hierarchy is not a tree (a cycle, or a shared child)"],
         )
         .made("cycle.glb", glb_cycle),
+        case("glb_draco_damaged", &["info", "{dir}/d.glb"], 1, &["proxima: ", "d.glb: meshes[0].primitives[0]: Draco data: "])
+            .made("d.glb", glb_draco_damaged),
         case(
             "input_line_too_long",
             &["info", "{dir}/long.obj"],
@@ -1234,6 +1260,19 @@ fn cases() -> Vec<Case> {
             .triangle(),
         case("surface_attribute_index_out_of_range", &["closest", "{dir}/uv.obj", "--point", "0,0,0"], 1, &["proxima: ", "uv.obj:5: face 0 refers to texture coordinate 7, but the file defines 1"])
             .file("uv.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/7\n"),
+        case("points_bad_query", &["knn", "{dir}/c.npy", "--queries", "{dir}/c.xyz"], 1, &["proxima: ", "c.npy: the .npy array holds '<i4'; points are little-endian float32 or float64"])
+            .made("c.npy", npy_of_integers)
+            .file("c.xyz", b"0 0 0\n"),
+        case("hausdorff_bad_tolerance", &["hausdorff", "{dir}/ok.obj", "{dir}/ok.obj", "--tolerance", "1e-30"], 1, &["proxima: --tolerance 1e-30: must be at least 1.41421"])
+            .triangle(),
+        case("hausdorff_bad_tolerance", &["hausdorff", "{dir}/ok.obj", "{dir}/ok.obj", "--tolerance", "0"], 2, &["'0' is not a number > 0"])
+            .triangle(),
+        case("hausdorff_bad_tolerance", &["hausdorff", "{dir}/c.xyz", "{dir}/ok.obj", "--tolerance", "0.1"], 1, &["proxima: --tolerance: between point sets the distance is exact"])
+            .triangle()
+            .file("c.xyz", b"0 0 0\n"),
+        case("pair_mesh_without_faces", &["hausdorff", "{dir}/ok.obj", "{dir}/verts.obj"], 1, &["proxima: ", "verts.obj: the mesh has no faces to search (2 vertices, 0 faces)"])
+            .triangle()
+            .file("verts.obj", b"v 0 0 0\nv 1 0 0\n"),
         case("points_beyond_the_memory_budget", &["knn", "{dir}/c.xyz", "--queries", "{dir}/c.xyz", "-k", "100000"], 1, &["proxima: -k 100000: needs about", "memory budget of 1.0 KiB"])
             .file("c.xyz", b"0 0 0\n1 1 1\n")
             .env(&[("PROXIMA_MEMORY_BUDGET", "1K")]),

@@ -335,3 +335,85 @@ fn self_intersections_of_crossing_triangles_and_the_bunny() {
     assert_eq!(got, expected);
     assert!(got.iter().any(|&[a, b]| a < first && b >= first), "the copies cross");
 }
+
+/// `proxima hausdorff` on two surfaces prints the library's bounds; on point
+/// files (text and `.npy`) the exact distance of brute force over the points.
+#[test]
+fn hausdorff_of_surfaces_and_of_point_files() {
+    let dir = temp_dir("hausdorff_cli");
+    // A unit square, and a 2 x 2 square lifted by 1: from the large one's
+    // far corner the small square is sqrt(3) away.
+    std::fs::write(dir.join("small.obj"), "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n").unwrap();
+    std::fs::write(dir.join("large.obj"), "v 0 0 1\nv 2 0 1\nv 2 2 1\nv 0 2 1\nf 1 2 3 4\n").unwrap();
+    let (small, large) = (dir.join("small.obj"), dir.join("large.obj"));
+    let out = run(&[
+        "hausdorff",
+        small.to_str().unwrap(),
+        large.to_str().unwrap(),
+        "--tolerance",
+        "1e-6",
+    ]);
+    let surfaces = rows(&out, HAUSDORFF_HEADER);
+    let library = pair::hausdorff(
+        &MeshIndex::new(proxima::io::load(&small).unwrap()),
+        &MeshIndex::new(proxima::io::load(&large).unwrap()),
+        1e-6,
+    )
+    .unwrap();
+    assert_eq!(surfaces[0][0], "a_to_b");
+    assert_eq!(surfaces[0][1].parse::<f64>().unwrap(), library.forward.lower);
+    assert_eq!(surfaces[1][1].parse::<f64>().unwrap(), library.backward.lower);
+    assert_eq!(surfaces[1][2].parse::<f64>().unwrap(), library.backward.upper);
+    assert_eq!(surfaces[1][1].parse::<f64>().unwrap(), 3f64.sqrt());
+    assert_eq!(&surfaces[1][3..6], ["2", "2", "1"]);
+    let json = run(&[
+        "hausdorff",
+        small.to_str().unwrap(),
+        large.to_str().unwrap(),
+        "--json",
+        "--one-sided",
+    ]);
+    let json: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
+    assert_eq!(json["compared"], "surfaces");
+    assert_eq!(json["directions"].as_array().unwrap().len(), 1);
+    assert_eq!(json["lower"], 1.0);
+
+    // Point sets: random points in a text file against others in a .npy
+    // (float64, rounded to f32 as the text's are).
+    let mut rng = proxima::sample::Rng::new(3);
+    let a: Vec<[f32; 3]> = (0..200)
+        .map(|_| [rng.range(0.0, 1.0), rng.range(0.0, 1.0), rng.range(0.0, 1.0)])
+        .collect();
+    let b: Vec<[f64; 3]> = (0..150).map(|_| [rng.unit(), rng.unit(), rng.unit() + 0.5]).collect();
+    let text: String = a.iter().map(|p| format!("{} {} {}\n", p[0], p[1], p[2])).collect();
+    std::fs::write(dir.join("a.xyz"), text).unwrap();
+    let dict = format!(
+        "{{'descr': '<f8', 'fortran_order': False, 'shape': ({}, 3), }}",
+        b.len()
+    );
+    let mut npy = b"\x93NUMPY\x01\x00\x76\x00".to_vec();
+    npy.extend(format!("{dict:<117}\n").bytes());
+    npy.extend(b.iter().flatten().flat_map(|v| v.to_le_bytes()));
+    std::fs::write(dir.join("b.npy"), npy).unwrap();
+    let d = |p: [f32; 3], q: [f64; 3]| {
+        let q = q.map(|v| f64::from(v as f32));
+        (0..3).map(|k| (f64::from(p[k]) - q[k]).powi(2)).sum::<f64>().sqrt()
+    };
+    let forward = a
+        .iter()
+        .map(|&p| b.iter().map(|&q| d(p, q)).fold(f64::INFINITY, f64::min))
+        .fold(0.0, f64::max);
+    let backward = b
+        .iter()
+        .map(|&q| a.iter().map(|&p| d(p, q)).fold(f64::INFINITY, f64::min))
+        .fold(0.0, f64::max);
+    let (pa, pb) = (dir.join("a.xyz"), dir.join("b.npy"));
+    let out = run(&["hausdorff", pa.to_str().unwrap(), pb.to_str().unwrap()]);
+    let points = rows(&out, HAUSDORFF_HEADER);
+    assert_eq!(points[0][1].parse::<f64>().unwrap(), forward);
+    assert_eq!(points[1][1].parse::<f64>().unwrap(), backward);
+    assert_eq!(points[1][1], points[1][2]);
+}
+
+/// The header of `proxima hausdorff`'s CSV.
+const HAUSDORFF_HEADER: &str = "direction,lower,upper,px,py,pz,qx,qy,qz,index_p,index_q";

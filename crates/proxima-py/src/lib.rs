@@ -66,6 +66,7 @@ fn _proxima(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyMesh>()?;
     m.add_class::<voxels::VoxelGrid>()?;
     m.add_class::<pairs::PyPairDistance>()?;
+    m.add_class::<pairs::PyHausdorff>()?;
     m.add_class::<surface::Answers>()?;
     m.add_class::<points::PyPoints>()?;
     m.add_class::<scene::PyScene>()?;

@@ -10,7 +10,7 @@ use crate::poses::{self, Poses};
 use crate::threads;
 use numpy::{IntoPyArray, PyArray1, PyArray2};
 use proxima::MeshIndex;
-use proxima::pair::{self, FacePair, PairDistance, PairError, RigidPose};
+use proxima::pair::{self, DirectedHausdorff, FacePair, PairDistance, PairError, RigidPose};
 use proxima::prelude::*;
 use pyo3::IntoPyObjectExt;
 use pyo3::exceptions::PyValueError;
@@ -115,6 +115,10 @@ impl PyPairDistance {
 fn pair_error(error: PairError, distance_name: &str) -> PyErr {
     match error {
         PairError::BadDistance { value, .. } => value_error(distance_name, format!("must be at least 0 (got {value})")),
+        PairError::BadTolerance { value, minimum } => value_error(
+            "tolerance",
+            format!("must be positive and at least {minimum:e} (1e-7 of the meshes' size; got {value})"),
+        ),
         other => PyValueError::new_err(other.to_string()),
     }
 }
@@ -288,4 +292,137 @@ pub fn self_intersections<'py>(
 fn face_pairs<'py>(py: Python<'py>, pairs: &[FacePair]) -> PyResult<Bound<'py, PyArray2<i64>>> {
     let flat: Vec<i64> = pairs.iter().flatten().map(|&f| f.into()).collect();
     arrays::matrix(py, flat, 2)
+}
+
+/// The Hausdorff distance between two meshes' surfaces, as bounds that meet
+/// within the tolerance asked, and the pair of points that realizes the
+/// lower bound.
+#[pyclass(module = "proxima", name = "Hausdorff", frozen)]
+pub struct PyHausdorff {
+    inner: DirectedHausdorff,
+    /// `inner` measures from `a` to `b` (else from `b` to `a`).
+    from_a: bool,
+    /// The symmetric upper bound (both directions), or `inner.upper` when
+    /// one-sided.
+    upper: f64,
+}
+
+#[pymethods]
+impl PyHausdorff {
+    /// A lower bound: the distance between `point_a` and `point_b`.
+    #[getter]
+    fn lower(&self) -> f64 {
+        self.inner.lower
+    }
+
+    /// An upper bound: no point of either surface (of `a`, one-sided) lies
+    /// farther from the other.
+    #[getter]
+    fn upper(&self) -> f64 {
+        self.upper
+    }
+
+    /// The point of mesh `a` of the pair that realizes `lower`, (3,) float64.
+    #[getter]
+    fn point_a<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        let p = if self.from_a {
+            self.inner.point
+        } else {
+            self.inner.closest
+        };
+        p.to_array().to_vec().into_pyarray(py)
+    }
+
+    /// The point of mesh `b` of that pair, (3,) float64.
+    #[getter]
+    fn point_b<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        let p = if self.from_a {
+            self.inner.closest
+        } else {
+            self.inner.point
+        };
+        p.to_array().to_vec().into_pyarray(py)
+    }
+
+    /// The face of `a` that holds `point_a`.
+    #[getter]
+    fn face_a(&self) -> i64 {
+        (if self.from_a {
+            self.inner.face
+        } else {
+            self.inner.closest_face
+        })
+        .into()
+    }
+
+    /// The face of `b` that holds `point_b`.
+    #[getter]
+    fn face_b(&self) -> i64 {
+        (if self.from_a {
+            self.inner.closest_face
+        } else {
+            self.inner.face
+        })
+        .into()
+    }
+
+    /// Whether `lower` is measured from `a`'s surface to `b`'s (`point_a` is
+    /// the far point, `point_b` its nearest on `b`), else from `b`'s to `a`'s.
+    #[getter(from_a)]
+    fn measured_from_a(&self) -> bool {
+        self.from_a
+    }
+
+    /// The upper bound, so that `float(h)` never understates the distance.
+    fn __float__(&self) -> f64 {
+        self.upper
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Hausdorff(lower={}, upper={}, from_a={})",
+            self.inner.lower,
+            self.upper,
+            if self.from_a { "True" } else { "False" }
+        )
+    }
+}
+
+/// The tolerance of a mesh Hausdorff distance when none is given: this
+/// fraction of the larger bounding-box diagonal.
+const DEFAULT_RELATIVE_TOLERANCE: f64 = 1e-4;
+
+/// `proxima.hausdorff` on two meshes (its `#[pyfunction]` is in
+/// `points.rs`, which answers point sets too).
+pub fn hausdorff<'py>(
+    py: Python<'py>,
+    a: &MeshIndex,
+    b: &MeshIndex,
+    one_sided: bool,
+    tolerance: Option<f64>,
+    threads: Option<i64>,
+) -> PyResult<Bound<'py, PyHausdorff>> {
+    require_faces(a, "a")?;
+    require_faces(b, "b")?;
+    let diagonal = |m: &MeshIndex| f64::from(m.mesh().bounds().diagonal());
+    let tolerance = tolerance.unwrap_or(DEFAULT_RELATIVE_TOLERANCE * diagonal(a).max(diagonal(b)));
+    let answer = if one_sided {
+        let inner = threads::run(py, threads, || pair::directed_hausdorff(a, b, tolerance))?
+            .map_err(|e| pair_error(e, "tolerance"))?;
+        PyHausdorff {
+            inner,
+            from_a: true,
+            upper: inner.upper,
+        }
+    } else {
+        let both =
+            threads::run(py, threads, || pair::hausdorff(a, b, tolerance))?.map_err(|e| pair_error(e, "tolerance"))?;
+        let from_a = both.forward.lower >= both.backward.lower;
+        PyHausdorff {
+            inner: *both.larger(),
+            from_a,
+            upper: both.upper(),
+        }
+    };
+    Bound::new(py, answer)
 }

@@ -2,6 +2,7 @@
 //! `proxima::points`.
 
 use crate::arrays::{self, Check, value_error};
+use crate::mesh::PyMesh;
 use crate::threads;
 use numpy::{PyArray1, PyArray2};
 use proxima::Vec3;
@@ -192,16 +193,39 @@ pub fn chamfer(
 
 /// The Hausdorff distance between point sets `a` and `b`: the largest
 /// distance from a point of either to the other set, or with `one_sided`
-/// only from `a` to `b`.
+/// only from `a` to `b`. Between two `Mesh`es, the distance between their
+/// surfaces as a `Hausdorff` (bounds within `tolerance`, by default 1e-4 of
+/// the larger bounding-box diagonal).
 #[pyfunction]
-#[pyo3(signature = (a, b, one_sided = false, threads = None))]
-pub fn hausdorff(
-    py: Python<'_>,
-    a: &Bound<'_, PyAny>,
-    b: &Bound<'_, PyAny>,
+#[pyo3(signature = (a, b, one_sided = false, *, tolerance = None, threads = None))]
+pub fn hausdorff<'py>(
+    py: Python<'py>,
+    a: &Bound<'py, PyAny>,
+    b: &Bound<'py, PyAny>,
     one_sided: bool,
+    tolerance: Option<f64>,
     threads: Option<i64>,
-) -> PyResult<f64> {
+) -> PyResult<Py<PyAny>> {
+    match (a.cast::<PyMesh>(), b.cast::<PyMesh>()) {
+        (Ok(a), Ok(b)) => {
+            let (a, b) = (a.borrow(), b.borrow());
+            return Ok(
+                crate::pairs::hausdorff(py, &a.index, &b.index, one_sided, tolerance, threads)?
+                    .into_any()
+                    .unbind(),
+            );
+        }
+        (Ok(_), Err(_)) => return Err(value_error("b", "a is a Mesh, so b must be a Mesh too")),
+        (Err(_), Ok(_)) => return Err(value_error("a", "b is a Mesh, so a must be a Mesh too")),
+        (Err(_), Err(_)) => {}
+    }
+    if tolerance.is_some() {
+        return Err(value_error(
+            "tolerance",
+            "applies to meshes; between point sets the distance is exact",
+        ));
+    }
     let c = both_ways(py, a, b, threads)?;
-    Ok(if one_sided { c.forward.max } else { c.hausdorff() })
+    let h = if one_sided { c.forward.max } else { c.hausdorff() };
+    Ok(h.into_pyobject(py)?.into_any().unbind())
 }

@@ -280,3 +280,74 @@ def test_a_stack_beyond_the_memory_budget_is_refused_before_it_is_read(monkeypat
         proxima.distance(CUBE, CUBE, pose_b=poses)
     with pytest.raises(ValueError, match=r"^pose 2000000: needs about"):
         CUBE.intersects(CUBE, poses)
+
+
+def surface_samples(v, f, n, rng):
+    """n points uniform in barycentric coordinates on random triangles."""
+    t = rng.integers(0, len(f), n)
+    u, w = rng.random(n), rng.random(n)
+    flip = u + w > 1
+    u[flip], w[flip] = 1 - u[flip], 1 - w[flip]
+    a, b, c = (v[f[t, i]].astype(np.float64) for i in range(3))
+    return a + (b - a) * u[:, None] + (c - a) * w[:, None]
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_hausdorff_between_meshes_brackets_brute_force(seed):
+    """The bounds bracket brute force over every triangle (oracles.py): the
+    lower one is at least every vertex's distance and is the distance of
+    the pair of points it returns; the upper one is at least every sample's."""
+    va, fa = random_soup(30, seed)
+    vb, fb = random_soup(40, seed + 10)
+    a, b = proxima.Mesh(va, fa), proxima.Mesh(vb, fb)
+    h = proxima.hausdorff(a, b, tolerance=1e-4)
+    assert isinstance(h, proxima.Hausdorff)
+    assert 0 <= h.upper - h.lower <= 1e-4 and float(h) == h.upper
+    rng = np.random.default_rng(seed)
+    forward = o.triangle_distances(np.concatenate([va, surface_samples(va, fa, 3000, rng)]), vb, fb).min(1)
+    backward = o.triangle_distances(np.concatenate([vb, surface_samples(vb, fb, 3000, rng)]), va, fa).min(1)
+    vertices = max(forward[: len(va)].max(), backward[: len(vb)].max())
+    assert h.lower >= vertices - 1e-12
+    assert h.upper >= max(forward.max(), backward.max()) - 1e-12
+    # The pair realizes the lower bound, each point on its face.
+    assert np.linalg.norm(h.point_a - h.point_b) == pytest.approx(h.lower, rel=1e-9)
+    assert o.triangle_distances(h.point_a[None], va, fa[h.face_a][None])[0, 0] < 1e-9
+    assert o.triangle_distances(h.point_b[None], vb, fb[h.face_b][None])[0, 0] < 1e-9
+    far = h.point_a if h.from_a else h.point_b
+    other = (vb, fb) if h.from_a else (va, fa)
+    assert o.triangle_distances(far[None], *other).min() == pytest.approx(h.lower, rel=1e-9)
+    one = proxima.hausdorff(a, b, one_sided=True, tolerance=1e-4)
+    assert one.from_a and one.upper - one.lower <= 1e-4
+    assert one.lower >= forward[: len(va)].max() - 1e-12 and one.upper >= forward.max() - 1e-12
+
+
+def test_hausdorff_between_meshes_exact_cases_and_libigl():
+    # The cube against itself, and against a copy lifted by 0.25: every
+    # point of the top face is 0.25 from the lifted cube's surface, and
+    # the bottom face of the lifted cube is 0.25 from the cube's.
+    assert (proxima.hausdorff(CUBE, CUBE).lower, proxima.hausdorff(CUBE, CUBE).upper) == (0.0, 0.0)
+    lifted = proxima.Mesh(V + np.float32([0, 0, 0.25]), F)
+    h = proxima.hausdorff(CUBE, lifted, tolerance=1e-6)
+    assert h.lower == 0.25 and 0.25 <= h.upper <= 0.25 + 1e-6
+    # libigl's point-to-mesh distance as a second oracle on the samples.
+    import igl
+
+    rng = np.random.default_rng(3)
+    samples = surface_samples(V, F, 2000, rng)
+    lifted_v = (V + np.float32([0, 0, 0.25])).astype(np.float64)
+    d2, _, _ = igl.point_mesh_squared_distance(samples, lifted_v, np.asarray(F))
+    assert np.sqrt(d2).max() <= h.upper + 1e-9
+
+
+def test_hausdorff_bad_input_names_the_argument():
+    for bad in (0.0, -1.0, float("nan"), 1e-12):
+        with pytest.raises(ValueError, match="^tolerance: must be positive"):
+            proxima.hausdorff(CUBE, CUBE, tolerance=bad)
+    with pytest.raises(ValueError, match="^b: a is a Mesh, so b must be a Mesh too"):
+        proxima.hausdorff(CUBE, V)
+    with pytest.raises(ValueError, match="^a: b is a Mesh"):
+        proxima.hausdorff(V, CUBE)
+    with pytest.raises(ValueError, match="^tolerance: applies to meshes"):
+        proxima.hausdorff(V, V, tolerance=0.1)
+    with pytest.raises(ValueError, match="^a: "):
+        proxima.hausdorff(proxima.Mesh(V, np.zeros((0, 3), np.int64)), CUBE)

@@ -7,6 +7,7 @@ pub mod demo;
 pub mod distance;
 pub mod frustum;
 pub mod grid;
+pub mod hausdorff;
 pub mod info;
 pub mod knn;
 pub mod radius;

@@ -14,6 +14,7 @@ call releases the GIL and runs on all cores (``threads=1`` for one).
 
 from ._proxima import (
     Answers,
+    Hausdorff,
     Mesh,
     PairDistance,
     Points,
@@ -35,6 +36,7 @@ from ._proxima import (
 
 __all__ = [
     "Answers",
+    "Hausdorff",
     "Mesh",
     "PairDistance",
     "Points",

@@ -192,6 +192,37 @@ class PairDistance:
     def __iter__(self) -> Iterator[object]: ...
     def __len__(self) -> int: ...
 
+class Hausdorff:
+    """The Hausdorff distance between two meshes' surfaces
+    (:func:`hausdorff` of two :class:`Mesh`): bounds that meet within the
+    tolerance asked, and the pair of points that realizes the lower one.
+    ``float(h)`` is the upper bound."""
+
+    @property
+    def lower(self) -> float:
+        """A lower bound: the distance between ``point_a`` and ``point_b``."""
+    @property
+    def upper(self) -> float:
+        """An upper bound: no point of either surface (of ``a`` only, when
+        one-sided) lies farther from the other."""
+    @property
+    def point_a(self) -> npt.NDArray[np.float64]:
+        """The point of ``a`` of the pair realizing ``lower``, shape (3,)."""
+    @property
+    def point_b(self) -> npt.NDArray[np.float64]:
+        """The point of ``b`` of that pair, shape (3,)."""
+    @property
+    def face_a(self) -> int:
+        """The face of ``a`` holding ``point_a``."""
+    @property
+    def face_b(self) -> int:
+        """The face of ``b`` holding ``point_b``."""
+    @property
+    def from_a(self) -> bool:
+        """Whether ``lower`` is measured from ``a``'s surface (``point_a`` is
+        the far point, ``point_b`` its nearest on ``b``), else from ``b``'s."""
+    def __float__(self) -> float: ...
+
 @overload
 def distance(
     a: Mesh,
@@ -649,15 +680,34 @@ def chamfer(
     distances (``squared=True``: pytorch3d's ``chamfer_distance``) or plain
     ones (point-cloud-utils' ``chamfer_distance``); sums in float64."""
 
+@overload
 def hausdorff(
     a: Union[Points, npt.ArrayLike],
     b: Union[Points, npt.ArrayLike],
     one_sided: bool = False,
+    *,
     threads: Optional[int] = None,
 ) -> float:
     """The Hausdorff distance between point sets ``a`` and ``b``: the
     largest distance from a point of either set to the other (with
     ``one_sided``, from ``a`` to ``b`` only)."""
+
+@overload
+def hausdorff(
+    a: Mesh,
+    b: Mesh,
+    one_sided: bool = False,
+    *,
+    tolerance: Optional[float] = None,
+    threads: Optional[int] = None,
+) -> Hausdorff:
+    """The Hausdorff distance between the surfaces of meshes ``a`` and ``b``
+    (both in the same frame), as a :class:`Hausdorff`: a lower bound (the
+    distance of an actual point of one surface to the other) and an upper
+    bound that meet within ``tolerance`` (default 1e-4 of the larger
+    bounding-box diagonal; at least 1e-7 of it, else ``ValueError``),
+    refined where the bound is loose (``proxima::pair::hausdorff``). With
+    ``one_sided``, from ``a``'s surface to ``b``'s only."""
 
 class Scene:
     """Meshes placed by rigid poses, asked as one: closest points, signed
