@@ -31,7 +31,7 @@
 
 use super::PairError;
 use crate::index::MeshIndex;
-use crate::math::DVec3;
+use crate::math::{DVec3, Vec3};
 use crate::primitive::closest_f64::point_triangle_closest;
 use crate::query::{Counter, NearestQuery, SpatialIndex};
 use crate::wide_tree::WideNode;
@@ -129,8 +129,8 @@ pub fn hausdorff(a: &MeshIndex, b: &MeshIndex, tolerance: f64) -> Result<MeshHau
     check_tolerance(a, b, tolerance)?;
     let (tree_a, tree_b) = (super::faces_tree(a, "a")?, super::faces_tree(b, "b")?);
     Ok(MeshHausdorff {
-        forward: directed(a, tree_a, tree_b, tolerance),
-        backward: directed(b, tree_b, tree_a, tolerance),
+        forward: directed(tree_a, tree_b, tolerance),
+        backward: directed(tree_b, tree_a, tolerance),
     })
 }
 
@@ -139,7 +139,7 @@ pub fn hausdorff(a: &MeshIndex, b: &MeshIndex, tolerance: f64) -> Result<MeshHau
 pub fn directed_hausdorff(from: &MeshIndex, to: &MeshIndex, tolerance: f64) -> Result<DirectedHausdorff, PairError> {
     check_tolerance(from, to, tolerance)?;
     let (tree_from, tree_to) = (super::faces_tree(from, "a")?, super::faces_tree(to, "b")?);
-    Ok(directed(from, tree_from, tree_to, tolerance))
+    Ok(directed(tree_from, tree_to, tolerance))
 }
 
 /// Refuses a tolerance that is not a number, or finer than
@@ -232,18 +232,13 @@ struct Piece {
 }
 
 /// [`directed_hausdorff`] on the faces' trees.
-fn directed(
-    from: &MeshIndex,
-    tree_from: &WideTree<Triangle>,
-    tree_to: &WideTree<Triangle>,
-    tolerance: f64,
-) -> DirectedHausdorff {
+fn directed(tree_from: &WideTree<Triangle>, tree_to: &WideTree<Triangle>, tolerance: f64) -> DirectedHausdorff {
     let target = Target::new(tree_from, tree_to);
-    // The vertices first: their largest distance is usually close to the
-    // answer, and it prunes nearly every piece at once. The batch picks
-    // the farthest vertex by `f32` distances; its distance is then measured
-    // again in `f64` by the walk that keeps every candidate.
-    let (vertex, vertex_face) = farthest_vertex(from, tree_to);
+    // Sampled vertices first: their largest distance is usually close to
+    // the answer, and it prunes nearly every piece at once. The batch picks
+    // the farthest by `f32` distances; its distance is then measured again
+    // in `f64` by the walk that keeps every candidate.
+    let (vertex, vertex_face) = farthest_sample(tree_from, tree_to);
     let first = target.measure(vertex, -1.0).map(|(distance, closest, slot)| Measured {
         distance,
         point: vertex,
@@ -261,19 +256,19 @@ fn directed(
         .into_par_iter()
         .with_min_len(64)
         .fold(
-            || (Partial::EMPTY, Vec::with_capacity(4 * MAX_DEPTH as usize)),
-            |(mut partial, mut stack), slot| {
+            || (Partial::EMPTY, Vec::with_capacity(4 * MAX_DEPTH as usize), 0),
+            |(mut partial, mut stack, mut hint), slot| {
                 let t = &triangles[slot];
                 let face = tree_from.tree().source(slot);
                 stack.push(Piece {
                     corners: [t.a.as_dvec3(), t.b.as_dvec3(), t.c.as_dvec3()],
                     depth: 0,
                 });
-                refine(&target, &shared, tolerance, face, &mut stack, &mut partial);
-                (partial, stack)
+                refine(&target, &shared, tolerance, face, &mut stack, &mut partial, &mut hint);
+                (partial, stack, hint)
             },
         )
-        .map(|(partial, _)| partial)
+        .map(|(partial, _, _)| partial)
         .reduce(|| Partial::EMPTY, Partial::merge)
         .merge(start);
     let lower = found.lower.expect("a mesh with faces has a vertex on them");
@@ -298,30 +293,47 @@ fn refine(
     face: u32,
     stack: &mut Vec<Piece>,
     partial: &mut Partial,
+    hint: &mut usize,
 ) {
     while let Some(piece) = stack.pop() {
         partial.pieces += 1;
         let lower = shared.get();
         let settled = lower + tolerance;
-        let upper = target.bound(&piece.corners, settled);
+        // The triangle that settled the previous piece (a neighbour: the
+        // pieces come in tree order) usually settles this one too, with
+        // no walk.
+        let s = target.corners(*hint);
+        let near = reach_squared(&piece.corners, 3, &s, settled * settled);
+        let upper = if near <= settled * settled {
+            near.sqrt()
+        } else {
+            let (upper, slot) = target.bound(&piece.corners, settled);
+            *hint = slot;
+            upper
+        };
         if upper <= settled || piece.depth == MAX_DEPTH {
             partial.upper = partial.upper.max(upper);
             partial.unsettled += u64::from(upper > settled);
             continue;
         }
+        // A whole triangle that does not settle: its corners (not measured
+        // yet, unlike the midpoints of the pieces cut from it) may raise
+        // the lower bound enough.
+        if piece.depth == 0 {
+            for &v in &piece.corners {
+                target.offer(v, lower, face, shared, partial);
+            }
+            let lower = shared.get();
+            if upper <= lower + tolerance {
+                partial.upper = partial.upper.max(upper);
+                continue;
+            }
+        }
         let [a, b, c] = piece.corners;
         let (ab, bc, ca) = ((a + b) * 0.5, (b + c) * 0.5, (c + a) * 0.5);
+        let lower = shared.get();
         for m in [ab, bc, ca] {
-            if let Some((distance, closest, slot)) = target.measure(m, lower) {
-                shared.raise(distance);
-                partial.offer(Measured {
-                    distance,
-                    point: m,
-                    face,
-                    closest,
-                    closest_face: target.tree.tree().source(slot),
-                });
-            }
+            target.offer(m, lower, face, shared, partial);
         }
         let depth = piece.depth + 1;
         for corners in [[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]] {
@@ -330,26 +342,19 @@ fn refine(
     }
 }
 
-/// The vertex of `from`'s faces farthest from `to` by the `f32` closest-point
-/// batch, and a face that holds it.
-fn farthest_vertex(from: &MeshIndex, to: &WideTree<Triangle>) -> (DVec3, u32) {
-    let mesh = from.mesh();
-    // Each vertex once, with a face that holds it (vertices on no face are
-    // not on the surface).
-    let mut face_of = vec![u32::MAX; mesh.vertex_count()];
-    for (f, face) in mesh.faces().enumerate() {
-        for &v in face {
-            face_of[v as usize] = f as u32;
-        }
-    }
-    let (vertices, faces): (Vec<_>, Vec<_>) = mesh
-        .positions()
-        .iter()
-        .zip(&face_of)
-        .filter(|&(_, &f)| f != u32::MAX)
-        .map(|(&p, &f)| (p, f))
-        .unzip();
-    let hits = to.closest_batch(&vertices);
+/// Triangles of the surface measured from whose first corner is measured
+/// before the refinement starts: one in this many, in tree order (spread
+/// over the surface). The others' corners are measured only when their
+/// triangle does not settle at once.
+const SAMPLE_STRIDE: usize = 16;
+
+/// Among the first corners of every [`SAMPLE_STRIDE`]-th triangle of
+/// `from` (leaf order), the one farthest from `to` by the `f32`
+/// closest-point batch, and the face that holds it.
+fn farthest_sample(from: &WideTree<Triangle>, to: &WideTree<Triangle>) -> (DVec3, u32) {
+    let slots: Vec<usize> = (0..from.len()).step_by(SAMPLE_STRIDE).collect();
+    let points: Vec<Vec3> = slots.iter().map(|&i| from.tree().primitives()[i].a).collect();
+    let hits = to.closest_batch(&points);
     let far = hits
         .iter()
         .enumerate()
@@ -358,7 +363,7 @@ fn farthest_vertex(from: &MeshIndex, to: &WideTree<Triangle>) -> (DVec3, u32) {
             d(x).total_cmp(&d(y))
         })
         .map_or(0, |(i, _)| i);
-    (vertices[far].as_dvec3(), faces[far])
+    (points[far].as_dvec3(), from.tree().source(slots[far]))
 }
 
 /// The surface measured to: its faces' tree, and the absolute slack that
@@ -400,11 +405,33 @@ impl<'t> Target<'t> {
 
     /// An upper bound of `max over p in the triangle of d(p, to)`: the
     /// smallest, over `to`'s triangles `s`, of the largest distance of a
-    /// corner to `s` (as soon as one is within `settled`, that one).
-    fn bound(&self, corners: &[DVec3; 3], settled: f64) -> f64 {
+    /// corner to `s` (as soon as one is within `settled`, that one), and
+    /// the slot of that `s`.
+    fn bound(&self, corners: &[DVec3; 3], settled: f64) -> (f64, usize) {
         let mut reach = Reach::new(*corners, 3, settled, self.slack);
         self.tree.walk(|_| &mut reach, &mut ());
-        reach.best.sqrt()
+        (reach.best.sqrt(), reach.best_slot)
+    }
+
+    /// Measures point `p` of face `face` of the surface measured from, and
+    /// raises the lower bound to its distance when that exceeds `lower`.
+    fn offer(&self, p: DVec3, lower: f64, face: u32, shared: &SharedLower, partial: &mut Partial) {
+        if let Some((distance, closest, slot)) = self.measure(p, lower) {
+            shared.raise(distance);
+            partial.offer(Measured {
+                distance,
+                point: p,
+                face,
+                closest,
+                closest_face: self.tree.tree().source(slot),
+            });
+        }
+    }
+
+    /// The corners of the triangle at `slot`, in `f64`.
+    fn corners(&self, slot: usize) -> [DVec3; 3] {
+        let t = &self.tree.tree().primitives()[slot];
+        [t.a.as_dvec3(), t.b.as_dvec3(), t.c.as_dvec3()]
     }
 }
 
@@ -479,13 +506,7 @@ impl WideQuery<Triangle> for &mut Reach {
         counter.primitives(n as u64);
         for (slot, t) in (first..).zip(&tree.primitives[first..first + n]) {
             let s = [t.a.as_dvec3(), t.b.as_dvec3(), t.c.as_dvec3()];
-            let mut worst = 0.0f64;
-            for &v in &self.corners[..self.count] {
-                worst = worst.max(point_triangle_closest(v, &s).0.distance_squared(v));
-                if worst >= self.best {
-                    break;
-                }
-            }
+            let worst = reach_squared(&self.corners, self.count, &s, self.stop_squared.max(0.0));
             if worst < self.best {
                 self.best = worst;
                 self.best_slot = slot;
@@ -498,6 +519,27 @@ impl WideQuery<Triangle> for &mut Reach {
         }
         ControlFlow::Continue(())
     }
+}
+
+/// An upper bound of the largest squared distance from the first `count`
+/// `corners` to triangle `s`: exact, unless the distance to `s`'s nearest
+/// vertex (which bounds the distance to `s` from above) already brings
+/// every corner within `enough`, when that bound is returned. Stops
+/// refining a corner's distance once the answer exceeds what it can use.
+#[inline]
+fn reach_squared(corners: &[DVec3; 3], count: usize, s: &[DVec3; 3], enough: f64) -> f64 {
+    let vertex_bound = corners[..count]
+        .iter()
+        .map(|&v| s.iter().map(|&k| k.distance_squared(v)).fold(f64::INFINITY, f64::min))
+        .fold(0.0, f64::max);
+    if vertex_bound <= enough {
+        return vertex_bound;
+    }
+    let mut worst = 0.0f64;
+    for &v in &corners[..count] {
+        worst = worst.max(point_triangle_closest(v, s).0.distance_squared(v));
+    }
+    worst
 }
 
 #[cfg(test)]
