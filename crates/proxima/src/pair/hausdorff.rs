@@ -303,7 +303,7 @@ fn refine(
         // pieces come in tree order) usually settles this one too, with
         // no walk.
         let s = target.corners(*hint);
-        let near = reach_squared(&piece.corners, 3, &s, settled * settled);
+        let near = reach_squared(&piece.corners, 3, &s, settled * settled, f64::INFINITY);
         let upper = if near <= settled * settled {
             near.sqrt()
         } else {
@@ -506,7 +506,7 @@ impl WideQuery<Triangle> for &mut Reach {
         counter.primitives(n as u64);
         for (slot, t) in (first..).zip(&tree.primitives[first..first + n]) {
             let s = [t.a.as_dvec3(), t.b.as_dvec3(), t.c.as_dvec3()];
-            let worst = reach_squared(&self.corners, self.count, &s, self.stop_squared.max(0.0));
+            let worst = reach_squared(&self.corners, self.count, &s, self.stop_squared.max(0.0), self.best);
             if worst < self.best {
                 self.best = worst;
                 self.best_slot = slot;
@@ -524,10 +524,20 @@ impl WideQuery<Triangle> for &mut Reach {
 /// An upper bound of the largest squared distance from the first `count`
 /// `corners` to triangle `s`: exact, unless the distance to `s`'s nearest
 /// vertex (which bounds the distance to `s` from above) already brings
-/// every corner within `enough`, when that bound is returned. Stops
-/// refining a corner's distance once the answer exceeds what it can use.
+/// every corner within `enough`, when that bound is returned. Once the
+/// answer is known to be at least `give_up`, some value at least
+/// `give_up` is returned without refining it: `s` is then of no use.
 #[inline]
-fn reach_squared(corners: &[DVec3; 3], count: usize, s: &[DVec3; 3], enough: f64) -> f64 {
+fn reach_squared(corners: &[DVec3; 3], count: usize, s: &[DVec3; 3], enough: f64, give_up: f64) -> f64 {
+    // The box of `s` bounds every corner's distance from below.
+    let (lo, hi) = (s[0].min(s[1]).min(s[2]), s[0].max(s[1]).max(s[2]));
+    let mut box_bound = 0.0f64;
+    for &v in &corners[..count] {
+        box_bound = box_bound.max((lo - v).max(v - hi).max(DVec3::ZERO).length_squared());
+    }
+    if box_bound >= give_up {
+        return box_bound;
+    }
     let vertex_bound = corners[..count]
         .iter()
         .map(|&v| s.iter().map(|&k| k.distance_squared(v)).fold(f64::INFINITY, f64::min))
@@ -538,6 +548,9 @@ fn reach_squared(corners: &[DVec3; 3], count: usize, s: &[DVec3; 3], enough: f64
     let mut worst = 0.0f64;
     for &v in &corners[..count] {
         worst = worst.max(point_triangle_closest(v, s).0.distance_squared(v));
+        if worst >= give_up {
+            break;
+        }
     }
     worst
 }
