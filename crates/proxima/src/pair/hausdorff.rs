@@ -229,6 +229,31 @@ impl Partial {
 struct Piece {
     corners: [DVec3; 3],
     depth: u32,
+    /// Where the piece's candidates start in the worker's list arena.
+    list: usize,
+    /// How many candidates it has; [`WALK`] for a piece that has no list
+    /// and walks the tree.
+    len: usize,
+    /// The piece is a whole triangle.
+    whole: bool,
+}
+
+/// The `len` of a piece without a candidate list.
+const WALK: usize = usize::MAX;
+
+/// Pieces with more candidates than this walk the tree instead: its
+/// nearest-first order finds the settling triangle among many sooner than
+/// a scan of the list.
+const MAX_CANDIDATES: usize = 24;
+
+/// What a worker keeps between triangles: its stack of pieces, the
+/// candidate lists of the pieces on it (a stack too: each piece's list
+/// is the last one when it is popped), and the triangle that settled the
+/// last piece.
+struct Worker {
+    stack: Vec<Piece>,
+    lists: Vec<u32>,
+    hint: usize,
 }
 
 /// [`directed_hausdorff`] on the faces' trees.
@@ -256,19 +281,29 @@ fn directed(tree_from: &WideTree<Triangle>, tree_to: &WideTree<Triangle>, tolera
         .into_par_iter()
         .with_min_len(64)
         .fold(
-            || (Partial::EMPTY, Vec::with_capacity(4 * MAX_DEPTH as usize), 0),
-            |(mut partial, mut stack, mut hint), slot| {
+            || {
+                let worker = Worker {
+                    stack: Vec::with_capacity(4 * MAX_DEPTH as usize),
+                    lists: Vec::new(),
+                    hint: 0,
+                };
+                (Partial::EMPTY, worker)
+            },
+            |(mut partial, mut worker), slot| {
                 let t = &triangles[slot];
                 let face = tree_from.tree().source(slot);
-                stack.push(Piece {
+                worker.stack.push(Piece {
                     corners: [t.a.as_dvec3(), t.b.as_dvec3(), t.c.as_dvec3()],
                     depth: 0,
+                    list: 0,
+                    len: WALK,
+                    whole: true,
                 });
-                refine(&target, &shared, tolerance, face, &mut stack, &mut partial, &mut hint);
-                (partial, stack, hint)
+                refine(&target, &shared, tolerance, face, &mut worker, &mut partial);
+                (partial, worker)
             },
         )
-        .map(|(partial, _, _)| partial)
+        .map(|(partial, _)| partial)
         .reduce(|| Partial::EMPTY, Partial::merge)
         .merge(start);
     let lower = found.lower.expect("a mesh with faces has a vertex on them");
@@ -284,47 +319,58 @@ fn directed(tree_from: &WideTree<Triangle>, tree_to: &WideTree<Triangle>, tolera
     }
 }
 
-/// Settles the pieces on `stack` (those of one face), cutting each whose
-/// bound is too loose (see the module documentation).
+/// Settles the pieces on the worker's stack (those of one face), cutting
+/// each whose bound is too loose (see the module documentation).
+///
+/// A whole triangle's bound walks the tree. When it is cut, the triangles
+/// of the other surface whose boxes lie within its bound of its box are
+/// gathered once: only they can settle a piece of it, since a piece's best
+/// bound is at most its parent's (by convexity). Its pieces then take
+/// their bounds from that list, each passing on to its own pieces the
+/// candidates within its bound.
 fn refine(
     target: &Target<'_>,
     shared: &SharedLower,
     tolerance: f64,
     face: u32,
-    stack: &mut Vec<Piece>,
+    worker: &mut Worker,
     partial: &mut Partial,
-    hint: &mut usize,
 ) {
-    while let Some(piece) = stack.pop() {
+    while let Some(piece) = worker.stack.pop() {
         partial.pieces += 1;
         let lower = shared.get();
         let settled = lower + tolerance;
+        let enough = settled * settled;
         // The triangle that settled the previous piece (a neighbour: the
         // pieces come in tree order) usually settles this one too, with
         // no walk.
-        let s = target.corners(*hint);
-        let near = reach_squared(&piece.corners, 3, &s, settled * settled, f64::INFINITY);
-        let upper = if near <= settled * settled {
-            near.sqrt()
+        let near = reach_squared(&piece.corners, 3, &target.corners(worker.hint), enough, f64::INFINITY);
+        let (upper2, slot) = if near <= enough {
+            (near, worker.hint)
+        } else if piece.len == WALK {
+            target.bound(&piece.corners, settled)
         } else {
-            let (upper, slot) = target.bound(&piece.corners, settled);
-            *hint = slot;
-            upper
+            let list = &worker.lists[piece.list..piece.list + piece.len];
+            best_of(&piece.corners, list, target, enough, (near, worker.hint))
         };
+        worker.hint = slot;
+        let upper = upper2.sqrt();
         if upper <= settled || piece.depth == MAX_DEPTH {
             partial.upper = partial.upper.max(upper);
             partial.unsettled += u64::from(upper > settled);
+            if piece.len != WALK {
+                worker.lists.truncate(piece.list);
+            }
             continue;
         }
         // A whole triangle that does not settle: its corners (not measured
         // yet, unlike the midpoints of the pieces cut from it) may raise
         // the lower bound enough.
-        if piece.depth == 0 {
+        if piece.whole {
             for &v in &piece.corners {
                 target.offer(v, lower, face, shared, partial);
             }
-            let lower = shared.get();
-            if upper <= lower + tolerance {
+            if upper <= shared.get() + tolerance {
                 partial.upper = partial.upper.max(upper);
                 continue;
             }
@@ -332,14 +378,85 @@ fn refine(
         let [a, b, c] = piece.corners;
         let (ab, bc, ca) = ((a + b) * 0.5, (b + c) * 0.5, (c + a) * 0.5);
         let lower = shared.get();
+        let best = target.corners(slot);
         for m in [ab, bc, ca] {
-            target.offer(m, lower, face, shared, partial);
+            // Nearer than the lower bound to the piece's best triangle: it
+            // cannot raise it, and needs no walk.
+            if point_triangle_closest(m, &best).0.distance_squared(m) > lower * lower {
+                target.offer(m, lower, face, shared, partial);
+            }
         }
+        // The candidates of the four pieces, each those of the parent's
+        // within the parent's bound of the piece's box, moved down over the
+        // parent's list when done. A piece with too many walks the tree.
+        let base = if piece.len == WALK {
+            let base = worker.lists.len();
+            target.gather(&piece.corners, upper, &mut worker.lists, MAX_CANDIDATES);
+            base
+        } else {
+            piece.list
+        };
+        let from = base..worker.lists.len();
         let depth = piece.depth + 1;
-        for corners in [[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]] {
-            stack.push(Piece { corners, depth });
+        let mut children = [[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]].map(|corners| Piece {
+            corners,
+            depth,
+            list: 0,
+            len: WALK,
+            whole: false,
+        });
+        if !from.is_empty() {
+            let reach = upper2 * (1.0 + 1e-9);
+            for child in &mut children {
+                let (lo, hi) = corner_box(&child.corners);
+                child.list = worker.lists.len();
+                for k in from.clone() {
+                    let s = target.corners(worker.lists[k] as usize);
+                    let (s_lo, s_hi) = corner_box(&s);
+                    if (lo - s_hi).max(s_lo - hi).max(DVec3::ZERO).length_squared() <= reach {
+                        worker.lists.push(worker.lists[k]);
+                    }
+                }
+                child.len = worker.lists.len() - child.list;
+            }
+        }
+        let end = from.end;
+        worker.lists.copy_within(end.., base);
+        worker.lists.truncate(worker.lists.len() - (end - base));
+        for mut child in children {
+            if child.len != WALK {
+                child.list -= end - base;
+            }
+            worker.stack.push(child);
         }
     }
+}
+
+/// The box of three corners.
+fn corner_box(c: &[DVec3; 3]) -> (DVec3, DVec3) {
+    (c[0].min(c[1]).min(c[2]), c[0].max(c[1]).max(c[2]))
+}
+
+/// The smallest largest squared corner distance over the triangles of
+/// `list` (slots of the other surface's tree), starting from `best`; stops
+/// at the first within `enough`.
+fn best_of(
+    corners: &[DVec3; 3],
+    list: &[u32],
+    target: &Target<'_>,
+    enough: f64,
+    mut best: (f64, usize),
+) -> (f64, usize) {
+    for &slot in list {
+        let worst = reach_squared(corners, 3, &target.corners(slot as usize), enough, best.0);
+        if worst < best.0 {
+            best = (worst, slot as usize);
+            if worst <= enough {
+                break;
+            }
+        }
+    }
+    best
 }
 
 /// Triangles of the surface measured from whose first corner is measured
@@ -403,14 +520,14 @@ impl<'t> Target<'t> {
         Some((d2.sqrt(), closest, slot))
     }
 
-    /// An upper bound of `max over p in the triangle of d(p, to)`: the
-    /// smallest, over `to`'s triangles `s`, of the largest distance of a
-    /// corner to `s` (as soon as one is within `settled`, that one), and
-    /// the slot of that `s`.
+    /// An upper bound of `max over p in the triangle of d(p, to)²`: the
+    /// smallest, over `to`'s triangles `s`, of the largest squared distance
+    /// of a corner to `s` (as soon as one is within `settled`, that one),
+    /// and the slot of that `s`.
     fn bound(&self, corners: &[DVec3; 3], settled: f64) -> (f64, usize) {
         let mut reach = Reach::new(*corners, 3, settled, self.slack);
         self.tree.walk(|_| &mut reach, &mut ());
-        (reach.best.sqrt(), reach.best_slot)
+        (reach.best, reach.best_slot)
     }
 
     /// Measures point `p` of face `face` of the surface measured from, and
@@ -425,6 +542,36 @@ impl<'t> Target<'t> {
                 closest,
                 closest_face: self.tree.tree().source(slot),
             });
+        }
+    }
+
+    /// Appends to `out` the slots of every triangle whose box lies within
+    /// `reach` of the box of `corners` (and perhaps a few more: the tree's
+    /// `f32` boxes are given slack), or nothing when there are more than
+    /// `most`.
+    fn gather(&self, corners: &[DVec3; 3], reach: f64, out: &mut Vec<u32>, most: usize) {
+        let start = out.len();
+        let (lo, hi) = corner_box(corners);
+        let r = (reach + self.slack) * (1.0 + 1e-5);
+        let splat = |v: DVec3| {
+            [
+                f32x4::splat(v.x as f32),
+                f32x4::splat(v.y as f32),
+                f32x4::splat(v.z as f32),
+            ]
+        };
+        let mut gather = Gather {
+            lo: splat(lo - DVec3::splat(r)),
+            hi: splat(hi + DVec3::splat(r)),
+            box_lo: lo,
+            box_hi: hi,
+            reach_squared: r * r,
+            room: most,
+            out,
+        };
+        self.tree.walk(|_| &mut gather, &mut ());
+        if gather.room == 0 && gather.out.len() - start > most {
+            gather.out.truncate(start);
         }
     }
 
@@ -497,14 +644,9 @@ impl WideQuery<Triangle> for &mut Reach {
     }
 
     fn leaf<C: Counter>(&mut self, tree: &Slices<'_, Triangle>, leaf: Pending, counter: &mut C) -> ControlFlow<()> {
-        // A tree with triangle packets names a leaf by its first packet.
-        let first = match tree.packets.get(leaf.child as usize) {
-            Some(packet) => packet.first as usize,
-            None => leaf.child as usize,
-        };
-        let n = leaf.leaf_len();
-        counter.primitives(n as u64);
-        for (slot, t) in (first..).zip(&tree.primitives[first..first + n]) {
+        let slots = leaf_slots(tree, leaf);
+        counter.primitives(slots.len() as u64);
+        for (slot, t) in slots.clone().zip(&tree.primitives[slots]) {
             let s = [t.a.as_dvec3(), t.b.as_dvec3(), t.c.as_dvec3()];
             let worst = reach_squared(&self.corners, self.count, &s, self.stop_squared.max(0.0), self.best);
             if worst < self.best {
@@ -553,6 +695,66 @@ fn reach_squared(corners: &[DVec3; 3], count: usize, s: &[DVec3; 3], enough: f64
         }
     }
     worst
+}
+
+/// The leaf-order slots of a leaf's triangles (a tree with triangle
+/// packets names a leaf by its first packet).
+fn leaf_slots(tree: &Slices<'_, Triangle>, leaf: Pending) -> std::ops::Range<usize> {
+    let first = match tree.packets.get(leaf.child as usize) {
+        Some(packet) => packet.first as usize,
+        None => leaf.child as usize,
+    };
+    first..first + leaf.leaf_len()
+}
+
+/// The walk of [`Target::gather`]: every subtree whose box overlaps the
+/// piece's box widened by the reach.
+struct Gather<'o> {
+    /// The widened box, splatted per axis.
+    lo: [f32x4; 3],
+    hi: [f32x4; 3],
+    /// The piece's own box, in `f64`, for the leaves' exact test.
+    box_lo: DVec3,
+    box_hi: DVec3,
+    reach_squared: f64,
+    /// How many more may be gathered; one more ends the walk.
+    room: usize,
+    out: &'o mut Vec<u32>,
+}
+
+impl WideQuery<Triangle> for &mut Gather<'_> {
+    #[inline(always)]
+    fn keys(&self, node: &WideNode) -> (f32x4, u32) {
+        let overlaps = f32x4::new(node.min_x).simd_le(self.hi[0])
+            & f32x4::new(node.max_x).simd_ge(self.lo[0])
+            & f32x4::new(node.min_y).simd_le(self.hi[1])
+            & f32x4::new(node.max_y).simd_ge(self.lo[1])
+            & f32x4::new(node.min_z).simd_le(self.hi[2])
+            & f32x4::new(node.max_z).simd_ge(self.lo[2]);
+        (f32x4::ZERO, overlaps.to_bitmask())
+    }
+
+    #[inline(always)]
+    fn bound(&self) -> f32 {
+        0.0
+    }
+
+    fn leaf<C: Counter>(&mut self, tree: &Slices<'_, Triangle>, leaf: Pending, counter: &mut C) -> ControlFlow<()> {
+        let slots = leaf_slots(tree, leaf);
+        counter.primitives(slots.len() as u64);
+        for (slot, t) in slots.clone().zip(&tree.primitives[slots]) {
+            let (lo, hi) = corner_box(&[t.a.as_dvec3(), t.b.as_dvec3(), t.c.as_dvec3()]);
+            let gap = (self.box_lo - hi).max(lo - self.box_hi).max(DVec3::ZERO);
+            if gap.length_squared() <= self.reach_squared {
+                self.out.push(slot as u32);
+                if self.room == 0 {
+                    return ControlFlow::Break(());
+                }
+                self.room -= 1;
+            }
+        }
+        ControlFlow::Continue(())
+    }
 }
 
 #[cfg(test)]
