@@ -26,18 +26,10 @@ Each engine prints one JSON line (seconds: fastest of ``--reps``).
 import argparse
 import json
 import os
-import time
 
 import numpy as np
 
-
-def fastest(reps, work):
-    best, result = float("inf"), None
-    for _ in range(reps):
-        start = time.perf_counter()
-        result = work()
-        best = min(best, time.perf_counter() - start)
-    return best, result
+from _timing import timed as fastest
 
 
 def run_proxima(args):
