@@ -9,9 +9,9 @@ use crate::arrays::{self, value_error};
 use crate::poses::{self, Poses};
 use crate::threads;
 use numpy::{IntoPyArray, PyArray1, PyArray2};
-use proxima::MeshIndex;
 use proxima::pair::{self, DirectedHausdorff, FacePair, PairDistance, PairError, RigidPose};
 use proxima::prelude::*;
+use proxima::{DVec3, MeshIndex};
 use pyo3::IntoPyObjectExt;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -299,12 +299,31 @@ fn face_pairs<'py>(py: Python<'py>, pairs: &[FacePair]) -> PyResult<Bound<'py, P
 /// lower bound.
 #[pyclass(module = "proxima", name = "Hausdorff", frozen)]
 pub struct PyHausdorff {
-    inner: DirectedHausdorff,
-    /// `inner` measures from `a` to `b` (else from `b` to `a`).
-    from_a: bool,
-    /// The symmetric upper bound (both directions), or `inner.upper` when
-    /// one-sided.
+    lower: f64,
+    /// The symmetric upper bound (both directions), or the one direction's
+    /// when one-sided.
     upper: f64,
+    /// The pair realizing `lower`: the point on `a` and its face, the same on `b`.
+    a: (DVec3, u32),
+    b: (DVec3, u32),
+    /// `lower` is measured from `a` to `b` (else from `b` to `a`).
+    from_a: bool,
+}
+
+impl PyHausdorff {
+    /// The answer of `d`, measured from `a` (`from_a`) or from `b`, with the
+    /// upper bound `upper`.
+    fn new(d: &DirectedHausdorff, from_a: bool, upper: f64) -> Self {
+        let (far, near) = ((d.point, d.face), (d.closest, d.closest_face));
+        let (a, b) = if from_a { (far, near) } else { (near, far) };
+        Self {
+            lower: d.lower,
+            upper,
+            a,
+            b,
+            from_a,
+        }
+    }
 }
 
 #[pymethods]
@@ -312,7 +331,7 @@ impl PyHausdorff {
     /// A lower bound: the distance between `point_a` and `point_b`.
     #[getter]
     fn lower(&self) -> f64 {
-        self.inner.lower
+        self.lower
     }
 
     /// An upper bound: no point of either surface (of `a`, one-sided) lies
@@ -325,45 +344,25 @@ impl PyHausdorff {
     /// The point of mesh `a` of the pair that realizes `lower`, (3,) float64.
     #[getter]
     fn point_a<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        let p = if self.from_a {
-            self.inner.point
-        } else {
-            self.inner.closest
-        };
-        p.to_array().to_vec().into_pyarray(py)
+        self.a.0.to_array().to_vec().into_pyarray(py)
     }
 
     /// The point of mesh `b` of that pair, (3,) float64.
     #[getter]
     fn point_b<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        let p = if self.from_a {
-            self.inner.closest
-        } else {
-            self.inner.point
-        };
-        p.to_array().to_vec().into_pyarray(py)
+        self.b.0.to_array().to_vec().into_pyarray(py)
     }
 
     /// The face of `a` that holds `point_a`.
     #[getter]
     fn face_a(&self) -> i64 {
-        (if self.from_a {
-            self.inner.face
-        } else {
-            self.inner.closest_face
-        })
-        .into()
+        self.a.1.into()
     }
 
     /// The face of `b` that holds `point_b`.
     #[getter]
     fn face_b(&self) -> i64 {
-        (if self.from_a {
-            self.inner.closest_face
-        } else {
-            self.inner.face
-        })
-        .into()
+        self.b.1.into()
     }
 
     /// Whether `lower` is measured from `a`'s surface to `b`'s (`point_a` is
@@ -381,7 +380,7 @@ impl PyHausdorff {
     fn __repr__(&self) -> String {
         format!(
             "Hausdorff(lower={}, upper={}, from_a={})",
-            self.inner.lower,
+            self.lower,
             self.upper,
             if self.from_a { "True" } else { "False" }
         )
@@ -409,20 +408,12 @@ pub fn hausdorff<'py>(
     let answer = if one_sided {
         let inner = threads::run(py, threads, || pair::directed_hausdorff(a, b, tolerance))?
             .map_err(|e| pair_error(e, "tolerance"))?;
-        PyHausdorff {
-            inner,
-            from_a: true,
-            upper: inner.upper,
-        }
+        PyHausdorff::new(&inner, true, inner.upper)
     } else {
         let both =
             threads::run(py, threads, || pair::hausdorff(a, b, tolerance))?.map_err(|e| pair_error(e, "tolerance"))?;
         let from_a = both.forward.lower >= both.backward.lower;
-        PyHausdorff {
-            inner: *both.larger(),
-            from_a,
-            upper: both.upper(),
-        }
+        PyHausdorff::new(both.larger(), from_a, both.upper())
     };
     Bound::new(py, answer)
 }
