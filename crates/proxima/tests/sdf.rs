@@ -7,8 +7,8 @@
 
 mod common;
 
+use common::winding::oracle;
 use common::{bumpy_sphere, data_dir, random_soup, shared_meshes};
-use glam::DVec3;
 use proptest::prelude::*;
 use proxima::prelude::*;
 use proxima::sample::Rng;
@@ -23,36 +23,6 @@ const TOLERANCE: f64 = 0.01;
 /// The accuracy of the values at the default β (docs/sdf.md): 0.03 is the
 /// largest error measured on the shared meshes.
 const VALUE_TOLERANCE: f64 = 0.04;
-
-/// The signed solid angle of a triangle seen from `p` by Girard's theorem:
-/// the spherical triangle's excess (sum of its angles minus π), signed by
-/// the orientation. A triangle in a plane through `p` (or with a vertex on
-/// `p`) sees 0, the library's convention on the surface.
-fn girard_solid_angle(t: &Triangle, p: Vec3) -> f64 {
-    let p = p.as_dvec3();
-    let [a, b, c] = [t.a, t.b, t.c].map(|v| v.as_dvec3() - p);
-    let det = a.dot(b.cross(c));
-    if det == 0.0 || a.length() == 0.0 || b.length() == 0.0 || c.length() == 0.0 {
-        return 0.0;
-    }
-    let [a, b, c] = [a, b, c].map(DVec3::normalize);
-    // The angle at vertex `u` between the great circles to `v` and `w`.
-    let corner = |u: DVec3, v: DVec3, w: DVec3| {
-        let (n1, n2) = (u.cross(v), u.cross(w));
-        n1.angle_between(n2)
-    };
-    let excess = corner(a, b, c) + corner(b, c, a) + corner(c, a, b) - std::f64::consts::PI;
-    if excess.is_finite() {
-        excess.abs() * det.signum()
-    } else {
-        0.0
-    }
-}
-
-/// The winding number by Girard's theorem over every triangle.
-fn oracle(triangles: &[Triangle], p: Vec3) -> f64 {
-    triangles.iter().map(|t| girard_solid_angle(t, p)).sum::<f64>() / (4.0 * std::f64::consts::PI)
-}
 
 fn field(mesh: &Mesh, sign: Sign) -> SignedDistanceField {
     SignedDistanceField::new(
@@ -113,6 +83,13 @@ fn check_winding(mesh: &Mesh, points: &[Vec3], what: &str) -> f64 {
         assert_eq!(s.closest, field.tree().closest(p).unwrap(), "{what}: closest at {p}");
         assert_eq!(s.distance.abs(), s.closest.distance);
         assert_eq!(Some(s), field.signed_distance(p));
+        // The certificate's value where it decided (an integer plus the
+        // caps' winding number), else the tree's.
+        let v = s.winding_number.expect("winding sign") as f64;
+        assert!(
+            (v - e).abs() < VALUE_TOLERANCE,
+            "{what}: signed w({p}) = {v}, oracle {e}"
+        );
         if (e - 0.5).abs() > TOLERANCE {
             assert_eq!(inside[i], e > 0.5, "{what}: contains({p}) with oracle {e}");
             assert_eq!(

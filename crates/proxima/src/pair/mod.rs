@@ -56,6 +56,7 @@ pub use hausdorff::{
 };
 pub use pose::{PoseError, RigidPose};
 pub use self_intersection::self_intersections;
+pub(crate) use self_intersection::{Report, meeting_pairs};
 pub use triangle_distance::{TrianglePairDistance, separated_triangle_distance, triangle_distance};
 pub use triangle_intersection::{neighbours_intersect, segment_meets_triangle, triangles_intersect};
 

@@ -17,7 +17,9 @@ use super::triangle_intersection::{neighbours_intersect, triangles_intersect};
 use super::{FacePair, PairError, faces_tree};
 use crate::Triangle;
 use crate::index::MeshIndex;
+use crate::math::Vec3;
 use crate::query::SpatialIndex;
+use crate::wide_tree::WideTree;
 use overlaps::{LeafVisitor, SelfOverlaps};
 use rayon::prelude::*;
 use std::ops::{ControlFlow, Range};
@@ -45,13 +47,39 @@ use wide::{f32x8, u32x8};
 /// ```
 pub fn self_intersections(index: &MeshIndex) -> Result<Vec<FacePair>, PairError> {
     let tree = faces_tree(index, "mesh")?;
-    let leaves = tree.leaves();
     let corners = index.mesh().triangle_vertex_indices();
-    let certified = fans::certified_vertices(index.mesh().positions(), &corners);
+    meeting_pairs(tree, index.mesh().positions(), &corners, Report::Faces)
+}
+
+/// What [`meeting_pairs`] names a pair by.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Report {
+    /// The faces the triangles came from (the tree's sources); two
+    /// triangles of one polygon face are never a pair.
+    Faces,
+    /// The triangles themselves (the tree's build indices).
+    Triangles,
+}
+
+/// The pairs of triangles of `tree` that meet beyond what they share,
+/// sorted, named as `report` says: the walk of [`self_intersections`] on a
+/// tree built over triangles whose vertex indices are `corners` (by build
+/// index) into `positions`.
+pub(crate) fn meeting_pairs(
+    tree: &WideTree<Triangle>,
+    positions: &[Vec3],
+    corners: &[[u32; 3]],
+    report: Report,
+) -> Result<Vec<FacePair>, PairError> {
+    let leaves = tree.leaves();
+    let certified = fans::certified_vertices(positions, corners);
+    let names = match report {
+        Report::Faces => leaves.sources(),
+        Report::Triangles => leaves.indices(),
+    };
     // Each slot's face, vertex indices and certificates in leaf order, read
     // in the order the walk meets them rather than through indirections.
-    let slots: Vec<Slot> = leaves
-        .sources()
+    let slots: Vec<Slot> = names
         .par_iter()
         .zip(leaves.indices())
         .map(|(&face, &triangle)| {
@@ -64,7 +92,7 @@ pub fn self_intersections(index: &MeshIndex) -> Result<Vec<FacePair>, PairError>
             }
         })
         .collect();
-    drop((corners, certified));
+    drop(certified);
     let boxes = SlotBoxes::new(leaves.primitives(), &slots);
     let limit = PairLimit::from_budget()?;
     let walk = SelfOverlaps::new(tree);

@@ -1,6 +1,7 @@
 //! The signed distance field of a triangle mesh: the closest query's
 //! distance, signed by the winding number or by pseudonormals.
 
+use super::certificate::SignCertificate;
 use super::pseudonormal::Pseudonormals;
 use super::winding::{DEFAULT_BETA, WindingNumbers, winding_number_exact};
 use crate::Triangle;
@@ -48,6 +49,13 @@ pub struct SdfConfig {
     /// tree of expansions: the oracle's answer, linear in the number of
     /// triangles per query.
     pub exact: bool,
+    /// With the winding-number sign, decide the side from the closest
+    /// query where a [`SignCertificate`] computed at build proves it equal
+    /// to the winding number's (closed, manifold, uncrossed parts of the
+    /// mesh), and walk the winding number only elsewhere: the same sides,
+    /// about the closest query's cost. Off, every signed distance walks the
+    /// winding number.
+    pub certify: bool,
     /// The tree of the closest queries.
     pub build: BuildConfig,
 }
@@ -58,6 +66,7 @@ impl Default for SdfConfig {
             sign: Sign::default(),
             beta: DEFAULT_BETA,
             exact: false,
+            certify: true,
             build: BuildConfig::default(),
         }
     }
@@ -69,7 +78,10 @@ pub struct SignedDistance {
     /// The distance to the closest point, negative inside, positive outside
     /// (and on the surface).
     pub distance: f32,
-    /// The winding number, when the side came from it.
+    /// The winding number, when the side came from it: from the tree of
+    /// expansions, or, where the field's [`SignCertificate`] decides, the
+    /// integer of the closest sheet's side plus the caps' winding number
+    /// (an integer on a closed mesh).
     pub winding_number: Option<f32>,
     /// The closest query's answer: the triangle (`primitive`, its face in
     /// `source`), the closest point, the unsigned distance.
@@ -110,7 +122,9 @@ pub struct SignedDistanceField {
     /// for [`winding_number`](Self::winding_number).
     winding: OnceLock<WindingNumbers>,
     beta: f32,
+    /// For the pseudonormal sign, and for the certificate's sides.
     pseudonormals: Option<Pseudonormals>,
+    certificate: Option<Arc<SignCertificate>>,
     sign: Sign,
     exact: bool,
 }
@@ -143,18 +157,27 @@ impl SignedDistanceField {
     /// ```
     pub fn with_tree(tree: Arc<WideTree<Triangle>>, mesh: &Mesh, config: &SdfConfig) -> Self {
         debug_assert_eq!(tree.len(), mesh.triangle_count());
-        let pseudonormals = (config.sign == Sign::Pseudonormal).then(|| Pseudonormals::new(mesh));
         // Built now when every signed distance needs it, so that a field's
         // build time holds all of its build.
         let winding = OnceLock::new();
+        let (mut pseudonormals, mut certificate) = (None, None);
         if config.sign == Sign::WindingNumber && !config.exact {
-            let _ = winding.set(WindingNumbers::new(&tree, config.beta));
+            let numbers = winding.get_or_init(|| WindingNumbers::new(&tree, config.beta));
+            if config.certify {
+                let (normals, proof) = SignCertificate::build(mesh, &tree, numbers);
+                pseudonormals = Some(normals);
+                certificate = Some(Arc::new(proof));
+            }
+        }
+        if config.sign == Sign::Pseudonormal {
+            pseudonormals = Some(Pseudonormals::new(mesh));
         }
         Self {
             tree,
             winding,
             beta: config.beta,
             pseudonormals,
+            certificate,
             sign: config.sign,
             exact: config.exact,
         }
@@ -165,9 +188,17 @@ impl SignedDistanceField {
         &self.tree
     }
 
-    /// The pseudonormals, in a field signed by them.
+    /// The pseudonormals, in a field signed by them or by a certified
+    /// winding number.
     pub fn pseudonormals(&self) -> Option<&Pseudonormals> {
         self.pseudonormals.as_ref()
+    }
+
+    /// The certificate that decides the winding number's side from the
+    /// closest query, in a field signed by winding numbers and made with
+    /// [`SdfConfig::certify`].
+    pub fn certificate(&self) -> Option<&SignCertificate> {
+        self.certificate.as_deref()
     }
 
     /// The winding numbers' tree of expansions.
@@ -217,10 +248,14 @@ impl SignedDistanceField {
     /// The closest query's answer `closest` at `p`, signed.
     #[inline]
     pub(crate) fn signed_answer(&self, p: Vec3, closest: ClosestHit) -> SignedDistance {
-        let (inside, winding_number) = match &self.pseudonormals {
-            Some(normals) => (normals.is_inside(closest.primitive, p), None),
-            None => {
-                let w = self.winding_number(p);
+        let (inside, winding_number) = match (self.sign, &self.pseudonormals) {
+            (Sign::Pseudonormal, Some(normals)) => (normals.is_inside(closest.primitive, p), None),
+            _ => {
+                let certified = match (&self.certificate, &self.pseudonormals) {
+                    (Some(proof), Some(normals)) => proof.winding_number(normals, &closest, p),
+                    _ => None,
+                };
+                let w = certified.unwrap_or_else(|| self.winding_number(p));
                 (w > 0.5, Some(w))
             }
         };

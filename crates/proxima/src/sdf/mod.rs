@@ -12,9 +12,11 @@
 //!
 //! One concept per file: the solid angle of a triangle (`solid_angle.rs`),
 //! winding numbers by a tree of dipole expansions (`winding.rs`),
-//! pseudonormals (`pseudonormal.rs`), the field and its batches
+//! pseudonormals (`pseudonormal.rs`), the certificate that decides the
+//! winding number's side from the closest query (`certificate.rs`), the field and its batches
 //! (`field.rs`), the gradient (`gradient.rs`), grids and samples (`grid.rs`).
 
+mod certificate;
 mod error;
 mod field;
 mod gradient;
@@ -23,6 +25,7 @@ mod pseudonormal;
 mod solid_angle;
 mod winding;
 
+pub use certificate::{CertificateStats, SignCertificate};
 pub use error::SdfError;
 pub use field::{SdfConfig, Sign, SignedDistance, SignedDistanceField};
 pub use gradient::{ON_SURFACE, SdfGradient, signed_distance_gradient, signed_distance_gradients};

@@ -66,12 +66,14 @@ impl Pseudonormals {
     /// The pseudonormals of `mesh`'s faces, fan-triangulated as
     /// [`Mesh::triangles`] does.
     pub fn new(mesh: &Mesh) -> Self {
-        let (positions, weld) = weld(mesh.positions());
-        let mut corners = mesh.triangle_vertex_indices();
-        for c in &mut corners {
-            *c = c.map(|v| weld[v as usize]);
-        }
-        let (normals, vertices) = angle_weighted_sums(&positions, &corners);
+        let (positions, corners) = welded_triangles(mesh);
+        Self::from_welded(&positions, &corners)
+    }
+
+    /// The pseudonormals of triangles `corners` (vertex indices into
+    /// `positions`, already welded: one index per position).
+    pub(crate) fn from_welded(positions: &[DVec3], corners: &[[u32; 3]]) -> Self {
+        let (normals, vertices) = angle_weighted_sums(positions, corners);
 
         let to_f32 = |v: DVec3| v.as_vec3().to_array();
         let mut triangles: Vec<TriangleNormals> = corners
@@ -119,6 +121,17 @@ impl Pseudonormals {
         (q - on).dot(normal) < 0.0
     }
 
+    /// Which side of triangle `triangle`'s nearest feature `p` lies on:
+    /// `(p − c) · n` and `|n|` in `f64`, `c` a point of the feature and `n`
+    /// its pseudonormal (not unit length). [`is_inside`](Self::is_inside)
+    /// is the first below 0; the distance along the normal is their ratio.
+    #[inline]
+    pub(crate) fn side(&self, triangle: u32, p: Vec3) -> (f64, f64) {
+        let q = p.as_dvec3();
+        let (on, normal) = self.feature_normal(triangle, q);
+        ((q - on).dot(normal), normal.length())
+    }
+
     /// The unit pseudonormal of the feature of triangle `triangle` nearest
     /// to `p`: the outward direction there of a closed, outward-oriented
     /// surface, and the gradient of its signed distance at a point on the
@@ -145,6 +158,17 @@ impl Pseudonormals {
     pub fn memory_bytes(&self) -> usize {
         std::mem::size_of_val(&self.triangles[..])
     }
+}
+
+/// `mesh`'s positions welded ([`weld`]) in `f64`, and its triangles'
+/// vertex indices ([`Mesh::triangle_vertex_indices`]) into them.
+pub(crate) fn welded_triangles(mesh: &Mesh) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+    let (positions, weld) = weld(mesh.positions());
+    let mut corners = mesh.triangle_vertex_indices();
+    for c in &mut corners {
+        *c = c.map(|v| weld[v as usize]);
+    }
+    (positions, corners)
 }
 
 /// Positions without repeats (equal bit for bit, with -0 and +0 alike), and

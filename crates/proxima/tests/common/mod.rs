@@ -6,6 +6,7 @@ pub mod degenerate;
 pub mod exact;
 pub mod glb_writer;
 pub mod oracle;
+pub mod winding;
 
 use proxima::sample::Rng;
 use proxima::{Mesh, Vec3};
