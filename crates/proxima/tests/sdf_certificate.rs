@@ -30,11 +30,14 @@ fn field(mesh: &Mesh) -> SignedDistanceField {
 /// to the winding number's walk.
 fn certified(field: &SignedDistanceField, p: Vec3) -> Option<f32> {
     let closest = field.tree().closest(p)?;
-    let normals = field.pseudonormals().expect("a certified field holds pseudonormals");
+    assert!(
+        field.pseudonormals().is_some(),
+        "a certified field lends its pseudonormals"
+    );
     field
         .certificate()
         .expect("certified by default")
-        .winding_number(normals, &closest, p)
+        .winding_number(&closest, p)
 }
 
 /// Mesh from triangles given as corner positions (welded by the library).

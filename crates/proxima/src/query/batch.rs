@@ -98,7 +98,7 @@ impl Seed {
 /// Queries per parallel task of [`closest_in_chunks`]: large enough that
 /// radius seeding rarely restarts, small enough to share work between
 /// threads.
-const CHUNK: usize = 1024;
+pub(crate) const CHUNK: usize = 1024;
 
 /// The closest-hit batch of both trees: the points, in Morton order within
 /// `bounds` with `reorder`, are cut into chunks of [`CHUNK`] that the
@@ -116,12 +116,25 @@ pub(crate) fn closest_in_chunks(
     reorder: bool,
     answer_chunk: impl Fn(&[Vec3], &mut [Option<ClosestHit>]) + Sync + Send,
 ) -> Vec<Option<ClosestHit>> {
+    in_chunks(points, bounds, reorder, None, answer_chunk)
+}
+
+/// [`closest_in_chunks`] for answers of any plain type, `empty` filling
+/// the answers until `answer_chunk` writes them: batches that compute more
+/// than the closest hit (a signed distance) while the chunk is in cache.
+pub(crate) fn in_chunks<R: Copy + Send>(
+    points: &[Vec3],
+    bounds: &Aabb,
+    reorder: bool,
+    empty: R,
+    answer_chunk: impl Fn(&[Vec3], &mut [R]) + Sync + Send,
+) -> Vec<R> {
     let order = reorder.then(|| morton_order(points, bounds));
     let sorted: Vec<Vec3> = match &order {
         Some(order) => order.iter().map(|&i| points[i as usize]).collect(),
         None => points.to_vec(),
     };
-    let mut answers = vec![None; points.len()];
+    let mut answers = vec![empty; points.len()];
     // Each chunk is taken exactly once, so its lock is never waited on.
     let chunks: Vec<Mutex<(&mut [_], &[Vec3])>> = answers
         .chunks_mut(CHUNK)

@@ -108,9 +108,7 @@ pub trait NearestQuery<T: ClosestPoint>: SpatialIndex<T> {
         Self: Sync,
     {
         closest_in_chunks(points, &self.bounds(), options.reorder, |points, out| {
-            Seed::closest_each(points, out, options.seed_radius, |p, r| closest_deferred(self, p, r));
-            // The sources are looked up once the chunk is answered, all together.
-            self.leaves().resolve_sources(out);
+            closest_chunk(self, points, out, options.seed_radius);
         })
     }
 
@@ -215,6 +213,20 @@ pub(crate) fn best_within<'a, T: ClosestPoint + 'a, S: NearestQuery<T> + ?Sized,
 /// holds its leaf-order slot, for [`Leaves::resolve_sources`](super::Leaves)
 /// to replace later; `primitive` is the input index the walk already knows.
 #[inline]
+/// The closest hits of one chunk of a batch (points in Morton order), each
+/// query seeded by its neighbour's answer when `seed_radius`
+/// ([`BatchOptions::seed_radius`]).
+pub(crate) fn closest_chunk<T: ClosestPoint, S: NearestQuery<T> + ?Sized>(
+    structure: &S,
+    points: &[Vec3],
+    out: &mut [Option<ClosestHit>],
+    seed_radius: bool,
+) {
+    Seed::closest_each(points, out, seed_radius, |p, r| closest_deferred(structure, p, r));
+    // The sources are looked up once the chunk is answered, all together.
+    structure.leaves().resolve_sources(out);
+}
+
 fn closest_deferred<T: ClosestPoint, S: NearestQuery<T> + ?Sized>(
     structure: &S,
     p: Vec3,

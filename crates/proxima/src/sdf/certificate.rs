@@ -23,7 +23,7 @@
 //! field falls back to the whole winding number. `docs/sdf.md` has the
 //! proof and the measurements.
 
-use super::pseudonormal::{Pseudonormals, welded_triangles};
+use super::pseudonormal::{NOT_CERTIFIED as UNCERTIFIED, Pseudonormals, welded_triangles};
 use super::winding::{REFINE_MARGIN, WindingNumbers};
 use crate::Triangle;
 use crate::build::BuildConfig;
@@ -34,9 +34,6 @@ use crate::primitive::PrimitiveSet;
 use crate::query::{ClosestHit, NearestQuery, SpatialIndex};
 use crate::wide_tree::WideTree;
 use rayon::prelude::*;
-
-/// A triangle whose side the certificate does not decide.
-const UNCERTIFIED: i32 = i32::MIN;
 
 /// The accuracy parameter of the one winding number per component.
 const LABEL_BETA: f32 = 4.0;
@@ -88,9 +85,10 @@ struct Caps {
 /// ```
 #[derive(Debug)]
 pub struct SignCertificate {
-    /// Per triangle (in [`Mesh::triangles`] order), the integer winding
-    /// number of `S − T` in front of it, or [`UNCERTIFIED`].
-    fronts: Vec<i32>,
+    /// The pseudonormals, each triangle's record holding the integer
+    /// winding number of `S − T` in front of it (or none): the one record a
+    /// certified query reads.
+    normals: Pseudonormals,
     caps: Option<Caps>,
     /// Distances below this (2^-20 of the largest coordinate) are within
     /// the `f32` walk's rounding.
@@ -99,154 +97,29 @@ pub struct SignCertificate {
 }
 
 impl SignCertificate {
-    /// The pseudonormals of `mesh` and the certificate of its triangles,
-    /// `tree` built over [`Mesh::triangles`] and `winding` its winding
-    /// numbers. A mesh whose crossings cannot be listed within the memory
-    /// budget gets a certificate that decides nothing.
-    pub(crate) fn build(mesh: &Mesh, tree: &WideTree<Triangle>, winding: &WindingNumbers) -> (Pseudonormals, Self) {
+    /// The certificate of `mesh`'s triangles, `tree` built over
+    /// [`Mesh::triangles`] and `winding` its winding numbers. A mesh whose
+    /// crossings cannot be listed within the memory budget gets a
+    /// certificate that decides nothing.
+    pub fn new(mesh: &Mesh, tree: &WideTree<Triangle>, winding: &WindingNumbers) -> Self {
         let (positions, corners) = welded_triangles(mesh);
-        let normals = Pseudonormals::from_welded(&positions, &corners);
+        let mut normals = Pseudonormals::from_welded(&positions, &corners);
         let bounds = tree.bounds();
         let scale = bounds.min.abs().max(bounds.max.abs()).max_element();
         let slack = scale * (1.0 / (1u32 << 20) as f32);
-        let certificate = Self::certify(&positions, &corners, tree, winding, slack);
-        (normals, certificate)
-    }
-
-    fn certify(
-        positions: &[DVec3],
-        corners: &[[u32; 3]],
-        tree: &WideTree<Triangle>,
-        winding: &WindingNumbers,
-        slack: f32,
-    ) -> Self {
-        let n = corners.len();
-        let mut stats = CertificateStats {
-            triangles: n,
-            ..CertificateStats::default()
-        };
-        let nothing = |stats: CertificateStats| Self {
-            fronts: vec![UNCERTIFIED; n],
-            caps: None,
-            slack,
-            stats,
-        };
-        let topology = Topology::new(positions, corners);
-        let Some(loops) = topology.boundary_loops(positions.len()) else {
-            return nothing(stats);
-        };
-        stats.boundary_loops = loops.len();
-
-        // S − T: the mesh and its caps turned over, for the crossings.
-        let mut all_positions: Vec<Vec3> = positions.iter().map(|p| p.as_vec3()).collect();
-        let mut all_corners = corners.to_vec();
-        let mut caps = Vec::new();
-        for ring in &loops {
-            let centre = ring.iter().map(|&v| positions[v as usize]).sum::<DVec3>() / ring.len() as f64;
-            let o = all_positions.len() as u32;
-            all_positions.push(centre.as_vec3());
-            for (k, &u) in ring.iter().enumerate() {
-                let v = ring[(k + 1) % ring.len()];
-                all_corners.push([o, v, u]);
-                let p = |i: u32| all_positions[i as usize];
-                caps.push(Triangle::new(p(o), p(u), p(v)));
-            }
-        }
-        let config = BuildConfig::default();
-        let caps = if caps.is_empty() {
-            None
-        } else {
-            let Ok(tree) = WideTree::build_set(PrimitiveSet::from_primitives(caps), &config) else {
-                return nothing(stats);
-            };
-            let winding = WindingNumbers::new(&tree, winding.beta());
-            Some(Caps { tree, winding })
-        };
-        let meeting = match &caps {
-            None => meeting_pairs(tree, &all_positions, &all_corners, Report::Triangles),
-            Some(_) => {
-                let triangles: Vec<Triangle> = all_corners
-                    .iter()
-                    .map(|c| {
-                        let p = |i: u32| all_positions[i as usize];
-                        Triangle::new(p(c[0]), p(c[1]), p(c[2]))
-                    })
-                    .collect();
-                match WideTree::build_set(PrimitiveSet::from_primitives(triangles), &config) {
-                    Ok(whole) => meeting_pairs(&whole, &all_positions, &all_corners, Report::Triangles),
-                    Err(_) => return nothing(stats),
-                }
-            }
-        };
-        let Ok(meeting) = meeting else {
-            return nothing(stats);
-        };
-        let mut crossed = vec![false; n];
-        for t in meeting.into_iter().flatten() {
-            if let Some(c) = crossed.get_mut(t as usize) {
-                *c = true;
-            }
-        }
-        stats.meeting = crossed.iter().filter(|&&c| c).count();
-
-        let certified: Vec<bool> = (0..n)
-            .map(|t| !crossed[t] && !topology.degenerate[t] && corners[t].iter().all(|&v| !topology.bad[v as usize]))
-            .collect();
-        stats.certified = certified.iter().filter(|&&c| c).count();
-
-        // Components of certified triangles through their shared edges,
-        // each measured at its largest triangle.
-        let mut components = UnionFind::new(n);
-        for &[s, t] in &topology.neighbours {
-            if certified[s as usize] && certified[t as usize] {
-                components.union(s, t);
-            }
-        }
-        let area = |t: usize| {
-            let [a, b, c] = corners[t].map(|v| positions[v as usize]);
-            (b - a).cross(c - a).length()
-        };
-        let mut largest: Vec<(u32, f64)> = vec![(u32::MAX, 0.0); n];
-        for t in (0..n).filter(|&t| certified[t]) {
-            let root = components.find(t as u32) as usize;
-            let a = area(t);
-            if largest[root].0 == u32::MAX || a > largest[root].1 {
-                largest[root] = (t as u32, a);
-            }
-        }
-        let representatives: Vec<(usize, u32)> = largest
-            .iter()
-            .enumerate()
-            .filter(|(_, r)| r.0 != u32::MAX)
-            .map(|(root, r)| (root, r.0))
-            .collect();
-        let labels: Vec<(usize, Option<i32>)> = representatives
-            .par_iter()
-            .map(|&(root, t)| (root, front_of(t, positions, corners, tree, winding, caps.as_ref())))
-            .collect();
-        let mut label_of = vec![UNCERTIFIED; n];
-        for (root, label) in labels {
-            if let Some(label) = label {
-                label_of[root] = label;
-                stats.components += 1;
-            }
-        }
-        let fronts: Vec<i32> = (0..n)
-            .map(|t| {
-                if certified[t] {
-                    label_of[components.find_const(t as u32) as usize]
-                } else {
-                    UNCERTIFIED
-                }
-            })
-            .collect();
-        stats.certified = fronts.iter().filter(|&&f| f != UNCERTIFIED).count();
+        let (fronts, caps, stats) = certify(&positions, &corners, tree, winding);
+        normals.set_fronts(&fronts);
         Self {
-            fronts,
+            normals,
             caps,
             slack,
             stats,
         }
+    }
+
+    /// The pseudonormals that give the certified sides.
+    pub fn pseudonormals(&self) -> &Pseudonormals {
+        &self.normals
     }
 
     /// What the certificate holds.
@@ -259,12 +132,11 @@ impl SignCertificate {
     /// never within [`REFINE_MARGIN`] of ½. `None` where the field must
     /// walk the whole winding number.
     #[inline]
-    pub fn winding_number(&self, normals: &Pseudonormals, closest: &ClosestHit, p: Vec3) -> Option<f32> {
-        let front = *self.fronts.get(closest.primitive as usize)?;
+    pub fn winding_number(&self, closest: &ClosestHit, p: Vec3) -> Option<f32> {
+        let (front, height, length) = self.normals.front_and_side(closest.primitive, p);
         if front == UNCERTIFIED {
             return None;
         }
-        let (height, length) = normals.side(closest.primitive, p);
         let margin = (SIDE_RELATIVE * closest.distance as f64).max(self.slack as f64) * length;
         // NaN (a degenerate feature) falls back too.
         if height.abs().partial_cmp(&margin) != Some(std::cmp::Ordering::Greater) {
@@ -281,6 +153,133 @@ impl SignCertificate {
         let w = k as f32 + caps.winding.winding_number(p);
         ((w - 0.5).abs() > REFINE_MARGIN).then_some(w)
     }
+}
+
+/// Each triangle's front ([`UNCERTIFIED`] where the rule does not hold),
+/// the caps and the counts: the module doc's rule on welded triangles.
+fn certify(
+    positions: &[DVec3],
+    corners: &[[u32; 3]],
+    tree: &WideTree<Triangle>,
+    winding: &WindingNumbers,
+) -> (Vec<i32>, Option<Caps>, CertificateStats) {
+    let n = corners.len();
+    let mut stats = CertificateStats {
+        triangles: n,
+        ..CertificateStats::default()
+    };
+    let nothing = |stats: CertificateStats| (vec![UNCERTIFIED; n], None, stats);
+    let topology = Topology::new(positions, corners);
+    let Some(loops) = topology.boundary_loops(positions.len()) else {
+        return nothing(stats);
+    };
+    stats.boundary_loops = loops.len();
+
+    // S − T: the mesh and its caps turned over, for the crossings.
+    let mut all_positions: Vec<Vec3> = positions.iter().map(|p| p.as_vec3()).collect();
+    let mut all_corners = corners.to_vec();
+    let mut caps = Vec::new();
+    for ring in &loops {
+        let centre = ring.iter().map(|&v| positions[v as usize]).sum::<DVec3>() / ring.len() as f64;
+        let o = all_positions.len() as u32;
+        all_positions.push(centre.as_vec3());
+        for (k, &u) in ring.iter().enumerate() {
+            let v = ring[(k + 1) % ring.len()];
+            all_corners.push([o, v, u]);
+            let p = |i: u32| all_positions[i as usize];
+            caps.push(Triangle::new(p(o), p(u), p(v)));
+        }
+    }
+    let config = BuildConfig::default();
+    let caps = if caps.is_empty() {
+        None
+    } else {
+        let Ok(tree) = WideTree::build_set(PrimitiveSet::from_primitives(caps), &config) else {
+            return nothing(stats);
+        };
+        let winding = WindingNumbers::new(&tree, winding.beta());
+        Some(Caps { tree, winding })
+    };
+    let meeting = match &caps {
+        None => meeting_pairs(tree, &all_positions, &all_corners, Report::Triangles),
+        Some(_) => {
+            let triangles: Vec<Triangle> = all_corners
+                .iter()
+                .map(|c| {
+                    let p = |i: u32| all_positions[i as usize];
+                    Triangle::new(p(c[0]), p(c[1]), p(c[2]))
+                })
+                .collect();
+            match WideTree::build_set(PrimitiveSet::from_primitives(triangles), &config) {
+                Ok(whole) => meeting_pairs(&whole, &all_positions, &all_corners, Report::Triangles),
+                Err(_) => return nothing(stats),
+            }
+        }
+    };
+    let Ok(meeting) = meeting else {
+        return nothing(stats);
+    };
+    let mut crossed = vec![false; n];
+    for t in meeting.into_iter().flatten() {
+        if let Some(c) = crossed.get_mut(t as usize) {
+            *c = true;
+        }
+    }
+    stats.meeting = crossed.iter().filter(|&&c| c).count();
+
+    let certified: Vec<bool> = (0..n)
+        .map(|t| !crossed[t] && !topology.degenerate[t] && corners[t].iter().all(|&v| !topology.bad[v as usize]))
+        .collect();
+    stats.certified = certified.iter().filter(|&&c| c).count();
+
+    // Components of certified triangles through their shared edges,
+    // each measured at its largest triangle.
+    let mut components = UnionFind::new(n);
+    for &[s, t] in &topology.neighbours {
+        if certified[s as usize] && certified[t as usize] {
+            components.union(s, t);
+        }
+    }
+    let area = |t: usize| {
+        let [a, b, c] = corners[t].map(|v| positions[v as usize]);
+        (b - a).cross(c - a).length()
+    };
+    let mut largest: Vec<(u32, f64)> = vec![(u32::MAX, 0.0); n];
+    for t in (0..n).filter(|&t| certified[t]) {
+        let root = components.find(t as u32) as usize;
+        let a = area(t);
+        if largest[root].0 == u32::MAX || a > largest[root].1 {
+            largest[root] = (t as u32, a);
+        }
+    }
+    let representatives: Vec<(usize, u32)> = largest
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| r.0 != u32::MAX)
+        .map(|(root, r)| (root, r.0))
+        .collect();
+    let labels: Vec<(usize, Option<i32>)> = representatives
+        .par_iter()
+        .map(|&(root, t)| (root, front_of(t, positions, corners, tree, winding, caps.as_ref())))
+        .collect();
+    let mut label_of = vec![UNCERTIFIED; n];
+    for (root, label) in labels {
+        if let Some(label) = label {
+            label_of[root] = label;
+            stats.components += 1;
+        }
+    }
+    let fronts: Vec<i32> = (0..n)
+        .map(|t| {
+            if certified[t] {
+                label_of[components.find_const(t as u32) as usize]
+            } else {
+                UNCERTIFIED
+            }
+        })
+        .collect();
+    stats.certified = fronts.iter().filter(|&&f| f != UNCERTIFIED).count();
+    (fronts, caps, stats)
 }
 
 /// The integer winding number of `S − T` in front of triangle `t`,

@@ -10,7 +10,7 @@ use crate::build::BuildConfig;
 use crate::error::SdfError;
 use crate::math::Vec3;
 use crate::mesh::Mesh;
-use crate::query::answer_batch_indexed;
+use crate::query::{BatchOptions, CHUNK, answer_batch_indexed, closest_chunk, in_chunks};
 use crate::query::{ClosestHit, NearestQuery, SpatialIndex};
 use crate::wide_tree::WideTree;
 use std::sync::{Arc, OnceLock};
@@ -122,7 +122,7 @@ pub struct SignedDistanceField {
     /// for [`winding_number`](Self::winding_number).
     winding: OnceLock<WindingNumbers>,
     beta: f32,
-    /// For the pseudonormal sign, and for the certificate's sides.
+    /// For the pseudonormal sign (a certificate holds its own).
     pseudonormals: Option<Pseudonormals>,
     certificate: Option<Arc<SignCertificate>>,
     sign: Sign,
@@ -160,18 +160,14 @@ impl SignedDistanceField {
         // Built now when every signed distance needs it, so that a field's
         // build time holds all of its build.
         let winding = OnceLock::new();
-        let (mut pseudonormals, mut certificate) = (None, None);
+        let mut certificate = None;
         if config.sign == Sign::WindingNumber && !config.exact {
             let numbers = winding.get_or_init(|| WindingNumbers::new(&tree, config.beta));
             if config.certify {
-                let (normals, proof) = SignCertificate::build(mesh, &tree, numbers);
-                pseudonormals = Some(normals);
-                certificate = Some(Arc::new(proof));
+                certificate = Some(Arc::new(SignCertificate::new(mesh, &tree, numbers)));
             }
         }
-        if config.sign == Sign::Pseudonormal {
-            pseudonormals = Some(Pseudonormals::new(mesh));
-        }
+        let pseudonormals = (config.sign == Sign::Pseudonormal).then(|| Pseudonormals::new(mesh));
         Self {
             tree,
             winding,
@@ -191,7 +187,9 @@ impl SignedDistanceField {
     /// The pseudonormals, in a field signed by them or by a certified
     /// winding number.
     pub fn pseudonormals(&self) -> Option<&Pseudonormals> {
-        self.pseudonormals.as_ref()
+        self.pseudonormals
+            .as_ref()
+            .or_else(|| self.certificate.as_deref().map(SignCertificate::pseudonormals))
     }
 
     /// The certificate that decides the winding number's side from the
@@ -251,10 +249,7 @@ impl SignedDistanceField {
         let (inside, winding_number) = match (self.sign, &self.pseudonormals) {
             (Sign::Pseudonormal, Some(normals)) => (normals.is_inside(closest.primitive, p), None),
             _ => {
-                let certified = match (&self.certificate, &self.pseudonormals) {
-                    (Some(proof), Some(normals)) => proof.winding_number(normals, &closest, p),
-                    _ => None,
-                };
+                let certified = self.certificate.as_ref().and_then(|c| c.winding_number(&closest, p));
                 let w = certified.unwrap_or_else(|| self.winding_number(p));
                 (w > 0.5, Some(w))
             }
@@ -267,18 +262,21 @@ impl SignedDistanceField {
     }
 
     /// [`signed_distance`](Self::signed_distance) for every point, on all
-    /// cores: the distances by [`NearestQuery::closest_batch`] (Morton order,
-    /// each query seeded by its neighbour's answer), then the signs in Morton
-    /// order. Answers in input order, equal to the single queries'.
+    /// cores: in chunks of neighbouring points in Morton order, the distances
+    /// as [`NearestQuery::closest_batch`] finds them (each query seeded by
+    /// its neighbour's answer), then the chunk's signs while its points and
+    /// triangles are in cache. Answers in input order, equal to the single
+    /// queries'.
     pub fn signed_distance_batch(&self, points: &[Vec3]) -> Vec<Option<SignedDistance>> {
-        let closest = self.tree.closest_batch(points);
-        answer_batch_indexed(
-            points,
-            &self.bounds(),
-            true,
-            || (),
-            |_, i| closest[i].map(|hit| self.signed_answer(points[i], hit)),
-        )
+        let options = BatchOptions::default();
+        in_chunks(points, &self.bounds(), options.reorder, None, |chunk, out| {
+            let mut hits = [None; CHUNK];
+            let hits = &mut hits[..chunk.len()];
+            closest_chunk(&*self.tree, chunk, hits, options.seed_radius);
+            for ((answer, hit), &p) in out.iter_mut().zip(hits.iter()).zip(chunk) {
+                *answer = hit.map(|hit| self.signed_answer(p, hit));
+            }
+        })
     }
 
     /// [`winding_number`](Self::winding_number) for every point, on all

@@ -60,7 +60,15 @@ struct TriangleNormals {
     /// Edge `k` runs from corner `k` to corner `(k + 1) % 3`.
     edges: [[f32; 3]; 3],
     vertices: [[f32; 3]; 3],
+    /// The sign certificate's integer in front of the triangle
+    /// ([`SignCertificate`](super::SignCertificate)), [`NOT_CERTIFIED`] until
+    /// one sets it: in the record's padding, so that a certified sign reads
+    /// one record.
+    front: i32,
 }
+
+/// The front of a triangle that no certificate has decided.
+pub(crate) const NOT_CERTIFIED: i32 = i32::MIN;
 
 impl Pseudonormals {
     /// The pseudonormals of `mesh`'s faces, fan-triangulated as
@@ -82,6 +90,7 @@ impl Pseudonormals {
                 corners: c.map(|v| to_f32(positions[v as usize])),
                 edges: [[0.0; 3]; 3],
                 vertices: c.map(|v| to_f32(vertices[v as usize])),
+                front: NOT_CERTIFIED,
             })
             .collect();
         // Edges: every (edge, triangle corner) sorted by the edge's key, each
@@ -121,15 +130,32 @@ impl Pseudonormals {
         (q - on).dot(normal) < 0.0
     }
 
-    /// Which side of triangle `triangle`'s nearest feature `p` lies on:
-    /// `(p − c) · n` and `|n|` in `f64`, `c` a point of the feature and `n`
-    /// its pseudonormal (not unit length). [`is_inside`](Self::is_inside)
-    /// is the first below 0; the distance along the normal is their ratio.
+    /// The certificate's front of triangle `triangle` ([`NOT_CERTIFIED`]
+    /// where it has none), and which side of the triangle's nearest feature
+    /// `p` lies on: `(p − c) · n` and `|n|` in `f64`, `c` a point of the
+    /// feature and `n` its pseudonormal (not unit length).
+    /// [`is_inside`](Self::is_inside) is the first below 0; the distance
+    /// along the normal is their ratio. The height is not computed (0)
+    /// where there is no front.
     #[inline]
-    pub(crate) fn side(&self, triangle: u32, p: Vec3) -> (f64, f64) {
+    pub(crate) fn front_and_side(&self, triangle: u32, p: Vec3) -> (i32, f64, f64) {
+        let Some(record) = self.triangles.get(triangle as usize) else {
+            return (NOT_CERTIFIED, 0.0, 0.0);
+        };
+        if record.front == NOT_CERTIFIED {
+            return (NOT_CERTIFIED, 0.0, 0.0);
+        }
         let q = p.as_dvec3();
         let (on, normal) = self.feature_normal(triangle, q);
-        ((q - on).dot(normal), normal.length())
+        (record.front, (q - on).dot(normal), normal.length())
+    }
+
+    /// Sets each triangle's certified front (`fronts` in triangle order).
+    pub(crate) fn set_fronts(&mut self, fronts: &[i32]) {
+        debug_assert_eq!(fronts.len(), self.triangles.len());
+        for (record, &front) in self.triangles.iter_mut().zip(fronts) {
+            record.front = front;
+        }
     }
 
     /// The unit pseudonormal of the feature of triangle `triangle` nearest
