@@ -23,7 +23,7 @@
 //! field falls back to the whole winding number. `docs/sdf.md` has the
 //! proof and the measurements.
 
-use super::pseudonormal::{NOT_CERTIFIED as UNCERTIFIED, Pseudonormals, welded_triangles};
+use super::pseudonormal::{NOT_CERTIFIED as UNCERTIFIED, Pseudonormals, half_edges, welded_triangles};
 use super::winding::{REFINE_MARGIN, WindingNumbers};
 use crate::Triangle;
 use crate::build::BuildConfig;
@@ -103,11 +103,12 @@ impl SignCertificate {
     /// certificate that decides nothing.
     pub fn new(mesh: &Mesh, tree: &WideTree<Triangle>, winding: &WindingNumbers) -> Self {
         let (positions, corners) = welded_triangles(mesh);
-        let mut normals = Pseudonormals::from_welded(&positions, &corners);
+        let edges = half_edges(&corners, positions.len());
+        let mut normals = Pseudonormals::from_welded(&positions, &corners, &edges);
         let bounds = tree.bounds();
         let scale = bounds.min.abs().max(bounds.max.abs()).max_element();
         let slack = scale * (1.0 / (1u32 << 20) as f32);
-        let (fronts, caps, stats) = certify(&positions, &corners, tree, winding);
+        let (fronts, caps, stats) = certify(&positions, &corners, &edges, tree, winding);
         normals.set_fronts(&fronts);
         Self {
             normals,
@@ -160,6 +161,7 @@ impl SignCertificate {
 fn certify(
     positions: &[DVec3],
     corners: &[[u32; 3]],
+    edges: &[(u64, u32)],
     tree: &WideTree<Triangle>,
     winding: &WindingNumbers,
 ) -> (Vec<i32>, Option<Caps>, CertificateStats) {
@@ -169,7 +171,7 @@ fn certify(
         ..CertificateStats::default()
     };
     let nothing = |stats: CertificateStats| (vec![UNCERTIFIED; n], None, stats);
-    let topology = Topology::new(positions, corners);
+    let topology = Topology::new(positions, corners, edges);
     let Some(loops) = topology.boundary_loops(positions.len()) else {
         return nothing(stats);
     };
@@ -336,7 +338,7 @@ struct Topology {
 }
 
 impl Topology {
-    fn new(positions: &[DVec3], corners: &[[u32; 3]]) -> Self {
+    fn new(positions: &[DVec3], corners: &[[u32; 3]], half_edges: &[(u64, u32)]) -> Self {
         let n = corners.len();
         let degenerate: Vec<bool> = corners
             .par_iter()
@@ -357,13 +359,6 @@ impl Topology {
                 }
             }
         }
-        let key = |a: u32, b: u32| ((a.min(b) as u64) << 32) | a.max(b) as u64;
-        let mut half_edges: Vec<(u64, u32)> = corners
-            .iter()
-            .enumerate()
-            .flat_map(|(t, c)| (0..3).map(move |k| (key(c[k], c[(k + 1) % 3]), (3 * t + k) as u32)))
-            .collect();
-        half_edges.par_sort_unstable();
         // Corner `h = 3t + k` is corner k of triangle t; half-edge h runs
         // from it to the next corner.
         let vertex = |h: u32| corners[h as usize / 3][h as usize % 3];
@@ -532,7 +527,7 @@ mod tests {
             [3, 0, 4],
             [3, 4, 7],
         ];
-        let topology = Topology::new(&p, &faces);
+        let topology = Topology::new(&p, &faces, &half_edges(&faces, p.len()));
         let loops = topology.boundary_loops(8).unwrap();
         assert_eq!(loops.len(), 1);
         let mut ring = loops[0].clone();
@@ -560,7 +555,7 @@ mod tests {
         let tetrahedron = |a: u32, b: u32, c: u32, d: u32| [[a, c, b], [a, b, d], [a, d, c], [b, c, d]];
         let mut faces = tetrahedron(0, 1, 2, 3).to_vec();
         faces.extend(tetrahedron(0, 4, 5, 6));
-        let topology = Topology::new(&p, &faces);
+        let topology = Topology::new(&p, &faces, &half_edges(&faces, p.len()));
         assert!(topology.bad[0]);
         assert!(topology.bad[1..].iter().all(|&b| !b));
         assert!(topology.boundary.is_empty());

@@ -75,12 +75,14 @@ impl Pseudonormals {
     /// [`Mesh::triangles`] does.
     pub fn new(mesh: &Mesh) -> Self {
         let (positions, corners) = welded_triangles(mesh);
-        Self::from_welded(&positions, &corners)
+        let edges = half_edges(&corners, positions.len());
+        Self::from_welded(&positions, &corners, &edges)
     }
 
     /// The pseudonormals of triangles `corners` (vertex indices into
-    /// `positions`, already welded: one index per position).
-    pub(crate) fn from_welded(positions: &[DVec3], corners: &[[u32; 3]]) -> Self {
+    /// `positions`, already welded: one index per position), `edges` their
+    /// [`half_edges`].
+    pub(crate) fn from_welded(positions: &[DVec3], corners: &[[u32; 3]], edges: &[(u64, u32)]) -> Self {
         let (normals, vertices) = angle_weighted_sums(positions, corners);
 
         let to_f32 = |v: DVec3| v.as_vec3().to_array();
@@ -93,16 +95,8 @@ impl Pseudonormals {
                 front: NOT_CERTIFIED,
             })
             .collect();
-        // Edges: every (edge, triangle corner) sorted by the edge's key, each
-        // run of one key summed.
-        let key = |a: u32, b: u32| ((a.min(b) as u64) << 32) | a.max(b) as u64;
-        let mut half_edges: Vec<(u64, u32)> = corners
-            .iter()
-            .enumerate()
-            .flat_map(|(t, c)| (0..3).map(move |k| (key(c[k], c[(k + 1) % 3]), (3 * t + k) as u32)))
-            .collect();
-        half_edges.par_sort_unstable();
-        for run in half_edges.chunk_by(|x, y| x.0 == y.0) {
+        // Edges: each run of one edge's half-edges summed.
+        for run in edges.chunk_by(|x, y| x.0 == y.0) {
             let sum: DVec3 = run.iter().map(|&(_, h)| normals[h as usize / 3]).sum();
             for &(_, h) in run {
                 triangles[h as usize / 3].edges[h as usize % 3] = to_f32(sum);
@@ -184,6 +178,37 @@ impl Pseudonormals {
     pub fn memory_bytes(&self) -> usize {
         std::mem::size_of_val(&self.triangles[..])
     }
+}
+
+/// Every half-edge `3t + k` (triangle t's edge from corner k to corner
+/// k + 1) with its edge's key (`min << 32 | max` of its two vertices),
+/// sorted by key, for `vertices` vertices: a counting sort by the smaller
+/// vertex, then each vertex's few edges sorted.
+pub(crate) fn half_edges(corners: &[[u32; 3]], vertices: usize) -> Vec<(u64, u32)> {
+    let key = |a: u32, b: u32| ((a.min(b) as u64) << 32) | a.max(b) as u64;
+    let mut start = vec![0u32; vertices + 1];
+    for c in corners {
+        for k in 0..3 {
+            start[c[k].min(c[(k + 1) % 3]) as usize + 1] += 1;
+        }
+    }
+    for v in 0..vertices {
+        start[v + 1] += start[v];
+    }
+    let mut next = start.clone();
+    let mut out = vec![(0u64, 0u32); 3 * corners.len()];
+    for (t, c) in corners.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (c[k], c[(k + 1) % 3]);
+            let slot = &mut next[a.min(b) as usize];
+            out[*slot as usize] = (key(a, b), (3 * t + k) as u32);
+            *slot += 1;
+        }
+    }
+    for v in 0..vertices {
+        out[start[v] as usize..start[v + 1] as usize].sort_unstable();
+    }
+    out
 }
 
 /// `mesh`'s positions welded ([`weld`]) in `f64`, and its triangles'
