@@ -388,3 +388,50 @@ fn shared_meshes_follow_the_oracle() {
         assert!(decided > n, "{name}: decided {decided}");
     }
 }
+
+/// A mesh index made with `certify_sign: false` walks every winding number;
+/// its sides are the certified index's, and after a move that makes the
+/// mesh cross itself both still follow the oracle.
+#[test]
+fn indexes_with_and_without_the_certificate_agree_after_a_move() {
+    use proxima::{IndexConfig, MeshIndex};
+    let mesh = bumpy_sphere(8, 9);
+    let plain = IndexConfig {
+        certify_sign: false,
+        ..IndexConfig::default()
+    };
+    let mut with = MeshIndex::new(mesh.clone());
+    let mut without = MeshIndex::with_config(mesh.clone(), plain);
+    // Fold the top of the sphere down through the bottom.
+    let moved: Vec<Vec3> = mesh
+        .positions()
+        .iter()
+        .map(|&p| if p.z > 0.3 { Vec3::new(p.x, p.y, -p.z + 0.2) } else { p })
+        .collect();
+    let triangles_before = mesh.triangles().primitives;
+    for round in 0..2 {
+        let a = with.field(Sign::WindingNumber).unwrap();
+        let b = without.field(Sign::WindingNumber).unwrap();
+        assert!(a.certificate().is_some() && b.certificate().is_none());
+        let triangles = if round == 0 {
+            triangles_before.clone()
+        } else {
+            with.mesh().triangles().primitives
+        };
+        let probes = points(with.mesh(), 150, 40 + round);
+        let (sa, sb) = (a.signed_distance_batch(&probes), b.signed_distance_batch(&probes));
+        for (k, &p) in probes.iter().enumerate() {
+            let e = oracle(&triangles, p);
+            let (x, y) = (sa[k].unwrap(), sb[k].unwrap());
+            assert_eq!(x.closest, y.closest);
+            if (e - 0.5).abs() > CLEAR && x.distance != 0.0 {
+                assert_eq!(x.is_inside(), e > 0.5, "round {round}: {p}, oracle {e}");
+                assert_eq!(y.is_inside(), e > 0.5, "round {round}: {p}, oracle {e}");
+            }
+        }
+        with.update_vertices(&moved).unwrap();
+        without.update_vertices(&moved).unwrap();
+    }
+    let stats = with.field(Sign::WindingNumber).unwrap().certificate().unwrap().stats();
+    assert!(stats.meeting > 0, "the folded sphere crosses itself: {stats:?}");
+}
