@@ -128,6 +128,13 @@ impl SignCertificate {
         self.stats
     }
 
+    /// Asks the cache for what [`winding_number`](Self::winding_number)
+    /// reads of `triangle`, a few queries ahead in a batch.
+    #[inline]
+    pub(crate) fn prefetch(&self, triangle: u32) {
+        self.normals.prefetch(triangle);
+    }
+
     /// The winding number at `p` whose closest answer is `closest`, when
     /// the certificate decides it: an integer plus the caps' winding number,
     /// never within [`REFINE_MARGIN`] of ½. `None` where the field must

@@ -273,8 +273,14 @@ impl SignedDistanceField {
             let mut hits = [None; CHUNK];
             let hits = &mut hits[..chunk.len()];
             closest_chunk(&*self.tree, chunk, hits, options.seed_radius);
-            for ((answer, hit), &p) in out.iter_mut().zip(hits.iter()).zip(chunk) {
-                *answer = hit.map(|hit| self.signed_answer(p, hit));
+            // The records of the answers a few ahead are fetched while this
+            // one is signed: their misses overlap.
+            const AHEAD: usize = 8;
+            for k in 0..chunk.len() {
+                if let (Some(certificate), Some(Some(ahead))) = (&self.certificate, hits.get(k + AHEAD)) {
+                    certificate.prefetch(ahead.primitive);
+                }
+                out[k] = hits[k].map(|hit| self.signed_answer(chunk[k], hit));
             }
         })
     }

@@ -13,6 +13,7 @@
 //! separate triangles (STL) get the normals of their shared edges.
 
 use crate::math::{DVec3, Vec3};
+use crate::memory::prefetch;
 use crate::mesh::Mesh;
 use crate::surface::normals::angle_weighted_sums;
 use rayon::prelude::*;
@@ -142,6 +143,16 @@ impl Pseudonormals {
         let q = p.as_dvec3();
         let (on, normal) = self.feature_normal(triangle, q);
         (record.front, (q - on).dot(normal), normal.length())
+    }
+
+    /// Asks the cache for triangle `triangle`'s record (both of its lines),
+    /// ahead of [`front_and_side`](Self::front_and_side).
+    #[inline]
+    pub(crate) fn prefetch(&self, triangle: u32) {
+        if let Some(record) = self.triangles.get(triangle as usize) {
+            prefetch(record);
+            prefetch(&record.vertices[2]);
+        }
     }
 
     /// Sets each triangle's certified front (`fronts` in triangle order).
