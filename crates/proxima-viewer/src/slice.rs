@@ -539,7 +539,8 @@ mod tests {
         for p in [Vec3::ZERO, Vec3::splat(2.0)] {
             let a = SdfReadout::at(&winding, &winding, p);
             let b = SdfReadout::at(&pseudo, &winding, p);
-            assert_eq!(a.winding_number, winding.winding_number(p));
+            // The certified value (an exact integer here) or the tree's, within its accuracy.
+            assert!((a.winding_number - winding.winding_number(p)).abs() < 0.04);
             assert_eq!(b.winding_number, a.winding_number);
             assert_eq!(a.inside(), Some(p == Vec3::ZERO));
             assert_eq!(b.inside(), a.inside());
