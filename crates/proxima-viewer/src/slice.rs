@@ -541,7 +541,7 @@ mod tests {
             let b = SdfReadout::at(&pseudo, &winding, p);
             // The certified value (an exact integer here) or the tree's, within its accuracy.
             assert!((a.winding_number - winding.winding_number(p)).abs() < 0.04);
-            assert_eq!(b.winding_number, a.winding_number);
+            assert!((b.winding_number - a.winding_number).abs() < 0.04);
             assert_eq!(a.inside(), Some(p == Vec3::ZERO));
             assert_eq!(b.inside(), a.inside());
             assert!(!a.methods_disagree() && !b.methods_disagree());
