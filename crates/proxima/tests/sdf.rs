@@ -7,7 +7,7 @@
 
 mod common;
 
-use common::winding::oracle;
+use common::winding::{corners, mesh_of, oracle};
 use common::{bumpy_sphere, data_dir, random_soup, shared_meshes};
 use proptest::prelude::*;
 use proxima::prelude::*;
@@ -33,19 +33,6 @@ fn field(mesh: &Mesh, sign: Sign) -> SignedDistanceField {
         },
     )
     .unwrap()
-}
-
-/// Mesh from triangles given as corner positions.
-fn mesh_of(triangles: &[[Vec3; 3]]) -> Mesh {
-    let positions: Vec<Vec3> = triangles.iter().flatten().copied().collect();
-    let faces: Vec<[u32; 3]> = (0..triangles.len() as u32)
-        .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
-        .collect();
-    Mesh::from_triangles(positions, &faces).unwrap()
-}
-
-fn corners(mesh: &Mesh) -> Vec<[Vec3; 3]> {
-    mesh.triangles().primitives.iter().map(|t| [t.a, t.b, t.c]).collect()
 }
 
 /// Near-surface and uniform points of `mesh`.

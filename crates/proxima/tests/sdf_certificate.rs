@@ -8,7 +8,7 @@
 
 mod common;
 
-use common::winding::oracle;
+use common::winding::{corners, mesh_of, oracle};
 use common::{bumpy_sphere, data_dir};
 use proxima::prelude::*;
 use proxima::sdf::{SdfConfig, SignedDistanceField};
@@ -38,19 +38,6 @@ fn certified(field: &SignedDistanceField, p: Vec3) -> Option<f32> {
         .certificate()
         .expect("certified by default")
         .winding_number(&closest, p)
-}
-
-/// Mesh from triangles given as corner positions (welded by the library).
-fn mesh_of(triangles: &[[Vec3; 3]]) -> Mesh {
-    let positions: Vec<Vec3> = triangles.iter().flatten().copied().collect();
-    let faces: Vec<[u32; 3]> = (0..triangles.len() as u32)
-        .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
-        .collect();
-    Mesh::from_triangles(positions, &faces).unwrap()
-}
-
-fn corners(mesh: &Mesh) -> Vec<[Vec3; 3]> {
-    mesh.triangles().primitives.iter().map(|t| [t.a, t.b, t.c]).collect()
 }
 
 /// Every point: the field's side is the oracle's where the oracle is clear

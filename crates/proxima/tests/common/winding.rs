@@ -4,7 +4,7 @@
 //! formula.
 
 use glam::DVec3;
-use proxima::{Triangle, Vec3};
+use proxima::{Mesh, Triangle, Vec3};
 
 /// The signed solid angle of a triangle seen from `p` by Girard's theorem:
 /// the spherical triangle's excess (sum of its angles minus π), signed by
@@ -34,4 +34,19 @@ pub fn girard_solid_angle(t: &Triangle, p: Vec3) -> f64 {
 /// The winding number by Girard's theorem over every triangle.
 pub fn oracle(triangles: &[Triangle], p: Vec3) -> f64 {
     triangles.iter().map(|t| girard_solid_angle(t, p)).sum::<f64>() / (4.0 * std::f64::consts::PI)
+}
+
+/// Mesh from triangles given as corner positions (unwelded: each triangle
+/// its own three vertices).
+pub fn mesh_of(triangles: &[[Vec3; 3]]) -> Mesh {
+    let positions: Vec<Vec3> = triangles.iter().flatten().copied().collect();
+    let faces: Vec<[u32; 3]> = (0..triangles.len() as u32)
+        .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
+        .collect();
+    Mesh::from_triangles(positions, &faces).unwrap()
+}
+
+/// The corners of each of `mesh`'s triangles.
+pub fn corners(mesh: &Mesh) -> Vec<[Vec3; 3]> {
+    mesh.triangles().primitives.iter().map(|t| [t.a, t.b, t.c]).collect()
 }
