@@ -82,7 +82,7 @@ impl Ray {
 /// A ray that cannot be cast: every ray query returns it instead of
 /// answering (the hash grid and the traversal wrap it, as
 /// [`GridError::Ray`](crate::GridError::Ray)).
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
 pub enum RayError {
     /// A ray origin with a NaN or infinite coordinate.
     #[error("ray origin must be finite")]

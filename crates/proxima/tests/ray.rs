@@ -756,8 +756,9 @@ fn huge_coordinates_keep_their_hits() {
     assert!(hits > 100, "{hits} rays hit");
 }
 
-/// The ray tree's batches (walks interleaved, rays in Morton order) give
-/// each ray the answer `first_hit` (`any_hit`, `some_hit`) gives it alone, errors included, in
+/// The ray tree's batches (walks interleaved; random rays in Morton order,
+/// a camera's rays row by row as they come) give each ray the answer
+/// `first_hit` (`any_hit`, `some_hit`) gives it alone, errors included, in
 /// input order, with and without AVX2 (deep trees, which take their rays one
 /// at a time, are tested in the crate: `ray_tree`'s unit tests).
 #[test]
@@ -770,41 +771,68 @@ fn ray_tree_batches_equal_single_rays() {
         for config in configs().iter().chain([RayTree::config()].iter()) {
             let tree = RayTree::build_set(set.clone(), config).unwrap();
             let bounds = tree.bounds();
-            let mut rays: Vec<(Vec3, Vec3)> = random_rays(&bounds, 3000, 21).iter().map(|r| (r.0, r.1)).collect();
-            // Errors in place: zero and non-finite directions, an origin too far.
-            rays.insert(7, (Vec3::ZERO, Vec3::ZERO));
-            rays.insert(1500, (Vec3::ZERO, Vec3::new(f32::NAN, 0.0, 1.0)));
-            rays.insert(2000, (Vec3::splat(1e37), -Vec3::ONE));
-            let mut portable = tree.clone();
-            portable.set_avx2(false);
-            for t_range in [(0.0, f32::INFINITY), (-1.0, 2.5)] {
-                let batch = tree.first_hit_batch(&rays, t_range.0, t_range.1);
-                assert_eq!(batch, portable.first_hit_batch(&rays, t_range.0, t_range.1), "{name}");
-                let any = tree.any_hit_batch(&rays, t_range.0, t_range.1);
-                assert_eq!(any, portable.any_hit_batch(&rays, t_range.0, t_range.1), "{name}");
-                let some = tree.some_hit_batch(&rays, t_range.0, t_range.1);
-                assert_eq!(some, portable.some_hit_batch(&rays, t_range.0, t_range.1), "{name}");
-                let mut hits = 0;
-                for (k, &(o, d)) in rays.iter().enumerate() {
-                    let single = tree.first_hit(o, d, t_range.0, t_range.1);
-                    assert_eq!(batch[k], single, "{name}, {config:?}, ray {k} ({o}, {d})");
-                    assert_eq!(
-                        any[k],
-                        tree.any_hit(o, d, t_range.0, t_range.1),
-                        "{name}: any hit, ray {k}"
-                    );
-                    assert_eq!(
-                        some[k],
-                        tree.some_hit(o, d, t_range.0, t_range.1),
-                        "{name}: some hit, ray {k}"
-                    );
-                    hits += usize::from(matches!(single, Ok(Some(_))));
+            let random: Vec<(Vec3, Vec3)> = random_rays(&bounds, 3000, 21).iter().map(|r| (r.0, r.1)).collect();
+            for (order, mut rays) in [("random", random), ("camera", camera_rays(&bounds, 56))] {
+                let name = &format!("{name}, {order} rays");
+                // Errors in place: zero and non-finite directions, an origin too far.
+                rays.insert(7, (Vec3::ZERO, Vec3::ZERO));
+                rays.insert(1500, (Vec3::ZERO, Vec3::new(f32::NAN, 0.0, 1.0)));
+                rays.insert(2000, (Vec3::splat(1e37), -Vec3::ONE));
+                let mut portable = tree.clone();
+                portable.set_avx2(false);
+                // The camera's window cuts through the middle of the box.
+                let diagonal = bounds.size().length();
+                let window = match order {
+                    "random" => (-1.0, 2.5),
+                    _ => (1.6 * diagonal, 2.1 * diagonal),
+                };
+                for t_range in [(0.0, f32::INFINITY), window] {
+                    let batch = tree.first_hit_batch(&rays, t_range.0, t_range.1);
+                    assert_eq!(batch, portable.first_hit_batch(&rays, t_range.0, t_range.1), "{name}");
+                    let any = tree.any_hit_batch(&rays, t_range.0, t_range.1);
+                    assert_eq!(any, portable.any_hit_batch(&rays, t_range.0, t_range.1), "{name}");
+                    let some = tree.some_hit_batch(&rays, t_range.0, t_range.1);
+                    assert_eq!(some, portable.some_hit_batch(&rays, t_range.0, t_range.1), "{name}");
+                    let mut hits = 0;
+                    for (k, &(o, d)) in rays.iter().enumerate() {
+                        let single = tree.first_hit(o, d, t_range.0, t_range.1);
+                        assert_eq!(batch[k], single, "{name}, {config:?}, ray {k} ({o}, {d})");
+                        assert_eq!(
+                            any[k],
+                            tree.any_hit(o, d, t_range.0, t_range.1),
+                            "{name}: any hit, ray {k}"
+                        );
+                        assert_eq!(
+                            some[k],
+                            tree.some_hit(o, d, t_range.0, t_range.1),
+                            "{name}: some hit, ray {k}"
+                        );
+                        hits += usize::from(matches!(single, Ok(Some(_))));
+                    }
+                    assert!(batch[7].is_err() && batch[1500].is_err() && batch[2000].is_err());
+                    assert!(hits > 300, "{name}: only {hits} hits");
                 }
-                assert!(batch[7].is_err() && batch[1500].is_err() && batch[2000].is_err());
-                assert!(hits > 300, "{name}: only {hits} hits");
             }
         }
     }
+}
+
+/// The rays of a `size` × `size` pinhole camera two diagonals from the
+/// centre of `bounds`, looking at it, row after row (as an image is cast).
+fn camera_rays(bounds: &Aabb, size: usize) -> Vec<(Vec3, Vec3)> {
+    let centre = bounds.center();
+    let diagonal = bounds.size().length();
+    let eye = centre + Vec3::new(0.3, 0.2, 1.0).normalize() * 2.0 * diagonal;
+    let forward = (centre - eye).normalize();
+    let right = forward.cross(Vec3::Y).normalize();
+    let up = right.cross(forward);
+    let half = 0.3;
+    (0..size * size)
+        .map(|k| {
+            let s = |i: usize| ((i as f32 + 0.5) / size as f32 * 2.0 - 1.0) * half;
+            (eye, forward + right * s(k % size) + up * s(k / size))
+        })
+        .collect()
 }
 
 /// A mesh whose triangles all sit on one point has no area: every ray
@@ -983,8 +1011,8 @@ fn the_grid_answers_every_ray_query() {
             RayError::Range { t_min: 2.0, t_max: 1.0 },
         ),
     ] {
-        assert_eq!(RayQuery::first_hit(&grid, o, d, t_min, t_max), Err(want.clone()));
-        assert_eq!(grid.first_hit(o, d, t_min, t_max), Err(GridError::Ray(want.clone())));
+        assert_eq!(RayQuery::first_hit(&grid, o, d, t_min, t_max), Err(want));
+        assert_eq!(grid.first_hit(o, d, t_min, t_max), Err(GridError::Ray(want)));
         assert_eq!(
             grid.first_hit(o, d, t_min, t_max).unwrap_err().to_string(),
             want.to_string()

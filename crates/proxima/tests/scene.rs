@@ -151,9 +151,9 @@ fn first_hits_equal_brute_force() {
     let any = scene.any_hit_batch(&rays, 0.0, f32::INFINITY);
     let (mut hits, mut checked, mut grazing) = (0, 0, 0);
     for (k, &(o, d)) in rays.iter().enumerate() {
-        let hit = batch[k].clone().unwrap();
+        let hit = batch[k].unwrap();
         assert_eq!(hit, scene.first_hit(o, d, 0.0, f32::INFINITY).unwrap());
-        assert_eq!(any[k].clone().unwrap(), hit.is_some());
+        assert_eq!(any[k].unwrap(), hit.is_some());
         let brute = brute_first_hit(&scene, o, d);
         let length = d.length() as f64;
         match (hit, brute) {

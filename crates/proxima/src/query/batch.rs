@@ -130,13 +130,28 @@ pub(crate) fn in_chunks<R: Copy + Send>(
     answer_chunk: impl Fn(&[Vec3], &mut [R]) + Sync + Send,
 ) -> Vec<R> {
     let order = reorder.then(|| morton_order(points, bounds));
-    let sorted: Vec<Vec3> = match &order {
-        Some(order) => order.iter().map(|&i| points[i as usize]).collect(),
-        None => points.to_vec(),
+    in_chunks_ordered(points, order.as_deref(), empty, answer_chunk)
+}
+
+/// [`in_chunks`] for queries of any plain type (points, rays), taken in
+/// `order` (all of `0..items.len()`, each once) or, without one, in input
+/// order; the answers come back in input order. Two arrays the size of the
+/// batch are allocated (the answers, and a copy of them in input order when
+/// there is an order), so a batch of a million queries does not fault in
+/// fresh pages for every intermediate list.
+pub(crate) fn in_chunks_ordered<Q: Copy + Sync, R: Copy + Send>(
+    items: &[Q],
+    order: Option<&[u32]>,
+    empty: R,
+    answer_chunk: impl Fn(&[Q], &mut [R]) + Sync + Send,
+) -> Vec<R> {
+    let sorted: std::borrow::Cow<'_, [Q]> = match order {
+        Some(order) => order.iter().map(|&i| items[i as usize]).collect(),
+        None => std::borrow::Cow::Borrowed(items),
     };
-    let mut answers = vec![empty; points.len()];
+    let mut answers = vec![empty; items.len()];
     // Each chunk is taken exactly once, so its lock is never waited on.
-    let chunks: Vec<Mutex<(&mut [_], &[Vec3])>> = answers
+    let chunks: Vec<Mutex<(&mut [_], &[Q])>> = answers
         .chunks_mut(CHUNK)
         .zip(sorted.chunks(CHUNK))
         .map(Mutex::new)
@@ -145,8 +160,8 @@ pub(crate) fn in_chunks<R: Copy + Send>(
     let work = || {
         while let Some(chunk) = chunks.get(next.fetch_add(1, Ordering::Relaxed)) {
             let mut chunk = chunk.lock().unwrap_or_else(PoisonError::into_inner);
-            let (out, points) = &mut *chunk;
-            answer_chunk(points, out);
+            let (out, items) = &mut *chunk;
+            answer_chunk(items, out);
         }
     };
     // One task per thread, at most one per chunk; a task that finds the
@@ -158,10 +173,33 @@ pub(crate) fn in_chunks<R: Copy + Send>(
         work();
     });
     drop(chunks);
-    match &order {
+    match order {
         Some(order) => unpermute_copied(order, &answers),
         None => answers,
     }
+}
+
+/// Whether the `n` sort points of a batch, `point(i)` in input order, are
+/// already as coherent as Morton order would make them: the mean distance
+/// between consecutive points (over at most 4,096 pairs spread across the
+/// batch) is below the spacing that `n` points spread through `bounds`
+/// would have (its diagonal over the cube root of `n`). Rays of a camera
+/// image, row after row, pass; rays in random order do not. Sorting
+/// coherent input costs more than it saves (docs/perf-log.md).
+pub(crate) fn already_coherent(n: usize, bounds: &Aabb, point: impl Fn(usize) -> Vec3) -> bool {
+    if n < 2 {
+        return true;
+    }
+    let pairs = (n - 1).min(4096);
+    let step = (n - 1) / pairs;
+    // Pairs with a point that is not finite (a ray the batch refuses) are
+    // left out, so that one bad ray does not change the order of the rest.
+    let (total, counted) = (0..pairs)
+        .map(|k| point(k * step).distance(point(k * step + 1)) as f64)
+        .filter(|d| d.is_finite())
+        .fold((0.0, 0usize), |(total, counted), d| (total + d, counted + 1));
+    let spacing = bounds.size().length() as f64 / (n as f64).cbrt();
+    counted > 0 && total / (counted as f64) < spacing
 }
 
 /// Spreads the low 10 bits of `v` so there are two zero bits between each.
@@ -286,6 +324,27 @@ mod tests {
     use crate::AabbTree;
     use crate::query::NearestQuery;
     use crate::sample::Rng;
+
+    /// A camera's rays, row by row, are coherent as they come; the same
+    /// rays shuffled are not; a few bad rays do not change the verdict.
+    #[test]
+    fn camera_rows_are_already_coherent() {
+        let bounds = Aabb::new(Vec3::splat(-1.0), Vec3::splat(1.0));
+        let mut rows: Vec<Vec3> = (0..256 * 256)
+            .map(|k| Vec3::new((k % 256) as f32 / 128.0 - 1.0, (k / 256) as f32 / 128.0 - 1.0, 0.3))
+            .collect();
+        assert!(already_coherent(rows.len(), &bounds, |i| rows[i]));
+        let mut rng = Rng::new(3);
+        let mut shuffled = rows.clone();
+        for i in (1..shuffled.len()).rev() {
+            shuffled.swap(i, rng.below(i + 1));
+        }
+        assert!(!already_coherent(shuffled.len(), &bounds, |i| shuffled[i]));
+        rows[1] = Vec3::NAN;
+        rows[5000] = Vec3::INFINITY;
+        assert!(already_coherent(rows.len(), &bounds, |i| rows[i]));
+        assert!(already_coherent(1, &bounds, |i| rows[i]));
+    }
 
     /// The radix sort gives the order of a stable comparison sort, on codes
     /// with many ties and on codes spread over all 30 bits.

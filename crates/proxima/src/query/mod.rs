@@ -44,11 +44,13 @@ pub use ray::{RayHit, RayQuery};
 pub use visitor::{Counter, NearestVisitor, QueryStats, RayVisitor};
 
 pub(crate) use batch::answer_batch_indexed;
-pub(crate) use batch::{CHUNK, in_chunks, morton_order, unpermute};
+pub(crate) use batch::{CHUNK, already_coherent, in_chunks, in_chunks_ordered, morton_order};
 pub(crate) use closest::Best;
 pub(crate) use nearest::closest_chunk;
 pub(crate) use point::answerable;
-pub(crate) use ray::{AnyHit, FarRay, FirstHit, first_hit_by, hit_answer, prepare_structure_ray, sort_points};
+pub(crate) use ray::{
+    AnyHit, FarRay, FirstHit, first_hit_by, hit_answer, nearest_to, prepare_structure_ray, sort_points,
+};
 
 use crate::aabb::Aabb;
 use crate::math::Vec3;

@@ -409,8 +409,14 @@ pub(crate) fn sort_points(rays: &[(Vec3, Vec3)], bounds: &Aabb) -> Vec<Vec3> {
     let centre = bounds.center();
     rays.par_iter()
         .with_min_len(4096)
-        .map(|&(o, d)| o + d * ((centre - o).dot(d) / d.length_squared()))
+        .map(|&ray| nearest_to(ray, centre))
         .collect()
+}
+
+/// The point of the line of `ray` nearest to `centre` (a ray's sort point).
+#[inline]
+pub(crate) fn nearest_to((o, d): (Vec3, Vec3), centre: Vec3) -> Vec3 {
+    o + d * ((centre - o).dot(d) / d.length_squared())
 }
 
 #[inline]

@@ -10,10 +10,12 @@
 //! [`first_hit`](crate::query::RayQuery::first_hit)'s (or
 //! [`any_hit`](crate::query::RayQuery::any_hit)'s).
 //!
-//! The rays are taken in Morton order of their point nearest the centre of
-//! the tree's bounds, so that neighbouring walks share the upper nodes, in
-//! chunks of [`CHUNK`] across rayon's threads; answers come back in input
-//! order.
+//! Rays that come in no useful order are taken in Morton order of their
+//! point nearest the centre of the tree's bounds, so that neighbouring walks
+//! share the upper nodes; rays already as coherent (a camera's, row by row)
+//! are taken as they come ([`already_coherent`]). They go in chunks of
+//! [`CHUNK`](crate::query::CHUNK) across rayon's threads, and the answers
+//! come back in input order.
 
 use super::RayTree;
 use super::slabs::NodeSlabs;
@@ -24,17 +26,13 @@ use crate::math::Vec3;
 use crate::memory::prefetch;
 use crate::primitive::{Triangle, TriangleHit, WatertightRay};
 use crate::query::{
-    AnyHit, FarRay, FirstHit, Leaves, RayHit, RayQuery, RayVisitor, hit_answer, morton_order, prepare_structure_ray,
-    sort_points, unpermute,
+    AnyHit, FarRay, FirstHit, Leaves, RayHit, RayQuery, RayVisitor, already_coherent, hit_answer, in_chunks_ordered,
+    morton_order, nearest_to, prepare_structure_ray, sort_points,
 };
 use crate::simd::Avx2;
-use rayon::prelude::*;
 
 /// Walks a thread keeps going at once (4 and 16 were slower: docs/rays.md).
 const INTERLEAVED: usize = 8;
-
-/// Rays per parallel task.
-const CHUNK: usize = 1024;
 
 /// Answers made this many ahead of the one being made are prefetched.
 const RESOLVE_AHEAD: usize = 8;
@@ -42,18 +40,19 @@ const RESOLVE_AHEAD: usize = 8;
 /// What the walks of a batch look for.
 trait Search<'a>: RayVisitor<Triangle> + Sized {
     /// What a finished walk leaves before its answer is made.
-    type Found: Clone;
-    /// The answer for one ray.
-    type Answer: Send;
+    type Found: Copy;
+    /// The answer for one ray (its default: no hit).
+    type Answer: Copy + Default + Send;
     /// A search along a ray prepared by `prepare_structure_ray`.
     fn new(leaves: &'a Leaves<Triangle>, far: &FarRay) -> Self;
     /// What the search found, once its walk has ended.
     fn found(&self, far: &FarRay) -> Self::Found;
-    /// The answers of a chunk's walks, in the same order.
+    /// The answers of a chunk's walks, in the same order, into `out`.
     fn resolve(
         leaves: &'a Leaves<Triangle>,
         found: &[Result<Self::Found, RayError>],
-    ) -> Vec<Result<Self::Answer, RayError>>;
+        out: &mut [Result<Self::Answer, RayError>],
+    );
 }
 
 impl<'a> Search<'a> for FirstHit<'a, Triangle> {
@@ -75,19 +74,16 @@ impl<'a> Search<'a> for FirstHit<'a, Triangle> {
     fn resolve(
         leaves: &'a Leaves<Triangle>,
         found: &[Result<Self::Found, RayError>],
-    ) -> Vec<Result<Self::Answer, RayError>> {
-        (0..found.len())
-            .map(|k| {
-                if let Some(Ok(Some((slot, ..)))) = found.get(k + RESOLVE_AHEAD) {
-                    prefetch(&leaves.indices()[*slot]);
-                    prefetch(&leaves.sources()[*slot]);
-                    prefetch(&leaves.primitives()[*slot]);
-                }
-                found[k]
-                    .clone()
-                    .map(|hit| hit.map(|(slot, hit, far)| hit_answer(leaves, &far, slot, &hit)))
-            })
-            .collect()
+        out: &mut [Result<Self::Answer, RayError>],
+    ) {
+        for (k, answer) in out.iter_mut().enumerate() {
+            if let Some(Ok(Some((slot, ..)))) = found.get(k + RESOLVE_AHEAD) {
+                prefetch(&leaves.indices()[*slot]);
+                prefetch(&leaves.sources()[*slot]);
+                prefetch(&leaves.primitives()[*slot]);
+            }
+            *answer = found[k].map(|hit| hit.map(|(slot, hit, far)| hit_answer(leaves, &far, slot, &hit)));
+        }
     }
 }
 
@@ -108,8 +104,8 @@ impl<'a> Search<'a> for AnyHit {
 
     /// Nothing to look up: an occlusion test answers from the walk alone
     /// (hits are made by [`SomeHit`], whose answers need the leaves).
-    fn resolve(_: &'a Leaves<Triangle>, found: &[Result<bool, RayError>]) -> Vec<Result<bool, RayError>> {
-        found.to_vec()
+    fn resolve(_: &'a Leaves<Triangle>, found: &[Result<bool, RayError>], out: &mut [Result<bool, RayError>]) {
+        out.copy_from_slice(found);
     }
 }
 
@@ -150,8 +146,9 @@ impl<'a> Search<'a> for SomeHit {
     fn resolve(
         leaves: &'a Leaves<Triangle>,
         found: &[Result<Self::Found, RayError>],
-    ) -> Vec<Result<Self::Answer, RayError>> {
-        FirstHit::resolve(leaves, found)
+        out: &mut [Result<Self::Answer, RayError>],
+    ) {
+        FirstHit::resolve(leaves, found, out)
     }
 }
 
@@ -211,27 +208,29 @@ impl RayTree {
     where
         S::Answer: Send,
     {
-        let order = morton_order(&sort_points(rays, &self.bounds), &self.bounds);
-        let answers: Vec<Result<S::Answer, RayError>> = if self.nodes.is_empty() || self.depth >= SHALLOW {
-            order
-                .par_iter()
-                .map(|&i| single(rays[i as usize].0, rays[i as usize].1))
-                .collect()
-        } else {
-            order
-                .par_chunks(CHUNK)
-                .flat_map_iter(|chunk| S::resolve(&self.leaves, &self.chunk_found::<S>(rays, chunk, t_min, t_max)))
-                .collect()
-        };
-        unpermute(&order, answers)
+        // Rays already coherent (a camera's, row by row) are taken as they
+        // come; others in Morton order of their point nearest the centre.
+        let centre = self.bounds.center();
+        let coherent = already_coherent(rays.len(), &self.bounds, |i| nearest_to(rays[i], centre));
+        let order = (!coherent).then(|| morton_order(&sort_points(rays, &self.bounds), &self.bounds));
+        let empty = Ok(S::Answer::default());
+        if self.nodes.is_empty() || self.depth >= SHALLOW {
+            return in_chunks_ordered(rays, order.as_deref(), empty, |chunk, out| {
+                for (answer, &(o, d)) in out.iter_mut().zip(chunk) {
+                    *answer = single(o, d);
+                }
+            });
+        }
+        in_chunks_ordered(rays, order.as_deref(), empty, |chunk, out| {
+            S::resolve(&self.leaves, &self.chunk_found::<S>(chunk, t_min, t_max), out)
+        })
     }
 
-    /// What the walks of the rays `chunk` picks found, in its order, on
-    /// AVX2 lanes where the tree uses them.
+    /// What the walks of the rays of `chunk` found, in its order, on AVX2
+    /// lanes where the tree uses them.
     fn chunk_found<'t, S: Search<'t>>(
         &'t self,
-        rays: &[(Vec3, Vec3)],
-        chunk: &[u32],
+        chunk: &[(Vec3, Vec3)],
         t_min: f32,
         t_max: f32,
     ) -> Vec<Result<S::Found, RayError>> {
@@ -239,14 +238,13 @@ impl RayTree {
         if let Some(avx2) = self.avx2 {
             return avx2.run(ChunkTask::<S> {
                 tree: self,
-                rays,
-                chunk,
+                rays: chunk,
                 t_min,
                 t_max,
                 search: std::marker::PhantomData,
             });
         }
-        self.interleave::<Portable, S>(Portable, rays, chunk, t_min, t_max)
+        self.interleave::<Portable, S>(Portable, chunk, t_min, t_max)
     }
 
     /// Prepares a ray for a walk, or gives its error.
@@ -273,15 +271,11 @@ impl RayTree {
         &'t self,
         lanes: L,
         rays: &[(Vec3, Vec3)],
-        chunk: &[u32],
         t_min: f32,
         t_max: f32,
     ) -> Vec<Result<S::Found, RayError>> {
         let arrays: Arrays<'_> = self.arrays();
-        // The chunk's rays gathered first: in Morton order they lie all over
-        // the input, and a loop of independent loads overlaps the misses
-        // that the walks would otherwise wait on one by one.
-        let rays: Vec<(Vec3, Vec3)> = chunk.iter().map(|&i| rays[i as usize]).collect();
+        let chunk = rays;
         let mut found: Vec<Option<Result<S::Found, RayError>>> = vec![None; chunk.len()];
         let mut slots: [Option<Slot<S>>; INTERLEAVED] = std::array::from_fn(|_| None);
         let mut states = [WalkState::<SMALL_STACK>::START; INTERLEAVED];
@@ -343,7 +337,6 @@ impl RayTree {
 struct ChunkTask<'a, 'r, S> {
     tree: &'a RayTree,
     rays: &'r [(Vec3, Vec3)],
-    chunk: &'r [u32],
     t_min: f32,
     t_max: f32,
     search: std::marker::PhantomData<S>,
@@ -354,7 +347,6 @@ impl<'a, S: Search<'a>> crate::simd::Avx2Task for ChunkTask<'a, '_, S> {
     type Output = Vec<Result<S::Found, RayError>>;
     #[inline(always)]
     fn call(self, avx2: Avx2) -> Self::Output {
-        self.tree
-            .interleave::<Avx2, S>(avx2, self.rays, self.chunk, self.t_min, self.t_max)
+        self.tree.interleave::<Avx2, S>(avx2, self.rays, self.t_min, self.t_max)
     }
 }
