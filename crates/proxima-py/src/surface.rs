@@ -78,12 +78,13 @@ impl SurfaceColumns {
             Column::Int(out, width)
         };
         let reals = |width: usize, f: &(dyn Fn(&SurfacePoint) -> [f64; 3] + Sync)| {
-            let rows: Vec<[f64; 3]> = at
-                .par_iter()
+            // Written in place, row by row: no array of whole rows first.
+            let mut out = vec![0.0; width * at.len()];
+            out.par_chunks_mut(width)
+                .zip(at.par_iter())
                 .with_min_len(4096)
-                .map(|a| a.as_ref().map_or([f64::NAN; 3], f))
-                .collect();
-            Column::Real(rows.iter().flat_map(|r| &r[..width]).copied().collect(), width)
+                .for_each(|(row, a)| row.copy_from_slice(&a.as_ref().map_or([f64::NAN; 3], f)[..width]));
+            Column::Real(out, width)
         };
         let mut columns = Vec::new();
         if options.barycentric {
