@@ -132,9 +132,7 @@ impl FarRay {
 
 /// Checks a ray's input and prepares it for a structure whose primitives lie
 /// in `bounds`, moved near them when it starts far out ([`FarRay`]); `None`
-/// for an empty structure, and for a ray that passes clear of `bounds`
-/// ([`passes_clear`]: it hits nothing, and needs neither the watertight
-/// setup nor a walk).
+/// for an empty structure.
 pub(crate) fn prepare_structure_ray(
     origin: Vec3,
     direction: Vec3,
@@ -149,50 +147,8 @@ pub(crate) fn prepare_structure_ray(
         // The moved ray's range may have become invalid (the move rounds).
         Ray::with_range(far.origin, direction, far.t_min, far.t_max)?;
     }
-    if passes_clear(far.origin, direction, far.t_min, far.t_max, &bounds) {
-        return Ok(None);
-    }
     let ray = WatertightRay::new(far.origin, direction).ok_or(RayError::Direction)?;
     Ok(Some((ray, far)))
-}
-
-/// Whether the ray's range `[t_min, t_max]` stays clear of `bounds` grown
-/// on every side by 2^-12 of the sum of their diagonal, their largest
-/// coordinate and the origin's distance from their centre: the slab test in
-/// `f64`. The triangle test's hit points stray from the exact triangle by a
-/// few `f32` ulps of the coordinates and of the origin's distance (the
-/// vertices are moved to the origin and sheared in `f32`), some 2^-20 of
-/// that sum at most; the margin is 256 times more, so a ray found clear has
-/// no hit, and answering it at once changes no answer. Rays of a camera
-/// that miss the mesh (most of an image, often) then cost a few
-/// multiplications. `false` (not known clear) where a slab's parameter is
-/// NaN.
-#[inline]
-fn passes_clear(origin: Vec3, direction: Vec3, t_min: f32, t_max: f32, bounds: &crate::aabb::Aabb) -> bool {
-    let (lo, hi) = (bounds.min.as_dvec3(), bounds.max.as_dvec3());
-    let scale = bounds.min.abs().max(bounds.max.abs()).max_element() as f64;
-    let away = (origin.as_dvec3() - 0.5 * (lo + hi)).length();
-    let margin = ((hi - lo).length() + scale + away) * (1.0 / 4096.0);
-    let (lo, hi) = (lo - margin, hi + margin);
-    let (o, d) = (origin.as_dvec3(), direction.as_dvec3());
-    let (mut enter, mut leave) = (t_min as f64, t_max as f64);
-    for k in 0..3 {
-        if d[k] == 0.0 {
-            if !(o[k] >= lo[k] && o[k] <= hi[k]) {
-                return !o[k].is_nan();
-            }
-            continue;
-        }
-        let inverse = 1.0 / d[k];
-        let (a, b) = ((lo[k] - o[k]) * inverse, (hi[k] - o[k]) * inverse);
-        // A subnormal component (an infinite inverse) times zero.
-        if a.is_nan() || b.is_nan() {
-            return false;
-        }
-        enter = enter.max(a.min(b));
-        leave = leave.min(a.max(b));
-    }
-    enter > leave
 }
 
 /// Keeps the hit of smallest `t`, ties to the lowest input index.
@@ -516,84 +472,4 @@ where
     let mut first = FirstHit::new(leaves, &far);
     walk(&ray, far.t_min, &mut first, counter)?;
     Ok(first.answer(&far))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::Triangle;
-    use crate::aabb::Aabb;
-    use crate::sample::Rng;
-
-    /// A ray found clear of the box hits none of the triangles in it: rays
-    /// from near and far (up to the 1024 diagonals before [`FarRay`]
-    /// moves them), aimed within a few ulps and a few margins of the box's
-    /// faces, edges and corners, against triangles lying on those faces,
-    /// tested one by one with the watertight test.
-    #[test]
-    fn rays_clear_of_the_box_hit_nothing_in_it() {
-        let mut rng = Rng::new(11);
-        let mut clear = 0;
-        for case in 0..400 {
-            let scale = [1e-3f32, 1.0, 1e3][case % 3];
-            let offset = Vec3::new(rng.range(-5.0, 5.0), rng.range(-5.0, 5.0), rng.range(-5.0, 5.0)) * scale;
-            let lo = offset;
-            let hi = offset + Vec3::new(rng.range(0.1, 1.0), rng.range(0.1, 1.0), rng.range(0.1, 1.0)) * scale;
-            let bounds = Aabb::new(lo, hi);
-            // Triangles on the box's faces, reaching its edges and corners.
-            let corner = |i: u32| Vec3::select(glam::BVec3::new(i & 1 != 0, i & 2 != 0, i & 4 != 0), hi, lo);
-            let faces = [
-                [0, 1, 3],
-                [0, 3, 2],
-                [4, 6, 7],
-                [4, 7, 5],
-                [0, 4, 5],
-                [0, 5, 1],
-                [2, 3, 7],
-                [2, 7, 6],
-                [0, 2, 6],
-                [0, 6, 4],
-                [1, 5, 7],
-                [1, 7, 3],
-            ];
-            let triangles: Vec<Triangle> = faces
-                .iter()
-                .map(|f| Triangle::new(corner(f[0]), corner(f[1]), corner(f[2])))
-                .collect();
-            let diagonal = (hi - lo).length();
-            for _ in 0..50 {
-                let far = [0.5f32, 2.0, 30.0, 1000.0][rng.below(4)];
-                let dir =
-                    Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)).normalize_or(Vec3::X);
-                let origin = bounds.center() + dir * far * diagonal;
-                // A target on a face, edge or corner, nudged by ulps or by margins.
-                let mut target = corner(rng.below(8) as u32);
-                for k in 0..3 {
-                    if rng.below(2) == 0 {
-                        target[k] = rng.range(lo[k], hi[k]);
-                    }
-                }
-                let nudge = [0.0, 1e-7, 1e-5, 1e-4, 1e-3, 1e-2][rng.below(6)] * diagonal;
-                target += Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)) * nudge;
-                let direction = target - origin;
-                let (t_min, t_max) = [(0.0, f32::INFINITY), (-1.0, 0.5), (0.9, 1.1)][rng.below(3)];
-                let Ok(Some(far)) = Ok::<_, ()>(FarRay::new(origin, direction, t_min, t_max, lo, hi)) else {
-                    continue;
-                };
-                if !passes_clear(far.origin, direction, far.t_min, far.t_max, &bounds) {
-                    continue;
-                }
-                clear += 1;
-                let ray = WatertightRay::new(far.origin, direction).unwrap();
-                for t in &triangles {
-                    assert_eq!(
-                        ray.intersect(t, far.t_min, far.t_max),
-                        None,
-                        "case {case}: {origin} -> {target}"
-                    );
-                }
-            }
-        }
-        assert!(clear > 2000, "only {clear} rays were clear");
-    }
 }

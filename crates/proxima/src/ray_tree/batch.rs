@@ -12,10 +12,8 @@
 //!
 //! Rays that come in no useful order are taken in Morton order of their
 //! point nearest the centre of the tree's bounds, so that neighbouring walks
-//! share the upper nodes. Rays already as coherent (a camera's, row by row:
-//! [`already_coherent`]) are taken as they come, one walk at a time: each
-//! finds the nodes the ray before it loaded, so there is little waiting for
-//! interleaving to hide. Either way they go in chunks of
+//! share the upper nodes; rays already as coherent (a camera's, row by row)
+//! are taken as they come ([`already_coherent`]). They go in chunks of
 //! [`CHUNK`](crate::query::CHUNK) across rayon's threads, and the answers
 //! come back in input order.
 
@@ -41,9 +39,8 @@ const RESOLVE_AHEAD: usize = 8;
 
 /// What the walks of a batch look for.
 trait Search<'a>: RayVisitor<Triangle> + Sized {
-    /// What a finished walk leaves before its answer is made (its
-    /// default: nothing found, for a ray that passes clear of the tree).
-    type Found: Copy + Default;
+    /// What a finished walk leaves before its answer is made.
+    type Found: Copy;
     /// The answer for one ray (its default: no hit).
     type Answer: Copy + Default + Send;
     /// A search along a ray prepared by `prepare_structure_ray`.
@@ -211,14 +208,13 @@ impl RayTree {
     where
         S::Answer: Send,
     {
-        // Rays already coherent (a camera's, row by row) are walked one by
-        // one as they come; others interleaved, in Morton order of their
-        // point nearest the centre.
+        // Rays already coherent (a camera's, row by row) are taken as they
+        // come; others in Morton order of their point nearest the centre.
         let centre = self.bounds.center();
         let coherent = already_coherent(rays.len(), &self.bounds, |i| nearest_to(rays[i], centre));
         let order = (!coherent).then(|| morton_order(&sort_points(rays, &self.bounds), &self.bounds));
         let empty = Ok(S::Answer::default());
-        if self.nodes.is_empty() || self.depth >= SHALLOW || order.is_none() {
+        if self.nodes.is_empty() || self.depth >= SHALLOW {
             return in_chunks_ordered(rays, order.as_deref(), empty, |chunk, out| {
                 for (answer, &(o, d)) in out.iter_mut().zip(chunk) {
                     *answer = single(o, d);
@@ -251,25 +247,23 @@ impl RayTree {
         self.interleave::<Portable, S>(Portable, chunk, t_min, t_max)
     }
 
-    /// Prepares a ray for a walk, or gives its error; `None` for a ray
-    /// that passes clear of the tree's bounds (it hits nothing).
+    /// Prepares a ray for a walk, or gives its error.
     #[inline(always)]
     fn start(
         &self,
         (origin, direction): (Vec3, Vec3),
         t_min: f32,
         t_max: f32,
-    ) -> Result<Option<(WatertightRay, FarRay, NodeSlabs)>, RayError> {
-        let Some((ray, far)) = prepare_structure_ray(origin, direction, t_min, t_max, Some(self.bounds))? else {
-            return Ok(None);
-        };
+    ) -> Result<(WatertightRay, FarRay, NodeSlabs), RayError> {
+        let (ray, far) = prepare_structure_ray(origin, direction, t_min, t_max, Some(self.bounds))?
+            .expect("a tree with nodes has bounds");
         let slabs = NodeSlabs::new(&RaySlabs::new(
             ray.origin(),
             direction,
             self.bounds.min,
             self.bounds.max,
         ));
-        Ok(Some((ray, far, slabs)))
+        Ok((ray, far, slabs))
     }
 
     #[inline(always)]
@@ -296,8 +290,7 @@ impl RayTree {
                 let k = next;
                 next += 1;
                 match self.start(rays[k], t_min, t_max) {
-                    Ok(None) => found[k] = Some(Ok(S::Found::default())),
-                    Ok(Some((ray, far, slabs))) => {
+                    Ok((ray, far, slabs)) => {
                         state.restart();
                         *slot = Some(Slot {
                             answer: k,
