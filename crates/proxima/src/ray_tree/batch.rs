@@ -204,10 +204,7 @@ impl RayTree {
         t_min: f32,
         t_max: f32,
         single: impl Fn(Vec3, Vec3) -> Result<S::Answer, RayError> + Sync,
-    ) -> Vec<Result<S::Answer, RayError>>
-    where
-        S::Answer: Send,
-    {
+    ) -> Vec<Result<S::Answer, RayError>> {
         // Rays already coherent (a camera's, row by row) are taken as they
         // come; others in Morton order of their point nearest the centre.
         let centre = self.bounds.center();
@@ -275,8 +272,7 @@ impl RayTree {
         t_max: f32,
     ) -> Vec<Result<S::Found, RayError>> {
         let arrays: Arrays<'_> = self.arrays();
-        let chunk = rays;
-        let mut found: Vec<Option<Result<S::Found, RayError>>> = vec![None; chunk.len()];
+        let mut found: Vec<Option<Result<S::Found, RayError>>> = vec![None; rays.len()];
         let mut slots: [Option<Slot<S>>; INTERLEAVED] = std::array::from_fn(|_| None);
         let mut states = [WalkState::<SMALL_STACK>::START; INTERLEAVED];
         let mut next = 0;
@@ -286,7 +282,7 @@ impl RayTree {
                           state: &mut WalkState<SMALL_STACK>,
                           found: &mut Vec<Option<Result<S::Found, RayError>>>| {
             *slot = None;
-            while next < chunk.len() {
+            while next < rays.len() {
                 let k = next;
                 next += 1;
                 match self.start(rays[k], t_min, t_max) {
