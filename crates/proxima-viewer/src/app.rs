@@ -9,6 +9,7 @@ mod panel;
 mod script;
 mod view;
 
+use crate::animation::{Animation, AnimationFrame, RayFan, Wave};
 use crate::camera::{OrbitCamera, Viewport};
 use crate::cells::{CellGrid, RayWalk, walk_ray};
 use crate::frustum_view::{self, FrustumSelection, settings_frustum};
@@ -30,7 +31,11 @@ use proxima::{ClosestHit, DVec3, MeshIndex, PrimitiveKind, Sign, SignedDistanceF
 use script::Script;
 use std::path::PathBuf;
 use std::sync::Arc;
-use std::time::Duration;
+use std::time::{Duration, Instant};
+
+/// The animation's clock in the scripted mode, in seconds (a quarter of the
+/// default period: the wave at its most lopsided).
+pub(crate) const SCRIPT_ANIMATION_TIME: f64 = 0.5;
 
 /// Shared result of the scripted mode, read by [`crate::run`] after the window closes.
 pub(crate) type Outcome = Arc<Mutex<Option<Result<ScreenshotReport, String>>>>;
@@ -176,6 +181,13 @@ struct Derived {
     /// Self-intersections or the second mesh's answer, on a worker thread
     /// (the queries take seconds on meshes of a million faces).
     pairs: Background<PairKey, Result<Arc<PairAnswer>, String>>,
+    /// The animated copy of the model (made when the animation is first
+    /// switched on), or why it cannot be animated.
+    animation: Option<Result<Animation, String>>,
+    /// The animation's latest frame.
+    animation_frame: Option<AnimationFrame>,
+    /// When the animation (re)started: its clock's zero.
+    animation_start: Option<Instant>,
 }
 
 /// The viewer application.
@@ -332,6 +344,11 @@ impl ViewerApp {
             settings.slice_cut_mesh = s.slice_cut_mesh;
             settings.pair_mode = s.pair_mode;
             settings.pair_angles = s.pair_angles;
+            settings.animate = s.animate;
+            settings.animation_mode = s.animation_mode;
+            settings.wave_amplitude = s.wave_amplitude;
+            settings.wave_period = s.wave_period;
+            settings.fan_side = s.fan_side;
             let (lo, hi) = Settings::slice_range(&model.bounds, s.slice_axis);
             settings.slice_position = 0.5 * (lo + hi);
         }
@@ -411,6 +428,56 @@ impl ViewerApp {
         }
         self.update_signed_distance(&model, ctx);
         self.update_pairs(&model, ctx);
+        self.update_animation(&model, ctx);
+    }
+
+    /// One frame of the animation when it is on: the model moved to the
+    /// wave's shape at the clock's time, its trees updated, the closest
+    /// point and the fan answered, and the next frame asked for. The
+    /// scripted mode holds the clock at [`SCRIPT_ANIMATION_TIME`], so that
+    /// the picture does not depend on how fast frames come.
+    fn update_animation(&mut self, model: &Arc<Model>, ctx: &egui::Context) {
+        let (s, d) = (&self.settings, &mut self.derived);
+        if !s.animate {
+            d.animation_start = None;
+            return;
+        }
+        let animation = d.animation.get_or_insert_with(|| Animation::new(model.mesh.clone()));
+        let Ok(animation) = animation else {
+            return;
+        };
+        let t = match self.script {
+            Some(_) => SCRIPT_ANIMATION_TIME,
+            None => d
+                .animation_start
+                .get_or_insert_with(Instant::now)
+                .elapsed()
+                .as_secs_f64(),
+        };
+        let wave = Wave::for_bounds(&model.bounds, s.wave_amplitude, s.wave_period);
+        let fan = RayFan::from_query(s.query, &model.bounds, s.fan_side as usize);
+        match animation.step(&wave, t, s.animation_mode, s.query, &fan) {
+            Ok(frame) => d.animation_frame = Some(frame),
+            Err(e) => d.animation = Some(Err(e)),
+        }
+        ctx.request_repaint();
+    }
+
+    /// The animation's latest frame, when the animation is on.
+    fn current_animation(&self) -> Option<&AnimationFrame> {
+        if self.settings.animate {
+            self.derived.animation_frame.as_ref()
+        } else {
+            None
+        }
+    }
+
+    /// Why the model cannot be animated, when the animation is on.
+    fn animation_error(&self) -> Option<&String> {
+        match &self.derived.animation {
+            Some(Err(e)) if self.settings.animate => Some(e),
+            _ => None,
+        }
     }
 
     /// Starts the "Pairs" query the settings ask for, once its meshes are

@@ -1,6 +1,7 @@
 //! The composition of a frame's draw data from the settings and what was
 //! computed from them. No egui, no GL: unit-tested.
 
+use crate::animation::AnimationFrame;
 use crate::camera::{OrbitCamera, Viewport};
 use crate::cells::{CellGrid, RayWalk};
 use crate::frustum_view::FrustumSelection;
@@ -41,6 +42,10 @@ pub struct FrameInputs<'a> {
     /// The latest "Pairs" answer (drawn when its mode is the one asked, so
     /// a pose drag shows the last one until the next is in).
     pub pairs: Option<&'a PairAnswer>,
+    /// The animation's latest frame, when the animation is on: its moved
+    /// mesh is drawn instead of the model, and its closest point and fan
+    /// instead of the closest-point answer at rest.
+    pub animation: Option<&'a AnimationFrame>,
 }
 
 /// The draw data of one frame.
@@ -55,8 +60,13 @@ pub fn compose_frame(inputs: &FrameInputs<'_>) -> DrawFrame {
         return frame;
     };
     if s.show_mesh {
-        frame.mesh = Some(model.buffers.clone());
-        frame.mesh_lod = model.buffers_lod.clone();
+        match inputs.animation {
+            Some(animation) => frame.mesh = Some(animation.buffers.clone()),
+            None => {
+                frame.mesh = Some(model.buffers.clone());
+                frame.mesh_lod = model.buffers_lod.clone();
+            }
+        }
         frame.mesh_points = model.mesh.face_count() == 0;
     }
     if s.show_cells
@@ -116,8 +126,13 @@ pub fn compose_frame(inputs: &FrameInputs<'_>) -> DrawFrame {
     {
         frame.overlay.append(pairs.overlay.clone());
     }
-    if let Some(result) = inputs.result {
-        frame.overlay.append(query_overlay(model, result, inputs.query_inside));
+    match inputs.animation {
+        Some(animation) => frame.overlay.append(animation.overlay.clone()),
+        None => {
+            if let Some(result) = inputs.result {
+                frame.overlay.append(query_overlay(model, result, inputs.query_inside));
+            }
+        }
     }
     frame
 }
@@ -211,6 +226,7 @@ mod tests {
                 slice: Some(&slice),
                 query_inside: Some(true),
                 pairs: Some(&pairs),
+                animation: None,
             })
         };
         let plain = frame(&settings);
@@ -293,6 +309,46 @@ mod tests {
         assert!(paired.overlay.lines.iter().any(|v| v.color == colors::PAIR_CLOSEST));
         settings.pair_mode = PairMode::Off;
 
+        // The animation: its moved mesh instead of the model's, its closest
+        // point and fan instead of the answer at rest.
+        let mut animation = crate::animation::Animation::new(m.mesh.clone()).unwrap();
+        let wave = crate::animation::Wave::for_bounds(&m.bounds, 0.05, 2.0);
+        let fan = crate::animation::RayFan::from_query(settings.query, &m.bounds, 3);
+        let moved = animation
+            .step(&wave, 0.5, Default::default(), settings.query, &fan)
+            .unwrap();
+        settings.show_mesh = true;
+        let animated = compose_frame(&FrameInputs {
+            animation: Some(&moved),
+            ..FrameInputs {
+                camera: &camera,
+                viewport,
+                model: Some(&m),
+                settings: &settings,
+                result: Some(&result),
+                grid: None,
+                ray: None,
+                nodes: None,
+                spheres: None,
+                frustum: None,
+                slice: None,
+                query_inside: Some(true),
+                pairs: None,
+                animation: None,
+            }
+        });
+        assert_eq!(animated.mesh.as_ref().unwrap().id, moved.buffers.id);
+        assert!(animated.mesh_lod.is_none());
+        assert_eq!(animated.overlay.markers.len(), 2);
+        assert_eq!(animated.overlay.markers[1].color, colors::QUERY);
+        let fan_lines = animated
+            .overlay
+            .lines
+            .iter()
+            .filter(|v| v.color == colors::RAY || v.color == colors::FAN_MISS);
+        assert_eq!(fan_lines.count(), 2 * 9);
+        settings.show_mesh = false;
+
         // A grid of another cell size or kind is not drawn (a rebuild is pending).
         settings.cell_size *= 2.0;
         assert_eq!(frame(&settings).boxes.len(), 3);
@@ -312,6 +368,7 @@ mod tests {
             slice: Some(&slice),
             query_inside: None,
             pairs: Some(&pairs),
+            animation: None,
         });
         assert!(empty.mesh.is_none() && empty.boxes.is_empty() && empty.overlay.is_empty());
         assert!(empty.slice.is_none());

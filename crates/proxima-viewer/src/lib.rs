@@ -6,12 +6,16 @@
 //! the occupied cells of a hash grid, a ray with the cells it walks through,
 //! the AABB tree's nodes at a chosen depth, the signed distance and winding
 //! number at the query point, a slice through the mesh coloured by signed
-//! distance, and statistics.
+//! distance, statistics, and (`--animate`) the mesh deformed by a wave with
+//! its trees refit every frame.
 //!
 //! The only crate of the workspace with windowing and GPU dependencies
 //! (eframe/egui with the glow backend). The 3D view is drawn in an egui paint
 //! callback with raw OpenGL calls.
 //!
+//! - [`animation`]: the animated demo: the model deformed by a wave, its
+//!   trees refit (or rebuilt) every frame, the closest point and a fan of
+//!   rays answered on the moved surface;
 //! - [`camera`]: the orbit camera, projection to pixels and picking rays;
 //! - [`model`]: a loaded mesh with its trees and the closest-point queries;
 //! - [`scene`]: draw data (buffers, boxes, overlay lines and markers) and
@@ -34,6 +38,7 @@
 #![deny(unsafe_code)]
 #![deny(missing_docs)]
 
+pub mod animation;
 mod app;
 pub mod camera;
 pub mod cells;
@@ -54,7 +59,7 @@ pub use camera::{OrbitCamera, Viewport};
 pub use model::{Model, ModelSource};
 /// The library's primitive kinds, re-exported for the command line.
 pub use proxima::PrimitiveKind;
-pub use screenshot::{ScreenshotOptions, ScreenshotReport};
+pub use screenshot::{AnimationReport, ScreenshotOptions, ScreenshotReport};
 pub use settings::{Axis, PairMode, Settings};
 
 use eframe::egui;
@@ -101,6 +106,8 @@ pub struct InitialView {
     pub second: Option<PathBuf>,
     /// The second mesh's translation and angles in degrees about x, y, z.
     pub pair_pose: Option<(DVec3, DVec3)>,
+    /// Start the animated demo (see [`animation`]).
+    pub animate: bool,
 }
 
 impl InitialView {
@@ -161,6 +168,9 @@ impl InitialView {
         if let Some((translation, angles)) = self.pair_pose {
             settings.pair_translation = translation;
             settings.pair_angles = angles;
+        }
+        if self.animate {
+            settings.animate = true;
         }
     }
 }
@@ -281,6 +291,7 @@ mod tests {
             pairs: Some(PairMode::SelfIntersections),
             second: None,
             pair_pose: Some((DVec3::new(1.0, 2.0, 3.0), DVec3::new(0.0, 90.0, -180.0))),
+            animate: true,
         };
         v.apply(&mut s, &bounds);
         assert_eq!(s.query, Vec3::ONE);
@@ -296,6 +307,7 @@ mod tests {
         assert_eq!(s.pair_mode, PairMode::SelfIntersections);
         assert_eq!(s.pair_translation, DVec3::new(1.0, 2.0, 3.0));
         assert_eq!(s.pair_angles, DVec3::new(0.0, 90.0, -180.0));
+        assert!(s.animate);
         // A second file asks for the second mesh unless a mode is given.
         let second = InitialView {
             second: Some("other.obj".into()),

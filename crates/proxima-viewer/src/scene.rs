@@ -65,6 +65,9 @@ pub mod colors {
     pub const SECOND_MESH: [u8; 4] = [230, 200, 140, 255];
     /// The segment between the closest points of the two meshes and its ends.
     pub const PAIR_CLOSEST: [u8; 4] = [0, 255, 128, 255];
+    /// The animation's fan rays that miss the mesh (a dim olive, so that the
+    /// hits' yellow stands out).
+    pub const FAN_MISS: [u8; 4] = [110, 110, 70, 255];
 }
 
 /// Diameter in pixels of the query and closest-point markers.

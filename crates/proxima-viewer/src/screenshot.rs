@@ -117,6 +117,21 @@ pub struct ScreenshotReport {
     pub pairs: usize,
     /// Distinct faces in those pairs: on the model, on the second mesh.
     pub pair_faces: [usize; 2],
+    /// The animation's last frame, when the animation was on.
+    pub animation: Option<AnimationReport>,
+}
+
+/// What the scripted mode reports of the animation's last frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AnimationReport {
+    /// The animation's clock, in seconds.
+    pub time: f64,
+    /// Rays in the fan.
+    pub fan_rays: usize,
+    /// Of those, the rays that hit the moved mesh.
+    pub fan_hits: usize,
+    /// Milliseconds the last frame's update took (in the settings' mode).
+    pub update_ms: f64,
 }
 
 impl ScreenshotReport {
@@ -127,7 +142,7 @@ impl ScreenshotReport {
         format!(
             "{{\n  \"image_size\": [{}, {}],\n  \"pixels_per_point\": {:?},\n  \"viewport\": [{:?}, {:?}, {:?}, {:?}],\n  \
              \"frame_ms_mean\": {},\n  \"frame_ms_median\": {},\n  \"frame_ms_max\": {},\n  \"frames_measured\": {},\n  \
-             \"model\": {:?},\n  \"triangles\": {},\n  \"cells\": {},\n  \"slice_cells\": {},\n  \"slice_inside\": {},\n  \"pairs\": {},\n  \"pair_faces\": [{}, {}]\n}}\n",
+             \"model\": {:?},\n  \"triangles\": {},\n  \"cells\": {},\n  \"slice_cells\": {},\n  \"slice_inside\": {},\n  \"pairs\": {},\n  \"pair_faces\": [{}, {}],\n  \"animation\": {}\n}}\n",
             self.image_size[0],
             self.image_size[1],
             self.pixels_per_point,
@@ -147,6 +162,10 @@ impl ScreenshotReport {
             self.pairs,
             self.pair_faces[0],
             self.pair_faces[1],
+            self.animation.map_or("null".to_string(), |a| format!(
+                "{{\"time\": {:?}, \"fan_rays\": {}, \"fan_hits\": {}, \"update_ms\": {:.3}}}",
+                a.time, a.fan_rays, a.fan_hits, a.update_ms
+            )),
         )
     }
 }
@@ -196,15 +215,30 @@ mod tests {
             slice_inside: 5,
             pairs: 7,
             pair_faces: [4, 6],
+            animation: None,
         };
         let json = report.to_json();
         assert!(json.contains("\"viewport\": [300.5, 0.0, 339.5, 480.0]"), "{json}");
         assert!(json.contains("\"frame_ms_mean\": null"));
         assert!(
-            json.contains("\"slice_cells\": 12,\n  \"slice_inside\": 5,\n  \"pairs\": 7,\n  \"pair_faces\": [4, 6]\n}"),
+            json.contains("\"slice_cells\": 12,\n  \"slice_inside\": 5,\n  \"pairs\": 7,\n  \"pair_faces\": [4, 6],\n  \"animation\": null\n}"),
             "{json}"
         );
         assert!(json.contains(r#""model": "a \"b\"""#), "{json}");
+        let animated = ScreenshotReport {
+            animation: Some(AnimationReport {
+                time: 0.1,
+                fan_rays: 64,
+                fan_hits: 20,
+                update_ms: 1.25,
+            }),
+            ..report
+        }
+        .to_json();
+        assert!(
+            animated.contains(r#""animation": {"time": 0.1, "fan_rays": 64, "fan_hits": 20, "update_ms": 1.250}"#),
+            "{animated}"
+        );
     }
 
     #[test]

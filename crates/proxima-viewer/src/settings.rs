@@ -1,5 +1,6 @@
 //! The viewer's settings: what the side panel edits. Plain data.
 
+use crate::animation::{UpdateMode, Wave};
 use proxima::{Aabb, DVec3, PrimitiveKind, Sign, Vec3};
 
 /// A coordinate axis: the normal of the signed-distance slice.
@@ -148,6 +149,19 @@ pub struct Settings {
     /// The second mesh's rotation: angles about the fixed x, y and z axes, in
     /// degrees, applied in that order (see `pair_view::rotation_from_angles`).
     pub pair_angles: DVec3,
+    /// Deform the model every frame by a travelling wave, bring its trees up
+    /// to date and answer the closest point and a fan of rays on it (see
+    /// [`crate::animation`]).
+    pub animate: bool,
+    /// How each frame brings the trees up to date.
+    pub animation_mode: UpdateMode,
+    /// The wave's height, as a fraction of the box diagonal.
+    pub wave_amplitude: f32,
+    /// Seconds per cycle of the wave.
+    pub wave_period: f32,
+    /// The fan has this many rays along each side (from the query point,
+    /// towards the model's centre).
+    pub fan_side: u32,
 }
 
 impl Default for Settings {
@@ -202,6 +216,11 @@ impl Settings {
             // so its surface crosses the model's.
             pair_translation: DVec3::new(0.5 * size.x as f64, 0.0, 0.0),
             pair_angles: DVec3::ZERO,
+            animate: false,
+            animation_mode: UpdateMode::Refit,
+            wave_amplitude: Wave::DEFAULT_AMPLITUDE,
+            wave_period: Wave::DEFAULT_PERIOD,
+            fan_side: 8,
         }
     }
 

@@ -12,6 +12,10 @@
 //!   otherwise;
 //! - the signed-distance slice, when asked for, shows both inside (blue) and
 //!   outside (red) pixels and its zero contour, and is absent otherwise;
+//! - the animated demo draws the mesh moved by its wave: the closest-point
+//!   marker lands where the closest point on the moved mesh projects (several
+//!   pixels from where it is at rest), and the fan's hits equal brute force
+//!   over the moved triangles;
 //! - a broken mesh file makes the scripted mode fail with the file's name, and
 //!   a slice asked of a mesh without faces fails with the library's reason.
 //!
@@ -24,7 +28,8 @@
 
 use proxima::math::Vec3;
 use proxima::prelude::*;
-use proxima::{AabbTree, BuildConfig, Mesh, Sign};
+use proxima::{AabbTree, BuildConfig, LinearSearch, Mesh, Sign};
+use proxima_viewer::animation::{RayFan, Wave};
 use proxima_viewer::scene::colors;
 use proxima_viewer::{
     Axis, InitialView, ModelSource, OrbitCamera, PairMode, PrimitiveKind, ScreenshotOptions, ViewerOptions, Viewport,
@@ -50,6 +55,8 @@ struct Scenario {
     slice: Option<(Axis, Option<f32>, Sign)>,
     /// The "Pairs" mode (a second mesh: a copy at the default pose).
     pairs: Option<PairMode>,
+    /// The animated demo: the model moved by the wave, the fan of rays.
+    animate: bool,
     frames: u32,
 }
 
@@ -71,6 +78,7 @@ fn scenarios() -> Vec<Scenario> {
             frustum: None,
             slice: None,
             pairs: None,
+            animate: false,
             frames: 5,
         },
         Scenario {
@@ -83,6 +91,7 @@ fn scenarios() -> Vec<Scenario> {
             frustum: None,
             slice: None,
             pairs: None,
+            animate: false,
             frames: 5,
         },
         Scenario {
@@ -95,6 +104,7 @@ fn scenarios() -> Vec<Scenario> {
             frustum: Some((Vec3::new(-15.0, 5.0, 0.0), Vec3::new(0.0, 6.0, 0.0))),
             slice: None,
             pairs: None,
+            animate: false,
             frames: 3,
         },
         Scenario {
@@ -107,6 +117,7 @@ fn scenarios() -> Vec<Scenario> {
             frustum: None,
             slice: Some((Axis::Z, None, Sign::WindingNumber)),
             pairs: None,
+            animate: false,
             frames: 3,
         },
         Scenario {
@@ -119,6 +130,7 @@ fn scenarios() -> Vec<Scenario> {
             frustum: None,
             slice: Some((Axis::X, Some(0.5), Sign::Pseudonormal)),
             pairs: None,
+            animate: false,
             frames: 3,
         },
         Scenario {
@@ -131,6 +143,7 @@ fn scenarios() -> Vec<Scenario> {
             frustum: None,
             slice: None,
             pairs: Some(PairMode::SecondMesh),
+            animate: false,
             frames: 3,
         },
         Scenario {
@@ -143,7 +156,21 @@ fn scenarios() -> Vec<Scenario> {
             frustum: None,
             slice: Some((Axis::Z, None, Sign::WindingNumber)),
             pairs: None,
+            animate: false,
             frames: 3,
+        },
+        Scenario {
+            name: "bunny_animated",
+            mesh: BUNNY.into(),
+            kind: PrimitiveKind::Faces,
+            query: Vec3::new(3.0, 6.0, 4.0),
+            cells: None,
+            ray: None,
+            frustum: None,
+            slice: None,
+            pairs: None,
+            animate: true,
+            frames: 5,
         },
         Scenario {
             name: "broken_file",
@@ -155,6 +182,7 @@ fn scenarios() -> Vec<Scenario> {
             frustum: None,
             slice: None,
             pairs: None,
+            animate: false,
             frames: 3,
         },
     ];
@@ -169,6 +197,7 @@ fn scenarios() -> Vec<Scenario> {
             frustum: None,
             slice: None,
             pairs: None,
+            animate: false,
             frames: 8,
         });
     } else {
@@ -275,6 +304,7 @@ fn child(name: &str) -> ExitCode {
             slice: scenario.slice.map(|(axis, position, _)| (axis, position)),
             slice_sign: scenario.slice.map(|(_, _, sign)| sign),
             pairs: scenario.pairs,
+            animate: scenario.animate,
             ..Default::default()
         },
         screenshot: Some(ScreenshotOptions {
@@ -441,7 +471,13 @@ fn run_scenario(s: &Scenario, dir: &Path, xvfb: Option<&Path>) -> Result<String,
 
     // Where the closest point must appear: the viewer's camera, fitted to the
     // mesh in a view of this aspect, projecting the tree's closest point.
-    let mesh_data: Mesh = proxima::io::load(&s.mesh).map_err(|e| e.to_string())?;
+    let rest: Mesh = proxima::io::load(&s.mesh).map_err(|e| e.to_string())?;
+    // The animation draws the mesh moved by the wave at the sidecar's time.
+    let mesh_data = if s.animate {
+        moved(&rest, &sidecar)?
+    } else {
+        rest.clone()
+    };
     let hit = match s.kind {
         PrimitiveKind::Vertices => AabbTree::build_set(mesh_data.vertices(), &BuildConfig::default())
             .map_err(|e| e.to_string())?
@@ -457,10 +493,17 @@ fn run_scenario(s: &Scenario, dir: &Path, xvfb: Option<&Path>) -> Result<String,
             .closest(s.query),
     }
     .ok_or("no closest point")?;
-    let camera = OrbitCamera::fit(&mesh_data.bounds(), viewport.aspect());
+    // The camera is fitted to the model at rest.
+    let camera = OrbitCamera::fit(&rest.bounds(), viewport.aspect());
     let expected = camera
         .project(hit.point, &px)
         .ok_or("closest point behind the camera")?;
+    let animation_note = if s.animate {
+        animation_checks(&rest, &mesh_data, &sidecar, s.query, &camera, &px, expected)?
+    } else {
+        check(sidecar["animation"].is_null(), "an animation reported without one")?;
+        String::new()
+    };
     let c = colors::CLOSEST;
     let (marker, centroid) = count(&|p| near(p[0], c[0], 40) && near(p[1], c[1], 40) && near(p[2], c[2], 40));
     check(
@@ -508,6 +551,10 @@ fn run_scenario(s: &Scenario, dir: &Path, xvfb: Option<&Path>) -> Result<String,
     if s.ray.is_some() {
         check(ray > 30, &format!("ray: only {ray} yellow pixels"))?;
         check(ray_cells > 100, &format!("ray cells: only {ray_cells} green pixels"))?;
+    } else if s.animate {
+        // The fan's hits are drawn in the ray's colour.
+        check(ray > 30, &format!("fan: only {ray} yellow pixels"))?;
+        check(ray_cells < 10, "ray-cell pixels without a ray")?;
     } else {
         check(ray < 10 && ray_cells < 10, "ray pixels without a ray")?;
     }
@@ -597,7 +644,76 @@ fn run_scenario(s: &Scenario, dir: &Path, xvfb: Option<&Path>) -> Result<String,
         meeting,
         meeting_second
     );
-    Ok(frames)
+    Ok(frames + &animation_note)
+}
+
+/// The model moved by the viewer's wave (its default height and period,
+/// sized by the model's box at rest) at the time the sidecar reports.
+fn moved(rest: &Mesh, sidecar: &serde_json::Value) -> Result<Mesh, String> {
+    let time = sidecar["animation"]["time"]
+        .as_f64()
+        .ok_or("the sidecar reports no animation time")?;
+    let settings = proxima_viewer::Settings::for_bounds(&rest.bounds());
+    let wave = Wave::for_bounds(&rest.bounds(), settings.wave_amplitude, settings.wave_period);
+    let mut positions = Vec::new();
+    wave.displace(rest.positions(), time, &mut positions);
+    let mut mesh = rest.clone();
+    mesh.set_positions(&positions).map_err(|e| e.to_string())?;
+    Ok(mesh)
+}
+
+/// The animated scenario's own checks: the wave moved the closest point by
+/// several pixels (so the marker check above saw the moved mesh, not the
+/// model at rest), and the fan's rays hit the moved mesh as often as brute
+/// force over its triangles says.
+fn animation_checks(
+    rest: &Mesh,
+    moved: &Mesh,
+    sidecar: &serde_json::Value,
+    query: Vec3,
+    camera: &OrbitCamera,
+    px: &Viewport,
+    expected: [f32; 2],
+) -> Result<String, String> {
+    let at_rest = LinearSearch::new(rest.triangles())
+        .closest(query)
+        .ok_or("no closest point at rest")?;
+    let rest_pixel = camera
+        .project(at_rest.point, px)
+        .ok_or("closest point behind the camera")?;
+    let shift = (rest_pixel[0] - expected[0]).hypot(rest_pixel[1] - expected[1]);
+    check(
+        shift >= 4.0,
+        &format!("the wave moves the closest point by only {shift:.1} px: the scenario cannot tell"),
+    )?;
+    let settings = proxima_viewer::Settings::for_bounds(&rest.bounds());
+    let fan = RayFan::from_query(query, &rest.bounds(), settings.fan_side as usize);
+    let linear = LinearSearch::new(moved.triangles());
+    let hits = fan
+        .directions
+        .iter()
+        .filter(|&&d| {
+            linear
+                .first_hit(fan.origin, d, 0.0, f32::INFINITY)
+                .is_ok_and(|h| h.is_some())
+        })
+        .count();
+    let a = &sidecar["animation"];
+    check(
+        a["fan_rays"].as_u64() == Some(fan.directions.len() as u64) && a["fan_hits"].as_u64() == Some(hits as u64),
+        &format!(
+            "fan: the sidecar says {} of {} rays hit, brute force {hits} of {}",
+            a["fan_hits"],
+            a["fan_rays"],
+            fan.directions.len()
+        ),
+    )?;
+    check(hits > 0 && hits < fan.directions.len(), &format!("fan: {hits} hits"))?;
+    Ok(format!(
+        "; animated: closest point {shift:.1} px from where it is at rest, {hits} of {} fan rays hit, update {} ms",
+        fan.directions.len(),
+        a["update_ms"]
+    ))
 }
 
 fn check(condition: bool, message: &str) -> Result<(), String> {

@@ -72,6 +72,11 @@ pub struct Args {
     /// (applied in that order).
     #[arg(long, value_name = "TX,TY,TZ,AX,AY,AZ", value_parser = parse_pair_pose, allow_hyphen_values = true)]
     pair_pose: Option<(DVec3, DVec3)>,
+    /// Deform the model every frame by a travelling wave: its trees are refit (or rebuilt, as
+    /// the panel says) and the closest point and a fan of rays from the query point are
+    /// answered on the moved surface, with the update's time shown.
+    #[arg(long)]
+    animate: bool,
     /// Window size in points.
     #[arg(long, value_name = "WxH", default_value = "1280x800", value_parser = parse_size)]
     size: [f32; 2],
@@ -209,6 +214,7 @@ pub fn run(args: Args) -> Result<()> {
             pairs: args.pairs,
             second: args.second,
             pair_pose: args.pair_pose,
+            animate: args.animate,
         },
         screenshot: args.screenshot.map(|path| ScreenshotOptions {
             path,

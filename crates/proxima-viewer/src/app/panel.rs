@@ -2,6 +2,7 @@
 //! showing what was derived from them.
 
 use super::{Keys, ViewerApp};
+use crate::animation::UpdateMode;
 use crate::model::{Model, ModelSource};
 use crate::pair_view::SECOND_MESH_FACE_LIMIT;
 use crate::settings::{Axis, PairMode, Settings, nice_size};
@@ -41,6 +42,9 @@ impl ViewerApp {
         egui::CollapsingHeader::new("Pairs")
             .default_open(true)
             .show(ui, |ui| self.pairs_section(ui, &model));
+        egui::CollapsingHeader::new("Animation")
+            .default_open(true)
+            .show(ui, |ui| self.animation_section(ui));
         egui::CollapsingHeader::new("Statistics")
             .default_open(true)
             .show(ui, |ui| self.stats_section(ui, &model));
@@ -85,6 +89,12 @@ impl ViewerApp {
 
     fn query_section(&mut self, ui: &mut egui::Ui, model: &Model) {
         let s = &mut self.settings;
+        if s.animate {
+            ui.label(
+                RichText::new("Answers below are on the model at rest; the Animation section's on the moved mesh.")
+                    .weak(),
+            );
+        }
         ui.horizontal(|ui| {
             for kind in PrimitiveKind::ALL {
                 ui.add_enabled_ui(model.has(kind), |ui| ui.radio_value(&mut s.kind, kind, kind.name()));
@@ -545,6 +555,79 @@ impl ViewerApp {
                 }
             }
         }
+    }
+
+    fn animation_section(&mut self, ui: &mut egui::Ui) {
+        let s = &mut self.settings;
+        ui.checkbox(&mut s.animate, "deform the model by a wave");
+        if !s.animate {
+            return;
+        }
+        ui.horizontal(|ui| {
+            ui.label("each frame:");
+            for mode in UpdateMode::ALL {
+                ui.radio_value(&mut s.animation_mode, mode, mode.name());
+            }
+            ui.label("the trees");
+        });
+        ui.add(
+            egui::Slider::new(&mut s.wave_amplitude, 0.0..=0.2)
+                .text("height (× diagonal)")
+                .fixed_decimals(3),
+        );
+        ui.add(egui::Slider::new(&mut s.wave_period, 0.25..=10.0).text("period (s)"));
+        ui.add(egui::Slider::new(&mut s.fan_side, 1..=32).text("fan rays per side"));
+        ui.label(RichText::new("The fan starts at the query point, aimed at the model's centre.").weak());
+        if let Some(e) = self.animation_error() {
+            ui.colored_label(Color32::from_rgb(255, 110, 110), e);
+            return;
+        }
+        let Some(frame) = self.current_animation() else {
+            return;
+        };
+        let times = self
+            .derived
+            .animation
+            .as_ref()
+            .and_then(|a| a.as_ref().ok())
+            .map(|a| a.times());
+        egui::Grid::new("animation").num_columns(2).show(ui, |ui| {
+            let mut row = |a: &str, b: String| {
+                ui.label(a);
+                ui.label(b);
+                ui.end_row();
+            };
+            let mean = |t: Option<f64>| t.map_or("—".to_string(), format_seconds);
+            if let Some(times) = times {
+                row("refit (mean)", mean(times.refit));
+                row("rebuild (mean)", mean(times.rebuild));
+                if let (Some(refit), Some(rebuild)) = (times.refit, times.rebuild) {
+                    row("rebuild / refit", format!("{:.1}×", rebuild / refit));
+                }
+            }
+            let rays = frame.fan.directions.len();
+            row(
+                "queries",
+                format!(
+                    "closest + {rays} rays ({} hit) in {}",
+                    frame.hit_count(),
+                    format_seconds(frame.query_seconds)
+                ),
+            );
+            if frame.cost_ratio.is_finite() {
+                row(
+                    "faces' tree cost",
+                    format!("{:.2}× its cost at build", frame.cost_ratio),
+                );
+            }
+            if let Some(hit) = frame.closest {
+                row("closest", format!("face {}, distance {:.6}", hit.source, hit.distance));
+            }
+        });
+        ui.label(
+            RichText::new("Answers are the same either way; a refit tree slows down as its boxes come to overlap.")
+                .weak(),
+        );
     }
 
     fn stats_section(&mut self, ui: &mut egui::Ui, model: &Model) {

@@ -2,7 +2,7 @@
 //! draw a few timed frames, save egui's screenshot and its report, close.
 
 use super::{Outcome, ViewerApp};
-use crate::screenshot::{ScreenshotOptions, ScreenshotReport, save_png, sidecar_path};
+use crate::screenshot::{AnimationReport, ScreenshotOptions, ScreenshotReport, save_png, sidecar_path};
 use eframe::egui;
 use eframe::egui::mutex::Mutex;
 use proxima::PrimitiveKind;
@@ -66,6 +66,13 @@ impl ViewerApp {
         let (pair_count, pair_faces) = self.current_pairs().map_or((0, [0, 0]), |a| {
             (a.pairs.len(), [a.faces_first.len(), a.faces_second.len()])
         });
+        let animation_error = self.animation_error().cloned();
+        let animation = self.current_animation().map(|frame| AnimationReport {
+            time: frame.time,
+            fan_rays: frame.fan.directions.len(),
+            fan_hits: frame.hit_count(),
+            update_ms: 1e3 * frame.update_seconds,
+        });
         let Some(script) = &mut self.script else {
             return;
         };
@@ -103,6 +110,9 @@ impl ViewerApp {
                     if let Some(e) = pairs_error {
                         return fail(script, format!("pairs: {e}"));
                     }
+                    if let Some(e) = animation_error {
+                        return fail(script, format!("animation: {e}"));
+                    }
                     script.stage = ScriptStage::Rendering(0);
                     self.timer.reset();
                 }
@@ -132,6 +142,7 @@ impl ViewerApp {
                         slice_inside,
                         pairs: pair_count,
                         pair_faces,
+                        animation,
                     };
                     let path = script.options.path.clone();
                     let written = save_png(&path, &image).and_then(|()| {

@@ -50,6 +50,7 @@ impl ViewerApp {
             slice: self.current_slice().map(|s| s.as_ref()),
             query_inside: self.current_readout().and_then(|r| r.inside()),
             pairs: self.current_pairs().map(|p| p.as_ref()),
+            animation: self.current_animation(),
         });
         frame.interactive = interactive;
         if let Some(script) = &self.script {

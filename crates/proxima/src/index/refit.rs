@@ -154,6 +154,25 @@ impl MeshIndex {
         Ok(report)
     }
 
+    /// Sets how later [`update_vertices`](Self::update_vertices) calls
+    /// bring the trees up to date (the configuration's
+    /// [`refit`](super::IndexConfig::refit)). The structures already built
+    /// stay as they are; answers do not depend on the policy.
+    ///
+    /// ```
+    /// use proxima::prelude::*;
+    /// use proxima::index::{MeshIndex, RefitPolicy};
+    /// let mesh = proxima::mesh::generate::noisy_icosphere(2, 1);
+    /// let mut index = MeshIndex::new(mesh.clone());
+    /// index.closest(PrimitiveKind::Faces, &[Vec3::ZERO]).unwrap();
+    /// index.set_refit_policy(RefitPolicy::Rebuild);
+    /// let updated = index.update_vertices(mesh.positions()).unwrap();
+    /// assert!(updated[0].rebuilt && updated[0].cost_ratio.is_nan());
+    /// ```
+    pub fn set_refit_policy(&mut self, policy: RefitPolicy) {
+        self.config.refit = policy;
+    }
+
     fn update_ray_tree(&mut self, policy: RefitPolicy, report: &mut Vec<Updated>) -> Result<(), IndexError> {
         let Some(tree) = self.rays.get_mut() else {
             return Ok(());
