@@ -1,7 +1,8 @@
 //! The bodies of the fuzz targets, shared by the libFuzzer targets
 //! (`fuzz/fuzz_targets/*.rs`, run by `fuzz/run.sh`) and by the smoke test that
 //! CI runs (`crates/proxima/tests/fuzz_smoke.rs`), both through
-//! `#[path = ".../fuzz/bodies.rs"] mod bodies;`.
+//! `#[path = ".../fuzz/bodies.rs"] mod bodies;` (for the tests, once in
+//! `crates/proxima/tests/integration.rs`).
 //!
 //! Every body takes arbitrary bytes and must not panic: loaders return a mesh
 //! or a typed error; structures are built over bounded geometry decoded from

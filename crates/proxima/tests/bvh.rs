@@ -3,9 +3,7 @@
 //! against brute force are checked by the suite every structure runs
 //! (`structures.rs`).
 
-mod common;
-
-use common::{bumpy_sphere, random_soup};
+use crate::common::{bumpy_sphere, random_soup};
 use proxima::build::SplitMethod;
 use proxima::{AabbTree, BuildConfig, Vec3};
 

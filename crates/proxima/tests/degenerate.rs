@@ -12,12 +12,10 @@
 //! `first_hit` must equal a scan of every triangle; walks must equal the
 //! cell-by-cell oracle.
 
-#[path = "../../../fuzz/bodies.rs"]
-mod bodies;
-mod common;
+use crate::bodies;
 
-use common::degenerate::{Case, cases};
-use common::exact::{ExactBox, triangle_touches_exact_box};
+use crate::common::degenerate::{Case, cases};
+use crate::common::exact::{ExactBox, triangle_touches_exact_box};
 use proxima::build::{MAX_COORDINATE, SplitMethod};
 use proxima::grid::GridTraversal;
 use proxima::grid::{GridConfig, GridLayout, HashGrid, VoxelConfig, voxelize};

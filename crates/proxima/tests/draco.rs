@@ -9,9 +9,9 @@
 // Without the feature only the refusal is tested, with the same fixtures.
 #![cfg_attr(not(feature = "draco"), allow(dead_code, unused_imports))]
 
-mod common;
+use crate::common;
 
-use common::glb_writer::glb;
+use crate::common::glb_writer::glb;
 use draco_core::{
     DataType, EncoderBuffer, EncoderOptions, GeometryAttributeType, Mesh as DracoMesh, MeshEncoder, PointAttribute,
 };

@@ -3,9 +3,7 @@
 //! the path in the message, and the text the catalogue quotes. The CLI side is
 //! `crates/proxima-cli/tests/errors_cli.rs`, with the same test names.
 
-mod common;
-
-use common::temp_dir;
+use crate::common::temp_dir;
 use proxima::build::MAX_COORDINATE;
 use proxima::grid::{GridConfig, HashGrid, VoxelConfig, voxelize};
 use proxima::grid::{GridTraversal, TraversalConfig};

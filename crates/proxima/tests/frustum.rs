@@ -9,9 +9,7 @@
 //! - Trees: the same index set as brute force, for every primitive type and
 //!   build configuration, on random soups and on the real meshes.
 
-mod common;
-
-use common::{bumpy_sphere, random_soup, shared_meshes};
+use crate::common::{bumpy_sphere, random_soup, shared_meshes};
 use proptest::prelude::*;
 use proxima::frustum::{Cull, Frustum, FrustumOverlap, PlaneMask};
 use proxima::math::Vec4;

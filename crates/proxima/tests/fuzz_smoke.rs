@@ -4,9 +4,8 @@
 //! mutated inputs. A panic or a disagreement with brute force fails the test.
 //! The long, coverage-guided runs are `fuzz/run.sh`.
 
-#[path = "../../../fuzz/bodies.rs"]
-mod bodies;
-mod common;
+use crate::bodies;
+use crate::common;
 
 use proxima::sample::Rng;
 use serde_json::{Value, json};

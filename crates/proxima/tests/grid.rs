@@ -4,9 +4,9 @@
 //! shared mesh, voxelization against the grid, ray casting against a linear
 //! scan, and the error paths.
 
-mod common;
+use crate::common;
 
-use common::oracle::{D3, Q, clip_by_bounds};
+use crate::common::oracle::{D3, Q, clip_by_bounds};
 use proxima::grid::{
     Cell, ClassicHash, FastHash, GridConfig, GridInsert, GridLayout, HashGrid, InsertMethod, InsertParams, VoxelConfig,
     voxelize,

@@ -9,10 +9,8 @@
 //! meet within the tolerance, and its lower bound must be realized by the
 //! points it returns.
 
-mod common;
-
-use common::oracle::{D3, d3, triangle_distance};
-use common::{bumpy_sphere, data_dir, random_soup};
+use crate::common::oracle::{D3, d3, triangle_distance};
+use crate::common::{bumpy_sphere, data_dir, random_soup};
 use proxima::pair::{DirectedHausdorff, PairError, directed_hausdorff, hausdorff};
 use proxima::sample::Rng;
 use proxima::{Mesh, MeshIndex, Triangle, Vec3};

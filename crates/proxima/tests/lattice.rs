@@ -5,9 +5,9 @@
 //! must report exactly the SET of cells an exact integer oracle finds
 //! (`common::exact`, cross-checked against exact rational clipping).
 
-mod common;
+use crate::common;
 
-use common::exact::{ExactBox, triangle_touches_exact_box, triangle_touches_exact_box_by_clipping};
+use crate::common::exact::{ExactBox, triangle_touches_exact_box, triangle_touches_exact_box_by_clipping};
 use proxima::grid::{
     Cell, FastHash, GridConfig, GridInsert, GridLayout, HashGrid, InsertMethod, VoxelConfig, voxelize,
 };

@@ -12,9 +12,9 @@
 //! - tree depth (the only recursion on user-sized data is the parallel part of
 //!   the build, bounded by `MAX_DEPTH`; queries use fixed stacks): below.
 
-mod common;
+use crate::common;
 
-use common::glb_writer::instanced_glb;
+use crate::common::glb_writer::instanced_glb;
 
 use proxima::build::{MAX_DEPTH, SplitMethod};
 use proxima::grid::{GridConfig, HashGrid, VoxelConfig, voxelize};
@@ -501,7 +501,13 @@ fn sdf_grids_and_samples_follow_the_budget_of_the_environment() {
     }
     for budget in ["64K", "lots"] {
         let out = std::process::Command::new(std::env::current_exe().unwrap())
-            .args(["--exact", NAME, "--nocapture", "--test-threads", "1"])
+            .args([
+                "--exact",
+                &crate::common::exact_name(module_path!(), NAME),
+                "--nocapture",
+                "--test-threads",
+                "1",
+            ])
             .env(CHILD, "1")
             .env("PROXIMA_MEMORY_BUDGET", budget)
             .output()

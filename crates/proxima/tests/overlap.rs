@@ -7,9 +7,9 @@
 //! touching and degenerate configurations are frequent and must come out
 //! exactly.
 
-mod common;
+use crate::common;
 
-use common::oracle::{Num, Q, clip_by_box};
+use crate::common::oracle::{Num, Q, clip_by_box};
 use proptest::prelude::*;
 use proxima::primitive::sat::{Interval, Project, project_points, separated_along};
 use proxima::primitive::{TriangleBoxTest, WatertightRay};

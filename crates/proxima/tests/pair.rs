@@ -5,9 +5,7 @@
 //! rationals, in the library's unit tests). What these tests check is that
 //! the walk of two trees skips no pair that brute force counts.
 
-mod common;
-
-use common::{bumpy_sphere, data_dir, random_soup};
+use crate::common::{bumpy_sphere, data_dir, random_soup};
 use proxima::pair::{
     self, PairError, RigidPose, intersecting_pairs, intersects, pairs_within, self_intersections, triangle_distance,
     triangles_intersect,
@@ -610,7 +608,13 @@ fn pair_lists_stop_at_the_memory_budget() {
         return;
     }
     let out = std::process::Command::new(std::env::current_exe().unwrap())
-        .args(["--exact", NAME, "--nocapture", "--test-threads", "1"])
+        .args([
+            "--exact",
+            &crate::common::exact_name(module_path!(), NAME),
+            "--nocapture",
+            "--test-threads",
+            "1",
+        ])
         .env(CHILD, "1")
         .env("PROXIMA_MEMORY_BUDGET", "4K")
         .output()

@@ -1,9 +1,7 @@
 //! Differential test against parry3d's point projection on triangle meshes:
 //! distances agree within 1e-5 of the bounding-box diagonal.
 
-mod common;
-
-use common::{bumpy_sphere, queries, random_soup, shared_meshes};
+use crate::common::{bumpy_sphere, queries, random_soup, shared_meshes};
 use parry3d::query::PointQuery;
 use parry3d::shape::TriMesh;
 use proxima::prelude::*;

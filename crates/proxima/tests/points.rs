@@ -269,7 +269,13 @@ fn radius_answers_stop_at_the_memory_budget() {
         return;
     }
     let out = std::process::Command::new(std::env::current_exe().unwrap())
-        .args(["--exact", NAME, "--nocapture", "--test-threads", "1"])
+        .args([
+            "--exact",
+            &crate::common::exact_name(module_path!(), NAME),
+            "--nocapture",
+            "--test-threads",
+            "1",
+        ])
         .env(CHILD, "1")
         .env("PROXIMA_MEMORY_BUDGET", "64K")
         .output()

@@ -15,10 +15,10 @@
 //! - The real quad and n-gon meshes: fallback counts, tree == brute force,
 //!   grid == brute force, and the `2t` bound at a loose tolerance.
 
-mod common;
+use crate::common;
 
-use common::oracle::{D3, Num, Q, clip_by_box, d3, dist, triangle_distance};
-use common::{data_dir, queries};
+use crate::common::oracle::{D3, Num, Q, clip_by_box, d3, dist, triangle_distance};
+use crate::common::{data_dir, queries};
 use proptest::prelude::*;
 use proxima::WideTree;
 use proxima::grid::{Cell, GridConfig, GridInsert, GridLayout, HashGrid, InsertMethod, InsertParams};

@@ -2,12 +2,10 @@
 //! projection plus edges, instead of the Voronoi-region walk under test) and
 //! against dense sampling of the primitive.
 
-mod common;
-
 use proptest::prelude::*;
 use proxima::{Aabb, Bounded, ClosestPoint, LineSegment, Point, Triangle, Vec3, Vec3A};
 
-use common::oracle::{d3, dist, segment_distance, triangle_distance};
+use crate::common::oracle::{d3, dist, segment_distance, triangle_distance};
 
 fn coord() -> impl Strategy<Value = f32> {
     prop_oneof![-10.0f32..10.0, Just(0.0f32), Just(1.0f32), -1.0f32..1.0]

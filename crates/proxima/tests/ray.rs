@@ -5,7 +5,7 @@
 //! random rays and rays aimed exactly at vertices and edge midpoints (which
 //! must never slip through).
 
-mod common;
+use crate::common;
 
 use proptest::prelude::*;
 use proxima::build::SplitMethod;

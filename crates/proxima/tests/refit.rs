@@ -5,7 +5,7 @@
 //! wreck the trees' shape, faces collapsed to points, and a hundred updates
 //! in a row. Bad positions change nothing.
 
-mod common;
+use crate::common;
 
 use proxima::index::{IndexConfig, IndexError, MeshIndex, RefitPolicy};
 use proxima::prelude::*;

@@ -5,9 +5,9 @@
 //! by the exact winding sums. A moved instance answers as a scene built
 //! with the new pose; bad input is refused and changes nothing.
 
-mod common;
+use crate::common;
 
-use common::oracle::{segment_distance, triangle_distance};
+use crate::common::oracle::{segment_distance, triangle_distance};
 use proxima::index::MeshIndex;
 use proxima::pair::RigidPose;
 use proxima::prelude::*;

@@ -5,10 +5,8 @@
 //! generated meshes whose winding numbers are known (closed spheres, overlaps,
 //! flips, duplicates, holes, open fans).
 
-mod common;
-
-use common::winding::{corners, mesh_of, oracle};
-use common::{bumpy_sphere, data_dir, random_soup, shared_meshes};
+use crate::common::winding::{corners, mesh_of, oracle};
+use crate::common::{bumpy_sphere, data_dir, random_soup, shared_meshes};
 use proptest::prelude::*;
 use proxima::prelude::*;
 use proxima::sample::Rng;

@@ -6,10 +6,8 @@
 //! a hollow ball, holes beside the query, a folded open sheet, overlapping
 //! spheres, flipped patches, a bow-tie vertex.
 
-mod common;
-
-use common::winding::{corners, mesh_of, oracle};
-use common::{bumpy_sphere, data_dir};
+use crate::common::winding::{corners, mesh_of, oracle};
+use crate::common::{bumpy_sphere, data_dir};
 use proxima::prelude::*;
 use proxima::sdf::{SdfConfig, SignedDistanceField};
 use rayon::prelude::*;

@@ -15,11 +15,9 @@
 //! (parallel build, median halves, wide lanes, spheres holding their points,
 //! node visits) stay in its own file: `bvh.rs`, `wide.rs`, `sphere_tree.rs`.
 
-mod common;
-#[path = "common/wide_shape.rs"]
-mod wide_shape;
+use crate::wide_shape;
 
-use common::{batch_options, bumpy_sphere, mixed_with, queries, random_soup, shared_meshes};
+use crate::common::{batch_options, bumpy_sphere, mixed_with, queries, random_soup, shared_meshes};
 use proptest::prelude::*;
 use proxima::build::SplitMethod;
 use proxima::prelude::*;

@@ -4,7 +4,7 @@
 //! within ulps of region boundaries, a per-vertex loop for normals, and
 //! central finite differences for gradients.
 
-mod common;
+use crate::common;
 
 use proxima::prelude::*;
 use proxima::sample::Rng;

@@ -8,10 +8,9 @@
 //! points are exact, then nudged 1 to 3 ulps either way; the oracle decides
 //! every case.
 
-#[path = "pair_oracle/mod.rs"]
-mod pair_oracle;
+use crate::pair_oracle;
 
-use pair_oracle::{distance_squared, meet, neighbours_meet, q3, separated, to_f64};
+use crate::pair_oracle::{distance_squared, meet, neighbours_meet, q3, separated, to_f64};
 use proxima::math::DVec3;
 use proxima::pair::{neighbours_intersect, segment_meets_triangle, triangle_distance, triangles_intersect};
 use proxima::sample::Rng;

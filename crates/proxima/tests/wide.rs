@@ -5,11 +5,9 @@
 //! every form (AVX2, four at a time, portable), are checked by the suite
 //! every structure runs (`structures.rs`).
 
-mod common;
-#[path = "common/wide_shape.rs"]
-mod wide_shape;
+use crate::wide_shape;
 
-use common::{bumpy_sphere, queries, random_soup, shared_meshes};
+use crate::common::{bumpy_sphere, queries, random_soup, shared_meshes};
 use proxima::prelude::*;
 use proxima::{BuildConfig, WideTree};
 

@@ -145,3 +145,13 @@ pub fn temp_dir(name: &str) -> TempDir {
             .unwrap(),
     )
 }
+
+/// A test's name as its test binary lists it, for a test that runs itself
+/// again in a child process with `--exact`: its module path (`module_path!()`)
+/// past the crate's name, then the test's own name.
+pub fn exact_name(module_path: &str, test: &str) -> String {
+    match module_path.split_once("::") {
+        Some((_, module)) => format!("{module}::{test}"),
+        None => test.to_string(),
+    }
+}
