@@ -449,8 +449,10 @@ def test_mesh_suffixes_are_the_library_formats():
 
 
 def proxima_cli():
-    """The command line of this checkout: ``PROXIMA_CLI``, or ``proxima`` as
-    cargo builds it (at once when ``cargo test`` has built it already)."""
+    """The command line of this checkout: ``PROXIMA_CLI`` (scripts/test sets
+    it to the binary ``cargo test`` built), or ``proxima`` as ``cargo build``
+    makes it (the dev profile: every dependency compiled again on a clean
+    checkout)."""
     if os.environ.get("PROXIMA_CLI"):
         return os.environ["PROXIMA_CLI"]
     cargo = shutil.which("cargo")
