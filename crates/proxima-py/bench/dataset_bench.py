@@ -4,7 +4,9 @@ against mesh_to_sdf and libigl's signed_distance driven by a
 multiprocessing.Pool, on the same meshes and the same points.
 
 Corpus: every mesh of ../shared/data (or $PROXIMA_DATA_DIR) plus generated
-``proxima.noisy_icosphere(k)`` meshes (written as OBJ) up to --meshes (20).
+``proxima.noisy_icosphere(k, seed)`` meshes up to --meshes (20), written in
+the --formats given, in turn (obj; glb; draco: a GLB compressed with
+KHR_draco_mesh_compression by DracoPy, as Objaverse ships many files).
 
 Phases (--phases, default all, in this order):
 
@@ -66,6 +68,9 @@ REPO = HERE.parents[2]
 #: noisy_icosphere frequencies for the generated meshes (20 k^2 triangles),
 #: taken in this order until the corpus holds --meshes meshes.
 ICO_FREQUENCIES = (8, 16, 24, 32, 48, 64, 96, 128, 160, 192)
+#: Past those, frequencies taken in turn with a new noise seed each: 1,280 to
+#: 81,920 triangles, the sizes most objects of a corpus like Objaverse have.
+MORE_FREQUENCIES = (8, 12, 16, 24, 32, 48, 64)
 
 
 def log(*args):
@@ -78,7 +83,42 @@ def data_dir():
     return path if path.is_dir() else None
 
 
-def build_corpus(out: Path, n_meshes: int):
+def write_glb(path: Path, vertices, faces, draco: bool):
+    """One triangle mesh as binary glTF: plain accessors, or (``draco``) one
+    primitive compressed with KHR_draco_mesh_compression by DracoPy (16-bit
+    positions), as Objaverse ships many of its files."""
+    import struct
+
+    v = np.ascontiguousarray(vertices, dtype=np.float32)
+    f = np.ascontiguousarray(faces, dtype=np.uint32)
+    bounds = {"min": v.min(axis=0).tolist(), "max": v.max(axis=0).tolist()}
+    position = {"componentType": 5126, "count": len(v), "type": "VEC3", **bounds}
+    indices = {"componentType": 5125, "count": int(f.size), "type": "SCALAR"}
+    primitive = {"attributes": {"POSITION": 0}, "indices": 1, "mode": 4}
+    gltf = {"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "scene": 0, "nodes": [{"mesh": 0}], "meshes": [{"primitives": [primitive]}]}
+    if draco:
+        import DracoPy
+
+        blob = DracoPy.encode(v, f, quantization_bits=16)
+        views = [{"buffer": 0, "byteOffset": 0, "byteLength": len(blob)}]
+        primitive["extensions"] = {"KHR_draco_mesh_compression": {"bufferView": 0, "attributes": {"POSITION": 0}}}
+        gltf["extensionsUsed"] = gltf["extensionsRequired"] = ["KHR_draco_mesh_compression"]
+    else:
+        blob = v.tobytes() + f.tobytes()
+        views = [{"buffer": 0, "byteOffset": 0, "byteLength": v.nbytes}, {"buffer": 0, "byteOffset": v.nbytes, "byteLength": f.nbytes}]
+        position["bufferView"], indices["bufferView"] = 0, 1
+    blob += b"\0" * (-len(blob) % 4)
+    gltf.update(accessors=[position, indices], bufferViews=views, buffers=[{"byteLength": len(blob)}])
+    text = json.dumps(gltf).encode()
+    text += b" " * (-len(text) % 4)
+    chunks = struct.pack("<II", len(text), 0x4E4F534A) + text + struct.pack("<II", len(blob), 0x004E4942) + blob
+    path.write_bytes(struct.pack("<III", 0x46546C67, 2, 12 + len(chunks)) + chunks)
+
+
+def build_corpus(out: Path, n_meshes: int, formats=("obj",)):
+    """The shared meshes, then generated noisy icospheres (ICO_FREQUENCIES,
+    then MORE_FREQUENCIES with a seed each) up to ``n_meshes``; the generated
+    ones written in ``formats`` in turn (obj, glb, draco: a Draco GLB)."""
     import proxima
     from proxima.dataset import is_mesh_file
 
@@ -90,16 +130,23 @@ def build_corpus(out: Path, n_meshes: int):
         paths = sorted(p for p in d.iterdir() if p.is_file() and is_mesh_file(p))
     gen = out / "generated"
     gen.mkdir(parents=True, exist_ok=True)
-    for k in ICO_FREQUENCIES:
+    more = ((MORE_FREQUENCIES[i % len(MORE_FREQUENCIES)], 2 + i) for i in range(n_meshes))
+    sizes = [(k, 1) for k in ICO_FREQUENCIES] + list(more)
+    for i, (k, seed) in enumerate(sizes):
         if len(paths) >= n_meshes:
             break
-        path = gen / f"ico{k}.obj"
+        kind = formats[i % len(formats)]
+        stem = f"ico{k}" if seed == 1 else f"ico{k}s{seed}"
+        path = gen / (f"{stem}.obj" if kind == "obj" else f"{stem}{'_draco' if kind == 'draco' else ''}.glb")
         if not path.exists():
-            mesh = proxima.noisy_icosphere(k)
-            tmp = path.with_suffix(".tmp")
-            with open(tmp, "w") as f:
-                np.savetxt(f, mesh.vertices, fmt="v %.9g %.9g %.9g")
-                np.savetxt(f, np.asarray(mesh.faces) + 1, fmt="f %d %d %d")
+            mesh = proxima.noisy_icosphere(k, seed)
+            tmp = path.with_name(path.name + ".tmp")
+            if kind == "obj":
+                with open(tmp, "w") as f:
+                    np.savetxt(f, mesh.vertices, fmt="v %.9g %.9g %.9g")
+                    np.savetxt(f, np.asarray(mesh.faces) + 1, fmt="f %d %d %d")
+            else:
+                write_glb(tmp, mesh.vertices, mesh.faces, draco=kind == "draco")
             tmp.rename(path)
         paths.append(path)
     return paths[:n_meshes]
@@ -296,6 +343,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--out", default=str(REPO / "target" / "dataset-bench"))
     ap.add_argument("--meshes", type=int, default=20)
+    ap.add_argument("--formats", default="obj", help="formats of the generated meshes, in turn: obj, glb, draco (a Draco GLB; needs DracoPy)")
     ap.add_argument("--points", type=int, default=250_000)
     ap.add_argument("--phases", default="local,ray,amortized,igl,igl-default,igl-pseudonormal,m2s,memory")
     ap.add_argument("--igl-exact-stride", type=int, default=10, help="query every Nth point with libigl's default (exact winding number) sign and scale")
@@ -314,7 +362,7 @@ def main():
     import proxima
     from proxima.dataset import mesh_names
 
-    paths = build_corpus(out, args.meshes)
+    paths = build_corpus(out, args.meshes, tuple(args.formats.split(",")))
     names = mesh_names(paths)
     info = mesh_info(paths)
     for i, n in zip(info, names):
