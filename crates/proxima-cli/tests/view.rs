@@ -14,6 +14,8 @@ fn without_a_display_view_says_so_in_one_line_and_fails() {
     for args in [
         vec!["view"],
         vec!["view", "--screenshot", "out.png", "--query", "-1,0,2"],
+        vec!["view", "--animate"],
+        vec!["view", "--animate", "rebuild", "--screenshot", "out.png"],
     ] {
         let out = proxima().args(&args).output().unwrap();
         assert_eq!(out.status.code(), Some(1), "{args:?}");
@@ -40,6 +42,7 @@ fn bad_view_arguments_are_usage_errors() {
         vec!["view", "--camera", "0,120"],
         vec!["view", "--pairs", "both"],
         vec!["view", "--pair-pose", "1,2,3"],
+        vec!["view", "--animate", "both"],
     ] {
         let out = proxima().args(&args).output().unwrap();
         assert_eq!(

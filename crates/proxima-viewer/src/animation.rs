@@ -146,6 +146,15 @@ impl UpdateMode {
         }
     }
 
+    /// The mode named `refit` or `rebuild`.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        match text.trim() {
+            "refit" => Ok(Self::Refit),
+            "rebuild" => Ok(Self::Rebuild),
+            _ => Err(format!("expected refit or rebuild, got '{text}'")),
+        }
+    }
+
     fn policy(self) -> RefitPolicy {
         match self {
             UpdateMode::Refit => RefitPolicy::Refit,
@@ -440,6 +449,15 @@ mod tests {
         // The viewer's fan is aimed at the box's centre.
         let fan = RayFan::from_query(Vec3::new(0.0, 0.0, -10.0), &b, 3);
         assert!((fan.directions[4] - Vec3::Z).length() < 1e-6);
+    }
+
+    #[test]
+    fn modes_parse_by_name() {
+        for mode in UpdateMode::ALL {
+            assert_eq!(UpdateMode::parse(mode.name()), Ok(mode));
+        }
+        let e = UpdateMode::parse("both").unwrap_err();
+        assert!(e.contains("refit or rebuild") && e.contains("both"), "{e}");
     }
 
     #[test]

@@ -106,8 +106,9 @@ pub struct InitialView {
     pub second: Option<PathBuf>,
     /// The second mesh's translation and angles in degrees about x, y, z.
     pub pair_pose: Option<(DVec3, DVec3)>,
-    /// Start the animated demo (see [`animation`]).
-    pub animate: bool,
+    /// Start the animated demo (see [`animation`]), the trees brought up to
+    /// date each frame in this mode.
+    pub animate: Option<animation::UpdateMode>,
 }
 
 impl InitialView {
@@ -169,8 +170,9 @@ impl InitialView {
             settings.pair_translation = translation;
             settings.pair_angles = angles;
         }
-        if self.animate {
+        if let Some(mode) = self.animate {
             settings.animate = true;
+            settings.animation_mode = mode;
         }
     }
 }
@@ -291,7 +293,7 @@ mod tests {
             pairs: Some(PairMode::SelfIntersections),
             second: None,
             pair_pose: Some((DVec3::new(1.0, 2.0, 3.0), DVec3::new(0.0, 90.0, -180.0))),
-            animate: true,
+            animate: Some(animation::UpdateMode::Rebuild),
         };
         v.apply(&mut s, &bounds);
         assert_eq!(s.query, Vec3::ONE);
@@ -307,7 +309,7 @@ mod tests {
         assert_eq!(s.pair_mode, PairMode::SelfIntersections);
         assert_eq!(s.pair_translation, DVec3::new(1.0, 2.0, 3.0));
         assert_eq!(s.pair_angles, DVec3::new(0.0, 90.0, -180.0));
-        assert!(s.animate);
+        assert!(s.animate && s.animation_mode == animation::UpdateMode::Rebuild);
         // A second file asks for the second mesh unless a mode is given.
         let second = InitialView {
             second: Some("other.obj".into()),

@@ -304,7 +304,7 @@ fn child(name: &str) -> ExitCode {
             slice: scenario.slice.map(|(axis, position, _)| (axis, position)),
             slice_sign: scenario.slice.map(|(_, _, sign)| sign),
             pairs: scenario.pairs,
-            animate: scenario.animate,
+            animate: scenario.animate.then_some(proxima_viewer::animation::UpdateMode::Refit),
             ..Default::default()
         },
         screenshot: Some(ScreenshotOptions {

@@ -4,6 +4,7 @@
 use crate::common::{DEFAULT_MODEL_NAME, kind_parser, load_or_default, parse_vec3};
 use anyhow::Result;
 use proxima::{DVec3, PrimitiveKind, Sign, Vec3};
+use proxima_viewer::animation::UpdateMode;
 use proxima_viewer::{Axis, InitialView, ModelSource, PairMode, ScreenshotOptions, ViewerOptions};
 use std::path::PathBuf;
 use std::time::Duration;
@@ -72,11 +73,11 @@ pub struct Args {
     /// (applied in that order).
     #[arg(long, value_name = "TX,TY,TZ,AX,AY,AZ", value_parser = parse_pair_pose, allow_hyphen_values = true)]
     pair_pose: Option<(DVec3, DVec3)>,
-    /// Deform the model every frame by a travelling wave: its trees are refit (or rebuilt, as
-    /// the panel says) and the closest point and a fan of rays from the query point are
+    /// Deform the model every frame by a travelling wave: its trees are refit (or rebuilt:
+    /// `--animate rebuild`; the panel switches) and the closest point and a fan of rays from the query point are
     /// answered on the moved surface, with the update's time shown.
-    #[arg(long)]
-    animate: bool,
+    #[arg(long, value_name = "MODE", num_args = 0..=1, default_missing_value = "refit", value_parser = UpdateMode::parse)]
+    animate: Option<UpdateMode>,
     /// Window size in points.
     #[arg(long, value_name = "WxH", default_value = "1280x800", value_parser = parse_size)]
     size: [f32; 2],
@@ -245,6 +246,15 @@ pub fn run(args: Args) -> Result<()> {
             report.triangles,
             report.cells
         );
+        if let Some(a) = report.animation {
+            crate::outln!(
+                "animation at {:.2} s: update {:.3} ms, {} of {} fan rays hit",
+                a.time,
+                a.update_ms,
+                a.fan_hits,
+                a.fan_rays
+            );
+        }
     }
     Ok(())
 }
