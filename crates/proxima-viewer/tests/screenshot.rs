@@ -60,6 +60,24 @@ struct Scenario {
     frames: u32,
 }
 
+/// The embedded bunny's faces from the query point (3, 6, 4), nothing else
+/// shown: the base the bunny scenarios change.
+fn bunny(name: &'static str) -> Scenario {
+    Scenario {
+        name,
+        mesh: BUNNY.into(),
+        kind: PrimitiveKind::Faces,
+        query: Vec3::new(3.0, 6.0, 4.0),
+        cells: None,
+        ray: None,
+        frustum: None,
+        slice: None,
+        pairs: None,
+        animate: false,
+        frames: 3,
+    }
+}
+
 fn scenarios() -> Vec<Scenario> {
     // `PROXIMA_DATA_DIR` when set, else ../shared/data beside the checkout.
     let data = std::env::var_os("PROXIMA_DATA_DIR").map_or_else(
@@ -69,17 +87,8 @@ fn scenarios() -> Vec<Scenario> {
     let dragon = data.join("dragon_vrip.ply.gz");
     let mut list = vec![
         Scenario {
-            name: "bunny_faces",
-            mesh: BUNNY.into(),
-            kind: PrimitiveKind::Faces,
-            query: Vec3::new(3.0, 6.0, 4.0),
-            cells: None,
-            ray: None,
-            frustum: None,
-            slice: None,
-            pairs: None,
-            animate: false,
             frames: 5,
+            ..bunny("bunny_faces")
         },
         Scenario {
             name: "bunny_edges_cells_ray",
@@ -108,43 +117,16 @@ fn scenarios() -> Vec<Scenario> {
             frames: 3,
         },
         Scenario {
-            name: "bunny_slice_winding",
-            mesh: BUNNY.into(),
-            kind: PrimitiveKind::Faces,
-            query: Vec3::new(3.0, 6.0, 4.0),
-            cells: None,
-            ray: None,
-            frustum: None,
             slice: Some((Axis::Z, None, Sign::WindingNumber)),
-            pairs: None,
-            animate: false,
-            frames: 3,
+            ..bunny("bunny_slice_winding")
         },
         Scenario {
-            name: "bunny_slice_pseudonormal_x",
-            mesh: BUNNY.into(),
-            kind: PrimitiveKind::Faces,
-            query: Vec3::new(3.0, 6.0, 4.0),
-            cells: None,
-            ray: None,
-            frustum: None,
             slice: Some((Axis::X, Some(0.5), Sign::Pseudonormal)),
-            pairs: None,
-            animate: false,
-            frames: 3,
+            ..bunny("bunny_slice_pseudonormal_x")
         },
         Scenario {
-            name: "bunny_second_copy",
-            mesh: BUNNY.into(),
-            kind: PrimitiveKind::Faces,
-            query: Vec3::new(3.0, 6.0, 4.0),
-            cells: None,
-            ray: None,
-            frustum: None,
-            slice: None,
             pairs: Some(PairMode::SecondMesh),
-            animate: false,
-            frames: 3,
+            ..bunny("bunny_second_copy")
         },
         Scenario {
             name: "points_slice",
@@ -160,17 +142,9 @@ fn scenarios() -> Vec<Scenario> {
             frames: 3,
         },
         Scenario {
-            name: "bunny_animated",
-            mesh: BUNNY.into(),
-            kind: PrimitiveKind::Faces,
-            query: Vec3::new(3.0, 6.0, 4.0),
-            cells: None,
-            ray: None,
-            frustum: None,
-            slice: None,
-            pairs: None,
             animate: true,
             frames: 5,
+            ..bunny("bunny_animated")
         },
         Scenario {
             name: "broken_file",

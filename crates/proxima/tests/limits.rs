@@ -500,18 +500,7 @@ fn sdf_grids_and_samples_follow_the_budget_of_the_environment() {
         return sdf_budget_child(&std::env::var("PROXIMA_MEMORY_BUDGET").unwrap_or_default());
     }
     for budget in ["64K", "lots"] {
-        let out = std::process::Command::new(std::env::current_exe().unwrap())
-            .args([
-                "--exact",
-                &crate::common::exact_name(module_path!(), NAME),
-                "--nocapture",
-                "--test-threads",
-                "1",
-            ])
-            .env(CHILD, "1")
-            .env("PROXIMA_MEMORY_BUDGET", budget)
-            .output()
-            .unwrap();
+        let out = crate::common::rerun_with_budget(module_path!(), NAME, CHILD, budget);
         let stdout = String::from_utf8_lossy(&out.stdout);
         assert!(
             out.status.success() && stdout.contains("1 passed"),

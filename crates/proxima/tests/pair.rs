@@ -607,18 +607,7 @@ fn pair_lists_stop_at_the_memory_budget() {
         assert!(e.to_string().starts_with("d inf: needs about"), "{e}");
         return;
     }
-    let out = std::process::Command::new(std::env::current_exe().unwrap())
-        .args([
-            "--exact",
-            &crate::common::exact_name(module_path!(), NAME),
-            "--nocapture",
-            "--test-threads",
-            "1",
-        ])
-        .env(CHILD, "1")
-        .env("PROXIMA_MEMORY_BUDGET", "4K")
-        .output()
-        .unwrap();
+    let out = crate::common::rerun_with_budget(module_path!(), NAME, CHILD, "4K");
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
         out.status.success() && stdout.contains("1 passed"),

@@ -268,18 +268,7 @@ fn radius_answers_stop_at_the_memory_budget() {
         assert!(e.to_string().starts_with("radius 1000: needs about"), "{e}");
         return;
     }
-    let out = std::process::Command::new(std::env::current_exe().unwrap())
-        .args([
-            "--exact",
-            &crate::common::exact_name(module_path!(), NAME),
-            "--nocapture",
-            "--test-threads",
-            "1",
-        ])
-        .env(CHILD, "1")
-        .env("PROXIMA_MEMORY_BUDGET", "64K")
-        .output()
-        .unwrap();
+    let out = crate::common::rerun_with_budget(module_path!(), NAME, CHILD, "64K");
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
         out.status.success(),

@@ -146,12 +146,20 @@ pub fn temp_dir(name: &str) -> TempDir {
     )
 }
 
-/// A test's name as its test binary lists it, for a test that runs itself
-/// again in a child process with `--exact`: its module path (`module_path!()`)
-/// past the crate's name, then the test's own name.
-pub fn exact_name(module_path: &str, test: &str) -> String {
-    match module_path.split_once("::") {
+/// Runs the test `test` of the module `module_path` (its `module_path!()`)
+/// again in a child process of this test binary, with `child` set to 1 and
+/// `PROXIMA_MEMORY_BUDGET` to `budget`: set in this process, the variable
+/// would race the other tests.
+pub fn rerun_with_budget(module_path: &str, test: &str, child: &str, budget: &str) -> std::process::Output {
+    // The name the binary lists: the module path past the crate's name.
+    let name = match module_path.split_once("::") {
         Some((_, module)) => format!("{module}::{test}"),
         None => test.to_string(),
-    }
+    };
+    std::process::Command::new(std::env::current_exe().unwrap())
+        .args(["--exact", &name, "--nocapture", "--test-threads", "1"])
+        .env(child, "1")
+        .env("PROXIMA_MEMORY_BUDGET", budget)
+        .output()
+        .unwrap()
 }
