@@ -272,7 +272,7 @@ impl Animation {
         t: f64,
         mode: UpdateMode,
         query: Vec3,
-        fan: &RayFan,
+        fan: RayFan,
     ) -> Result<AnimationFrame, String> {
         wave.displace(&self.rest, t, &mut self.positions);
         self.index.set_refit_policy(mode.policy());
@@ -298,13 +298,13 @@ impl Animation {
             .collect::<Vec<_>>();
         let query_seconds = start.elapsed().as_secs_f64();
 
-        let overlay = self.overlay(query, closest, fan, &hits);
+        let overlay = self.overlay(query, closest, &fan, &hits);
         Ok(AnimationFrame {
             time: t,
             buffers: Arc::new(scene::mesh_buffers(self.index.mesh())),
             query,
             closest,
-            fan: fan.clone(),
+            fan,
             hits,
             overlay,
             mode,
@@ -381,7 +381,7 @@ mod tests {
         for step in 0..12 {
             let t = 0.13 * step as f64;
             let mode = UpdateMode::ALL[step % 2];
-            let frame = animation.step(&wave, t, mode, query, &fan).unwrap();
+            let frame = animation.step(&wave, t, mode, query, fan.clone()).unwrap();
             wave.displace(mesh.positions(), t, &mut moved);
             assert_eq!(animation.mesh().positions(), &moved[..]);
             let mut expected = mesh.clone();

@@ -456,7 +456,7 @@ impl ViewerApp {
         };
         let wave = Wave::for_bounds(&model.bounds, s.wave_amplitude, s.wave_period);
         let fan = RayFan::from_query(s.query, &model.bounds, s.fan_side as usize);
-        match animation.step(&wave, t, s.animation_mode, s.query, &fan) {
+        match animation.step(&wave, t, s.animation_mode, s.query, fan) {
             Ok(frame) => d.animation_frame = Some(frame),
             Err(e) => d.animation = Some(Err(e)),
         }

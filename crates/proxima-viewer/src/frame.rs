@@ -315,7 +315,7 @@ mod tests {
         let wave = crate::animation::Wave::for_bounds(&m.bounds, 0.05, 2.0);
         let fan = crate::animation::RayFan::from_query(settings.query, &m.bounds, 3);
         let moved = animation
-            .step(&wave, 0.5, Default::default(), settings.query, &fan)
+            .step(&wave, 0.5, Default::default(), settings.query, fan)
             .unwrap();
         settings.show_mesh = true;
         let animated = compose_frame(&FrameInputs {

@@ -61,7 +61,7 @@ struct Scenario {
 }
 
 /// The embedded bunny's faces from the query point (3, 6, 4), nothing else
-/// shown: the base the bunny scenarios change.
+/// shown, three frames: the base every scenario changes.
 fn bunny(name: &'static str) -> Scenario {
     Scenario {
         name,
@@ -91,30 +91,17 @@ fn scenarios() -> Vec<Scenario> {
             ..bunny("bunny_faces")
         },
         Scenario {
-            name: "bunny_edges_cells_ray",
-            mesh: BUNNY.into(),
             kind: PrimitiveKind::Edges,
             query: Vec3::new(-3.0, 4.0, 4.5),
             cells: Some(0.5),
             ray: Some((Vec3::new(-6.0, 1.0, -4.0), Vec3::new(1.0, 0.45, 0.7))),
-            frustum: None,
-            slice: None,
-            pairs: None,
-            animate: false,
             frames: 5,
+            ..bunny("bunny_edges_cells_ray")
         },
         Scenario {
-            name: "bunny_polygons_frustum",
-            mesh: BUNNY.into(),
             kind: PrimitiveKind::Polygons,
-            query: Vec3::new(3.0, 6.0, 4.0),
-            cells: None,
-            ray: None,
             frustum: Some((Vec3::new(-15.0, 5.0, 0.0), Vec3::new(0.0, 6.0, 0.0))),
-            slice: None,
-            pairs: None,
-            animate: false,
-            frames: 3,
+            ..bunny("bunny_polygons_frustum")
         },
         Scenario {
             slice: Some((Axis::Z, None, Sign::WindingNumber)),
@@ -129,17 +116,11 @@ fn scenarios() -> Vec<Scenario> {
             ..bunny("bunny_second_copy")
         },
         Scenario {
-            name: "points_slice",
             mesh: point_cloud_file(),
             kind: PrimitiveKind::Vertices,
             query: Vec3::ZERO,
-            cells: None,
-            ray: None,
-            frustum: None,
             slice: Some((Axis::Z, None, Sign::WindingNumber)),
-            pairs: None,
-            animate: false,
-            frames: 3,
+            ..bunny("points_slice")
         },
         Scenario {
             animate: true,
@@ -147,32 +128,19 @@ fn scenarios() -> Vec<Scenario> {
             ..bunny("bunny_animated")
         },
         Scenario {
-            name: "broken_file",
             mesh: broken_file(),
-            kind: PrimitiveKind::Faces,
             query: Vec3::ZERO,
-            cells: None,
-            ray: None,
-            frustum: None,
-            slice: None,
-            pairs: None,
-            animate: false,
-            frames: 3,
+            ..bunny("broken_file")
         },
     ];
     if dragon.exists() {
         list.push(Scenario {
-            name: "dragon_vertices_cells",
             mesh: dragon,
             kind: PrimitiveKind::Vertices,
             query: Vec3::new(0.0, 0.15, 0.06),
             cells: Some(0.002),
-            ray: None,
-            frustum: None,
-            slice: None,
-            pairs: None,
-            animate: false,
             frames: 8,
+            ..bunny("dragon_vertices_cells")
         });
     } else {
         println!("skipped: dragon scenario ({} not found)", dragon.display());
