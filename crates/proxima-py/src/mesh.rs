@@ -11,7 +11,6 @@ use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods};
 use proxima::index::{IndexError, MeshIndex};
 use proxima::prelude::*;
 use proxima::sdf::{SdfGrid, Sign, SignedDistanceField};
-use proxima::surface::SurfacePoint;
 use proxima::{Aabb, SdfError};
 use pyo3::IntoPyObjectExt;
 use pyo3::prelude::*;
@@ -346,7 +345,7 @@ impl PyMesh {
             let hits = index.closest(kind, points)?;
             let columns = options
                 .any()
-                .then(|| SurfaceColumns::new(index, &index.surface_points(points, &hits), options));
+                .then(|| SurfaceColumns::new(&index.closest_surface(points, &hits, options.attributes()), options));
             Ok((hits, columns))
         })?;
         let answers = closest::arrays(&hits);
@@ -358,7 +357,7 @@ impl PyMesh {
         answers_or_tuple(
             py,
             leading,
-            columns.or_else(|| options.any().then(|| SurfaceColumns::empty(options, &self.index))),
+            columns.or_else(|| options.any().then(|| SurfaceColumns::empty(0, options))),
         )
     }
 
@@ -515,14 +514,9 @@ impl PyMesh {
         let (t, index, columns) = threads::run(py, threads, || {
             let tree = self.index.ray_tree().map_err(|e| value_error("cast_rays", e))?;
             let hits = crate::rays::cast(tree, &crate::rays::rays(origins, directions), any_hit)?;
-            let columns = options.any().then(|| {
-                let mesh = self.mesh();
-                let at: Vec<_> = hits
-                    .par_iter()
-                    .map(|h| h.map(|h| SurfacePoint::of_ray_hit(mesh, &h)))
-                    .collect();
-                SurfaceColumns::new(&self.index, &at, options)
-            });
+            let columns = options
+                .any()
+                .then(|| SurfaceColumns::new(&self.index.ray_surface(&hits, options.attributes()), options));
             let (t, index) = crate::rays::columns(&hits);
             Ok::<_, PyErr>((t, index, columns))
         })??;

@@ -4,13 +4,11 @@
 
 use crate::arrays::{self, value_error};
 use numpy::PyUntypedArrayMethods;
-use proxima::index::MeshIndex;
-use proxima::surface::SurfacePoint;
+use proxima::surface::{Attributes, SurfaceAnswer, TriangleOrdered};
 use pyo3::IntoPyObjectExt;
 use pyo3::exceptions::PyAttributeError;
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
-use rayon::prelude::*;
 
 /// The `return_*` options of a query: which surface arrays to add.
 #[derive(Clone, Copy, Debug, Default)]
@@ -44,99 +42,111 @@ impl SurfaceOptions {
         })
     }
 
+    /// The attributes the library computes for these options.
+    pub fn attributes(self) -> Attributes {
+        Attributes {
+            normals: self.normal,
+            uv: self.uv,
+        }
+    }
+
     /// Whether any array is asked for (the query then returns [`Answers`]).
     pub fn any(self) -> bool {
         self.barycentric || self.feature || self.normal || self.uv
     }
 }
 
-/// One column: its values row after row, and its width.
-enum Column {
-    Int(Vec<i64>, usize),
-    Code(Vec<i8>),
-    Real(Vec<f64>, usize),
-}
-
-/// The arrays `options` asks for, of the surface points `at` (computed
-/// without the GIL, each column in one pass over the answers; the normals
-/// on all cores of the current pool): named, ready for [`Answers`].
+/// The arrays `options` asks for: each a column of rows of its width,
+/// -1 or NaN for a query without an answer. The library computes the
+/// answers in the order of their triangles
+/// ([`MeshIndex::closest_surface`](proxima::MeshIndex::closest_surface));
+/// here they are read once, in input order, into every column.
+#[derive(Default)]
 pub struct SurfaceColumns {
-    columns: Vec<(&'static str, Column)>,
+    triangle: Option<Vec<i64>>,
+    corners: Option<Vec<i64>>,
+    barycentric: Option<Vec<f64>>,
+    feature: Option<Vec<i8>>,
+    feature_vertices: Option<Vec<i64>>,
+    normal: Option<Vec<f64>>,
+    face_normal: Option<Vec<f64>>,
+    uv: Option<Vec<f64>>,
 }
 
 impl SurfaceColumns {
-    /// The columns of `at` on `index`'s mesh; -1 and NaN for a query
-    /// without an answer.
-    pub fn new(index: &MeshIndex, at: &[Option<SurfacePoint>], options: SurfaceOptions) -> Self {
-        let mesh = index.mesh();
-        let ints = |width: usize, f: &dyn Fn(&SurfacePoint) -> [i64; 3]| {
-            let mut out = Vec::with_capacity(width * at.len());
-            for a in at {
-                let values = a.as_ref().map_or([-1; 3], f);
-                out.extend_from_slice(&values[..width]);
+    /// The columns `options` asks for, of the answers `at`.
+    pub fn new(at: &TriangleOrdered<Option<SurfaceAnswer>>, options: SurfaceOptions) -> Self {
+        let mut columns = Self::empty(at.len(), options);
+        for answer in at.iter() {
+            columns.push(answer.as_ref());
+        }
+        columns
+    }
+
+    /// The columns `options` asks for, with room for `n` rows and none yet.
+    pub fn empty(n: usize, options: SurfaceOptions) -> Self {
+        fn column<T>(on: bool, n: usize, width: usize) -> Option<Vec<T>> {
+            on.then(|| Vec::with_capacity(n * width))
+        }
+        Self {
+            triangle: column(options.barycentric, n, 1),
+            corners: column(options.barycentric, n, 3),
+            barycentric: column(options.barycentric, n, 3),
+            feature: column(options.feature, n, 1),
+            feature_vertices: column(options.feature, n, 2),
+            normal: column(options.normal, n, 3),
+            face_normal: column(options.normal, n, 3),
+            uv: column(options.uv, n, 2),
+        }
+    }
+
+    /// Appends the row of `a`, or of no answer.
+    #[inline]
+    fn push(&mut self, a: Option<&SurfaceAnswer>) {
+        fn row<T: Copy, const W: usize>(column: &mut Option<Vec<T>>, values: Option<[T; W]>, none: T) {
+            if let Some(column) = column {
+                column.extend_from_slice(&values.unwrap_or([none; W]));
             }
-            Column::Int(out, width)
-        };
-        let reals = |width: usize, f: &(dyn Fn(&SurfacePoint) -> [f64; 3] + Sync)| {
-            // Written in place, row by row: no array of whole rows first.
-            let mut out = vec![0.0; width * at.len()];
-            out.par_chunks_mut(width)
-                .zip(at.par_iter())
-                .with_min_len(4096)
-                .for_each(|(row, a)| row.copy_from_slice(&a.as_ref().map_or([f64::NAN; 3], f)[..width]));
-            Column::Real(out, width)
-        };
-        let mut columns = Vec::new();
-        if options.barycentric {
-            columns.push(("triangle", ints(1, &|a| [i64::from(a.triangle), 0, 0])));
-            columns.push(("corners", ints(3, &|a| a.corners.map(i64::from))));
-            columns.push(("barycentric", reals(3, &|a| a.barycentric)));
         }
-        if options.feature {
-            let codes = at
-                .iter()
-                .map(|a| a.as_ref().map_or(-1, |a| a.feature.code() as i8))
-                .collect();
-            columns.push(("feature", Column::Code(codes)));
-            let vertex = |v: u32| if v == u32::MAX { -1 } else { i64::from(v) };
-            let vertices = move |a: &SurfacePoint| {
-                let [x, y] = a.feature.vertices().map(vertex);
-                [x, y, 0]
-            };
-            columns.push(("feature_vertices", ints(2, &vertices)));
-        }
-        if options.normal {
-            // Not computed for a query of no points.
-            let normals = if at.is_empty() { &[][..] } else { index.vertex_normals() };
-            columns.push(("normal", reals(3, &|a| a.interpolated_normal(mesh, normals).to_array())));
-            columns.push(("face_normal", reals(3, &|a| a.face_normal(mesh).to_array())));
-        }
-        if options.uv {
-            let uv = |a: &SurfacePoint| a.uv(mesh).map_or([f64::NAN; 3], |[u, v]| [u, v, 0.0]);
-            columns.push(("uv", reals(2, &uv)));
-        }
-        Self { columns }
+        let vertex = |v: u32| if v == u32::MAX { -1 } else { i64::from(v) };
+        row(&mut self.triangle, a.map(|a| [i64::from(a.at.triangle)]), -1);
+        row(&mut self.corners, a.map(|a| a.at.corners.map(i64::from)), -1);
+        row(&mut self.barycentric, a.map(|a| a.at.barycentric), f64::NAN);
+        row(&mut self.feature, a.map(|a| [a.at.feature.code() as i8]), -1);
+        row(
+            &mut self.feature_vertices,
+            a.map(|a| a.at.feature.vertices().map(vertex)),
+            -1,
+        );
+        row(&mut self.normal, a.map(|a| a.normal.to_array()), f64::NAN);
+        row(&mut self.face_normal, a.map(|a| a.face_normal.to_array()), f64::NAN);
+        row(&mut self.uv, a.and_then(|a| a.uv), f64::NAN);
     }
 
-    /// No rows (a query of no points).
-    pub fn empty(options: SurfaceOptions, index: &MeshIndex) -> Self {
-        Self::new(index, &[], options)
-    }
-
-    /// The named arrays.
+    /// The named arrays, in a fixed order.
     pub fn into_fields(self, py: Python<'_>) -> PyResult<Vec<(&'static str, Py<PyAny>)>> {
-        self.columns
-            .into_iter()
-            .map(|(name, column)| {
-                let array = match column {
-                    Column::Int(values, 1) => arrays::vector(py, values).into_py_any(py)?,
-                    Column::Int(values, width) => arrays::matrix(py, values, width)?.into_py_any(py)?,
-                    Column::Code(values) => arrays::vector(py, values).into_py_any(py)?,
-                    Column::Real(values, width) => arrays::matrix(py, values, width)?.into_py_any(py)?,
-                };
-                Ok((name, array))
-            })
-            .collect()
+        fn matrix<T: numpy::Element>(py: Python<'_>, values: Vec<T>, width: usize) -> PyResult<Py<PyAny>> {
+            match width {
+                1 => arrays::vector(py, values).into_py_any(py),
+                _ => arrays::matrix(py, values, width)?.into_py_any(py),
+            }
+        }
+        let mut fields = Vec::new();
+        let mut add = |name: &'static str, array: Option<PyResult<Py<PyAny>>>| -> PyResult<()> {
+            if let Some(array) = array {
+                fields.push((name, array?));
+            }
+            Ok(())
+        };
+        add("triangle", self.triangle.map(|v| matrix(py, v, 1)))?;
+        add("corners", self.corners.map(|v| matrix(py, v, 3)))?;
+        add("barycentric", self.barycentric.map(|v| matrix(py, v, 3)))?;
+        add("feature", self.feature.map(|v| matrix(py, v, 1)))?;
+        add("feature_vertices", self.feature_vertices.map(|v| matrix(py, v, 2)))?;
+        add("normal", self.normal.map(|v| matrix(py, v, 3)))?;
+        add("face_normal", self.face_normal.map(|v| matrix(py, v, 3)))?;
+        add("uv", self.uv.map(|v| matrix(py, v, 2)))?;
+        Ok(fields)
     }
 }
 

@@ -9,7 +9,7 @@ use crate::common;
 use proxima::prelude::*;
 use proxima::sample::Rng;
 use proxima::sdf::Sign;
-use proxima::surface::{Feature, SurfacePoint, vertex_normals};
+use proxima::surface::{Attributes, Feature, SurfaceAnswer, SurfacePoint, vertex_normals};
 use proxima::{DVec3, MeshIndex, PrimitiveKind};
 
 /// The closest feature of triangle `t` to `p` found by trying every vertex,
@@ -97,7 +97,7 @@ fn polygon_mesh(seed: u64) -> Mesh {
 }
 
 #[test]
-fn surface_points_reproduce_the_closest_point_and_match_brute_force_features() {
+fn surface_answers_reproduce_the_closest_point_and_match_brute_force_features() {
     for mesh in [
         common::bumpy_sphere(5, 3),
         polygon_mesh(7),
@@ -106,7 +106,33 @@ fn surface_points_reproduce_the_closest_point_and_match_brute_force_features() {
         let index = MeshIndex::new(mesh.clone());
         let points = common::queries(&mesh, 400, 5);
         let hits = index.closest(PrimitiveKind::Faces, &points).unwrap();
-        let at = index.surface_points(&points, &hits);
+        let answers = index.closest_surface(
+            &points,
+            &hits,
+            Attributes {
+                normals: true,
+                uv: true,
+            },
+        );
+        // The batch's attributes are the surface point's own, computed one at a time.
+        let normals = vertex_normals(&mesh);
+        assert_eq!(answers.len(), points.len());
+        for answer in answers.iter().flatten() {
+            let alone = SurfaceAnswer::new(
+                answer.at,
+                &mesh,
+                &normals,
+                Attributes {
+                    normals: true,
+                    uv: true,
+                },
+            );
+            assert_eq!(*answer, alone);
+            assert_eq!(answer.normal, answer.at.interpolated_normal(&mesh, &normals));
+            assert_eq!(answer.face_normal, answer.at.face_normal(&mesh));
+            assert_eq!(answer.uv, None); // these meshes have none
+        }
+        let at: Vec<Option<SurfacePoint>> = answers.iter().map(|a| a.map(|a| a.at)).collect();
         let diagonal = mesh.bounds().diagonal() as f64;
         let (mut compared, mut clear) = (0, 0);
         for ((p, hit), at) in points.iter().zip(&hits).zip(&at) {
@@ -203,9 +229,9 @@ fn polygon_diagonals_are_inside_the_face() {
     ];
     let hits = index.closest(PrimitiveKind::Faces, &points).unwrap();
     let at: Vec<Feature> = index
-        .surface_points(&points, &hits)
+        .closest_surface(&points, &hits, Attributes::NONE)
         .iter()
-        .map(|a| a.unwrap().feature)
+        .map(|a| a.unwrap().at.feature)
         .collect();
     assert_eq!(
         at,
@@ -220,10 +246,13 @@ fn ray_hits_locate_their_points() {
     let tree = index.ray_tree().unwrap();
     let mut rng = Rng::new(4);
     let (mut hits, mut facing) = (0, 0);
+    let mut all_hits = Vec::new();
     for _ in 0..2000 {
         let d = Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)).normalize_or(Vec3::X);
         let origin = Vec3::new(rng.range(-0.3, 0.3), rng.range(-0.3, 0.3), rng.range(-0.3, 0.3));
-        let Some(hit) = tree.first_hit(origin, d, 0.0, f32::INFINITY).unwrap() else {
+        let found = tree.first_hit(origin, d, 0.0, f32::INFINITY).unwrap();
+        all_hits.push(found);
+        let Some(hit) = found else {
             continue;
         };
         hits += 1;
@@ -244,6 +273,20 @@ fn ray_hits_locate_their_points() {
         hits > 1900 && facing * 100 > hits * 95,
         "{hits} hits, {facing} facing away"
     );
+    // The batch answers as the hits one at a time do, misses (put in
+    // among them) included.
+    all_hits.insert(7, None);
+    let normals = vertex_normals(&mesh);
+    let asked = Attributes {
+        normals: true,
+        uv: false,
+    };
+    let batch = index.ray_surface(&all_hits, asked).to_vec();
+    let alone: Vec<Option<SurfaceAnswer>> = all_hits
+        .iter()
+        .map(|h| h.map(|h| SurfaceAnswer::new(SurfacePoint::of_ray_hit(&mesh, &h), &mesh, &normals, asked)))
+        .collect();
+    assert_eq!(batch, alone);
 }
 
 #[test]
@@ -413,10 +456,21 @@ fn obj_corner_uvs_and_normals_survive_seams() {
     // Above the point (0.75, 0.25), in face 0: u, v interpolate its corners' UVs.
     let points = [Vec3::new(0.75, 0.25, 1.0), Vec3::new(0.25, 0.75, 1.0)];
     let hits = index.closest(PrimitiveKind::Faces, &points).unwrap();
-    let at = index.surface_points(&points, &hits);
+    let answers = index
+        .closest_surface(
+            &points,
+            &hits,
+            Attributes {
+                normals: true,
+                uv: true,
+            },
+        )
+        .to_vec();
+    let at: Vec<Option<SurfacePoint>> = answers.iter().map(|a| a.map(|a| a.at)).collect();
     let first = at[0].unwrap();
     assert_eq!(first.face, 0);
     let uv = first.uv(&mesh).unwrap();
+    assert_eq!(answers[0].unwrap().uv, Some(uv));
     // Face 0's UVs equal the positions' x, y.
     assert!((uv[0] - 0.75).abs() < 1e-12 && (uv[1] - 0.25).abs() < 1e-12, "{uv:?}");
     // Face 1: (x, y) = w0·(0,0) + w1·(1,1) + w2·(0,1); UVs w0·(.25,.25) + w1·(.5,.5) + w2·(0,1).
@@ -431,6 +485,7 @@ fn obj_corner_uvs_and_normals_survive_seams() {
         + DVec3::Z * first.barycentric[1]
         + DVec3::new(0.0, 1.0, 1.0) * first.barycentric[2];
     assert!((n - raw.normalize()).length() < 1e-12);
+    assert_eq!(answers[0].unwrap().normal, n);
 }
 
 #[test]

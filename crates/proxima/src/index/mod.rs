@@ -32,9 +32,11 @@ use crate::kind::{KindFamily, KindGeneric, MeshPrimitive, PerKind, PrimitiveKind
 use crate::math::Vec3;
 use crate::mesh::Mesh;
 use crate::primitive::polygon::DEFAULT_PLANARITY_TOLERANCE;
-use crate::query::{ClosestHit, FrustumQuery, NearestAnswers, NearestQuery};
+use crate::query::{ClosestHit, FrustumQuery, NearestAnswers, NearestQuery, RayHit};
 use crate::sdf::{Pseudonormals, SdfConfig, SdfGradient, Sign, SignedDistanceField, signed_distance_gradients};
-use crate::surface::{SurfacePoint, in_triangle_order, vertex_normals};
+use crate::surface::{
+    Attributes, Located, SurfaceAnswer, TriangleOrdered, answer_groups, in_triangle_order_blocks, vertex_normals,
+};
 use crate::wide_tree::OrientedBounds;
 use crate::{BuildConfig, RayTree, Triangle, WideTree};
 use std::borrow::Cow;
@@ -278,15 +280,43 @@ impl MeshIndex {
 
     /// Where on the surface each closest-point answer of
     /// [`closest`](Self::closest) on [`PrimitiveKind::Faces`] lies (triangle,
-    /// barycentrics, feature; [`SurfacePoint::closest`]), computed after the
-    /// query on all cores; `None` where the query had no answer.
-    pub fn surface_points(&self, points: &[Vec3], hits: &[Option<ClosestHit>]) -> Vec<Option<SurfacePoint>> {
+    /// barycentrics, feature; [`SurfacePoint::closest`](crate::surface::SurfacePoint::closest)),
+    /// with the attributes `asked`, computed after the query on all cores,
+    /// in the order of the answers' triangles ([`in_triangle_order_blocks`])
+    /// and read in input order; `None` where the query had no answer.
+    pub fn closest_surface(
+        &self,
+        points: &[Vec3],
+        hits: &[Option<ClosestHit>],
+        asked: Attributes,
+    ) -> TriangleOrdered<Option<SurfaceAnswer>> {
         let triangles: Vec<u32> = hits.iter().map(|h| h.map_or(u32::MAX, |h| h.primitive)).collect();
-        in_triangle_order(&triangles, |i| {
-            hits[i]
-                .as_ref()
-                .map(|hit| SurfacePoint::closest(&self.mesh, hit, points[i]))
-        })
+        self.surface_answers(&triangles, Located::Closest { points, hits }, asked)
+    }
+
+    /// [`closest_surface`](Self::closest_surface) for the first hits of rays
+    /// on [`ray_tree`](Self::ray_tree) ([`SurfacePoint::of_ray_hit`](crate::surface::SurfacePoint::of_ray_hit)).
+    pub fn ray_surface(&self, hits: &[Option<RayHit>], asked: Attributes) -> TriangleOrdered<Option<SurfaceAnswer>> {
+        let triangles: Vec<u32> = hits.iter().map(|h| h.map_or(u32::MAX, |h| h.primitive)).collect();
+        self.surface_answers(&triangles, Located::Rays(hits), asked)
+    }
+
+    /// The surface answers of the batch `located`, whose answer `i` lies on
+    /// triangle `triangles[i]` (`u32::MAX` for no answer).
+    fn surface_answers(
+        &self,
+        triangles: &[u32],
+        located: Located<'_>,
+        asked: Attributes,
+    ) -> TriangleOrdered<Option<SurfaceAnswer>> {
+        // The vertex normals are read only where corner normals are missing,
+        // and not made for a batch without answers.
+        let normals = match asked.normals && !triangles.is_empty() && self.mesh.corner_normals().is_none() {
+            true => self.vertex_normals(),
+            false => &[],
+        };
+        let work = |block: &[u32], out: &mut [_]| answer_groups(&self.mesh, normals, asked, located, block, out);
+        in_triangle_order_blocks(triangles, None, work)
     }
 
     /// The signed distance of every point, signed by `sign`, with its

@@ -230,17 +230,18 @@ pub(crate) fn morton_order(points: &[Vec3], bounds: &Aabb) -> Vec<u32> {
         .enumerate()
         .map(|(i, &p)| (morton_code(p, bounds), i as u32))
         .collect();
-    sort_by_code(coded).into_iter().map(|(_, i)| i).collect()
+    sort_by_code(coded, 30).into_iter().map(|(_, i)| i).collect()
 }
 
-/// Sorts `(code, index)` pairs by their 30-bit Morton code, keeping ties in
-/// their order: a least-significant-digit radix sort, three passes of 10 bits.
-fn sort_by_code(items: Vec<(u32, u32)>) -> Vec<(u32, u32)> {
+/// Sorts `(code, index)` pairs by their code, whose bits from `code_bits`
+/// up are all zero, keeping ties in their order: a least-significant-digit
+/// radix sort, one pass per 10 bits of code.
+pub(crate) fn sort_by_code(items: Vec<(u32, u32)>, code_bits: u32) -> Vec<(u32, u32)> {
     const BITS: u32 = 10;
     const BUCKETS: usize = 1 << BITS;
     let mut from = items;
     let mut to = vec![(0, 0); from.len()];
-    for shift in [0, BITS, 2 * BITS] {
+    for shift in (0..code_bits).step_by(BITS as usize) {
         let bucket = |code: u32| (code >> shift) as usize % BUCKETS;
         let mut next = [0usize; BUCKETS];
         for &(code, _) in &from {
@@ -272,7 +273,7 @@ pub(crate) fn unpermute<R>(order: &[u32], answers: Vec<R>) -> Vec<R> {
 
 /// [`unpermute`] for plain values: one scatter into a copy, with no
 /// temporary slots (faster than following the permutation's cycles).
-fn unpermute_copied<R: Copy>(order: &[u32], answers: &[R]) -> Vec<R> {
+pub(crate) fn unpermute_copied<R: Copy>(order: &[u32], answers: &[R]) -> Vec<R> {
     let mut out = answers.to_vec();
     for (&i, &answer) in order.iter().zip(answers) {
         out[i as usize] = answer;
@@ -347,15 +348,24 @@ mod tests {
     }
 
     /// The radix sort gives the order of a stable comparison sort, on codes
-    /// with many ties and on codes spread over all 30 bits.
+    /// with many ties and on codes spread over all 30 or 32 bits, with as
+    /// many bits sorted as the codes have (a number of bits that is not a
+    /// multiple of the pass's 10 included).
     #[test]
     fn sorting_by_code_is_a_stable_sort() {
         let mut rng = Rng::new(7);
-        for (n, range) in [(0u32, 1u32), (1, 1), (5000, 7), (5000, 1 << 12), (20_000, 1 << 30)] {
-            let items: Vec<(u32, u32)> = (0..n).map(|i| (rng.below(range as usize) as u32, i)).collect();
+        let cases = [
+            (0u32, 1u64, 1),
+            (1, 1, 1),
+            (5000, 7, 3),
+            (5000, 1 << 12, 12),
+            (20_000, 1 << 30, 30),
+        ];
+        for (n, range, bits) in cases.into_iter().chain([(20_000, 1 << 32, 32), (3000, 1 << 21, 21)]) {
+            let items: Vec<(u32, u32)> = (0..n).map(|i| ((rng.next_u64() % range) as u32, i)).collect();
             let mut expected = items.clone();
             expected.sort_by_key(|&(code, _)| code);
-            assert_eq!(sort_by_code(items), expected, "{n} codes below {range}");
+            assert_eq!(sort_by_code(items, bits), expected, "{n} codes below {range}");
         }
     }
 

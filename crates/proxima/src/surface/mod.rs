@@ -30,15 +30,19 @@
 //! assert!((middle.point(&mesh) - DVec3::new(0.5, 0.5, 0.0)).length() < 1e-12);
 //! ```
 
+mod answer;
 pub(crate) mod normals;
+mod order;
 
+pub use answer::{Attributes, SurfaceAnswer};
+pub(crate) use answer::{Located, answer_groups};
 pub use normals::vertex_normals;
+pub use order::{TriangleOrdered, in_triangle_order, in_triangle_order_blocks};
 
 use crate::math::{DVec3, Vec3};
 use crate::mesh::Mesh;
 use crate::primitive::closest_f64::point_triangle_closest;
 use crate::query::{ClosestHit, RayHit};
-use rayon::prelude::*;
 
 /// The part of a mesh that holds a point of its surface, named by mesh
 /// vertex indices.
@@ -114,11 +118,7 @@ impl SurfacePoint {
     /// # Panics
     /// When `hit` names a face or triangle the mesh does not have.
     pub fn of_ray_hit(mesh: &Mesh, hit: &RayHit) -> Self {
-        // Weights of exactly zero (an edge or vertex hit) become +0, never
-        // -0, so the feature reads them as zero and prints them as 0.
-        let weight = |w: f64| w.max(0.0) + 0.0;
-        let (u, v) = (weight(f64::from(hit.u)), weight(f64::from(hit.v)));
-        FanTriangle::of(mesh, hit.source, hit.primitive).at([weight(1.0 - u - v), u, v])
+        FanTriangle::of(mesh, hit.source, hit.primitive).at(ray_weights(hit.u, hit.v))
     }
 
     /// The point, in `f64`: the barycentric combination of the corners.
@@ -130,8 +130,7 @@ impl SurfacePoint {
     /// The triangle's unit normal (right-handed in the face's order), zero
     /// for a triangle without area.
     pub fn face_normal(&self, mesh: &Mesh) -> DVec3 {
-        let [a, b, c] = self.corners.map(|v| mesh.positions()[v as usize].as_dvec3());
-        (b - a).cross(c - a).normalize_or_zero()
+        face_normal(self.corners.map(|v| mesh.positions()[v as usize].as_dvec3()))
     }
 
     /// The shading normal: the file's per-corner normals
@@ -144,25 +143,18 @@ impl SurfacePoint {
     /// When the mesh has no corner normals and `normals` has fewer entries
     /// than it has vertices.
     pub fn interpolated_normal(&self, mesh: &Mesh, normals: &[Vec3]) -> DVec3 {
-        let at = match mesh.corner_normals() {
-            Some(corner_normals) => self.corner_slots(mesh).map(|k| corner_normals[k]),
-            None => self.corners.map(|v| normals[v as usize]),
-        };
-        let sum: DVec3 = (0..3).map(|k| at[k].as_dvec3() * self.barycentric[k]).sum();
-        let n = sum.normalize_or_zero();
-        if n == DVec3::ZERO { self.face_normal(mesh) } else { n }
+        let at = corner_normals(mesh, normals, self.corners, self.corner_slots(mesh));
+        shading_normal(at, self.barycentric, || self.face_normal(mesh))
     }
 
     /// The texture coordinates interpolated by the barycentric weights,
     /// when the mesh has them ([`Mesh::corner_uvs`]).
     pub fn uv(&self, mesh: &Mesh) -> Option<[f64; 2]> {
         let uvs = mesh.corner_uvs()?;
-        let mut uv = [0.0; 2];
-        for (w, k) in self.barycentric.iter().zip(self.corner_slots(mesh)) {
-            uv[0] += w * f64::from(uvs[k][0]);
-            uv[1] += w * f64::from(uvs[k][1]);
-        }
-        Some(uv)
+        Some(interpolated_uv(
+            self.corner_slots(mesh).map(|k| uvs[k]),
+            self.barycentric,
+        ))
     }
 
     /// The triangle's corners as face corners (the numbering of
@@ -176,47 +168,73 @@ impl SurfacePoint {
     }
 }
 
-/// `work(i)` for every answer `i` in `0..triangles.len()`, on all cores,
-/// visiting the answers in the order of their triangles (`triangles[i]`,
-/// `u32::MAX` for none): the mesh's arrays are then read nearly in order
-/// rather than at random, which made the surface points of 100k queries on
-/// an 871k-triangle mesh 3.5× cheaper than taking them in input order.
-/// The results are in input order.
-///
-/// ```
-/// use proxima::surface::in_triangle_order;
-/// assert_eq!(in_triangle_order(&[7, 2, u32::MAX, 2], |i| i * 10), [0, 10, 20, 30]);
-/// ```
-pub fn in_triangle_order<T: Send>(triangles: &[u32], work: impl Fn(usize) -> T + Sync) -> Vec<T> {
-    let mut order: Vec<(u32, u32)> = triangles.iter().enumerate().map(|(i, &t)| (t, i as u32)).collect();
-    order.par_sort_unstable();
-    let done: Vec<(u32, T)> = order
-        .par_iter()
-        .with_min_len(1024)
-        .map(|&(_, i)| (i, work(i as usize)))
-        .collect();
-    let mut out: Vec<Option<T>> = std::iter::repeat_with(|| None).take(triangles.len()).collect();
-    for (i, value) in done {
-        out[i as usize] = Some(value);
+/// The weights of a ray hit's point: the ray test's `u`, `v` for the
+/// second and third corners.
+#[inline]
+fn ray_weights(u: f32, v: f32) -> [f64; 3] {
+    // Weights of exactly zero (an edge or vertex hit) become +0, never
+    // -0, so the feature reads them as zero and prints them as 0.
+    let weight = |w: f64| w.max(0.0) + 0.0;
+    let (u, v) = (weight(f64::from(u)), weight(f64::from(v)));
+    [weight(1.0 - u - v), u, v]
+}
+
+/// A triangle's unit normal (right-handed in the corners' order), zero for
+/// a triangle without area.
+#[inline]
+fn face_normal([a, b, c]: [DVec3; 3]) -> DVec3 {
+    (b - a).cross(c - a).normalize_or_zero()
+}
+
+/// The normals at a fan triangle's corners (vertex ids `corners`, face
+/// corner slots `slots`): the file's corner normals when the mesh has them,
+/// else `normals` per vertex.
+#[inline]
+fn corner_normals(mesh: &Mesh, normals: &[Vec3], corners: [u32; 3], slots: [usize; 3]) -> [Vec3; 3] {
+    match mesh.corner_normals() {
+        Some(corner_normals) => slots.map(|k| corner_normals[k]),
+        None => corners.map(|v| normals[v as usize]),
     }
-    out.into_iter()
-        .map(|v| v.expect("every index is visited once"))
-        .collect()
+}
+
+/// The corner normals `at` interpolated by the weights `w`, unit length;
+/// `face_normal()` where the weighted sum vanishes.
+#[inline]
+fn shading_normal(at: [Vec3; 3], w: [f64; 3], face_normal: impl FnOnce() -> DVec3) -> DVec3 {
+    let sum: DVec3 = (0..3).map(|k| at[k].as_dvec3() * w[k]).sum();
+    let n = sum.normalize_or_zero();
+    if n == DVec3::ZERO { face_normal() } else { n }
+}
+
+/// The corner texture coordinates `uvs` interpolated by the weights `w`.
+#[inline]
+fn interpolated_uv(uvs: [[f32; 2]; 3], w: [f64; 3]) -> [f64; 2] {
+    let mut uv = [0.0; 2];
+    for (w, at) in w.iter().zip(uvs) {
+        uv[0] += w * f64::from(at[0]);
+        uv[1] += w * f64::from(at[1]);
+    }
+    uv
 }
 
 /// One triangle of a face's fan and which of its sides are the face's edges.
+#[derive(Clone, Copy)]
 struct FanTriangle {
     face: u32,
     triangle: u32,
     corners: [u32; 3],
+    /// The corners' face corner slots ([`SurfacePoint::corner_slots`]).
+    slots: [usize; 3],
     /// Side `k` runs from corner `k` to corner `(k + 1) % 3`; a side that is
     /// a diagonal of the polygon lies inside the face.
     side_is_edge: [bool; 3],
 }
 
 impl FanTriangle {
+    #[inline]
     fn of(mesh: &Mesh, face: u32, triangle: u32) -> Self {
         let vertices = mesh.face(face as usize);
+        let first = mesh.face_offset(face as usize);
         let i = triangle as usize - mesh.first_triangle(face as usize);
         let last = vertices.len() - 3;
         assert!(i <= last, "triangle {triangle} is not in face {face}");
@@ -224,6 +242,7 @@ impl FanTriangle {
             face,
             triangle,
             corners: [vertices[0], vertices[i + 1], vertices[i + 2]],
+            slots: [first, first + i + 1, first + i + 2],
             side_is_edge: [i == 0, true, i == last],
         }
     }
@@ -240,6 +259,7 @@ impl FanTriangle {
 
     /// The surface point of weights `barycentric`: its feature is the
     /// support of the weights.
+    #[inline]
     fn at(&self, barycentric: [f64; 3]) -> SurfacePoint {
         let zero = barycentric.map(|w| w == 0.0);
         let feature = match zero {
