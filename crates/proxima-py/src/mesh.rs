@@ -219,8 +219,9 @@ impl PyMesh {
         let Some(index) = Arc::get_mut(&mut self.index) else {
             return Err(value_error(
                 "positions",
-                "the mesh is placed in a Scene, which shares its structures: move it there with Scene.set_pose, \
-                 or deform a copy (proxima.Mesh(mesh.vertices, mesh.faces))",
+                "the mesh is placed in a Scene, which shares its structures: deform it there with \
+                 Scene.update_vertices (or move it with Scene.set_pose), or deform a copy \
+                 (proxima.Mesh(mesh.vertices, mesh.faces))",
             ));
         };
         let updated = py

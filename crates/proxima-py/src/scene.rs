@@ -90,6 +90,32 @@ impl PyScene {
         self.scene.set_pose(i, pose).map_err(|e| value_error("pose", e))
     }
 
+    /// Moves the vertices of instance ``index``'s mesh to ``positions`` (V,
+    /// 3), deforming every instance of that mesh (see the type stubs).
+    fn update_vertices<'py>(
+        &mut self,
+        py: Python<'py>,
+        index: i64,
+        positions: &Bound<'py, PyAny>,
+    ) -> PyResult<Vec<(&'static str, bool, f64)>> {
+        let count = self.scene.len();
+        let i = usize::try_from(index).ok().filter(|&i| i < count).ok_or_else(|| {
+            value_error(
+                "index",
+                format!("{index} is out of range: the scene has {count} instances"),
+            )
+        })?;
+        let positions = arrays::points(positions, "positions", Check::Finite)?;
+        let positions = positions.as_slice();
+        let updated = py
+            .detach(|| self.scene.update_vertices(i, positions))
+            .map_err(|e| value_error("positions", e))?;
+        Ok(updated
+            .into_iter()
+            .map(|u| (u.structure, u.rebuilt, u.cost_ratio))
+            .collect())
+    }
+
     /// The closest point of any instance to each point: ``(closest (N, 3)
     /// float64, distance (N,) float64, instance (N,) int64, face (N,) int64)``.
     #[pyo3(signature = (points, threads = None))]

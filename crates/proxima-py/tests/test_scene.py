@@ -122,6 +122,58 @@ def test_set_pose_answers_as_a_new_scene(world):
     assert len(scene) == len(instances)
 
 
+def test_update_vertices_deforms_every_instance_of_the_mesh(world):
+    _, instances, _, _, _ = world
+    scene = proxima.Scene(instances)
+    rng = np.random.default_rng(9)
+    points = rng.uniform(-4, 4, (200, 3))
+    rays_o = rng.uniform(-6, 6, (100, 3))
+    rays_d = -rays_o + rng.normal(size=(100, 3))
+    scene.closest_points(points)  # the structures built
+    sphere = instances[0][0]
+    rest = np.asarray(sphere.vertices).copy()
+    faces = np.asarray(sphere.faces)
+
+    def check(vertices):
+        # Every instance of that mesh (the even ones) moved; a scene built
+        # anew answers the same, and brute force agrees on the distances.
+        moved = proxima.Mesh(vertices, faces)
+        fresh = proxima.Scene([(moved if k % 2 == 0 else m, pose) for k, (m, pose) in enumerate(instances)])
+        for a, b in zip(scene.closest_points(points), fresh.closest_points(points)):
+            np.testing.assert_array_equal(a, b)
+        for a, b in zip(scene.cast_rays(rays_o, rays_d), fresh.cast_rays(rays_o, rays_d)):
+            np.testing.assert_array_equal(a, b)
+        np.testing.assert_array_equal(scene.signed_distance(points), fresh.signed_distance(points))
+        _, distance, _, _ = scene.closest_points(points[:20])
+        brute = np.full(20, np.inf)
+        for k, (m, pose) in enumerate(instances):
+            v = placed(moved, pose) if k % 2 == 0 else placed(m, pose)
+            f = faces if k % 2 == 0 else np.asarray(m.faces)
+            brute = np.minimum(brute, triangle_distances(points[:20], v, f).min(axis=1))
+        np.testing.assert_allclose(distance, brute, atol=1e-5)
+
+    first = (rest * 1.3 + rng.normal(scale=0.01, size=rest.shape)).astype(np.float32)
+    assert scene.update_vertices(2, first) == []  # a copy of the scene's own
+    np.testing.assert_array_equal(np.asarray(sphere.vertices), rest)  # yours unchanged
+    check(first)
+    second = (first + rng.normal(scale=0.02, size=rest.shape)).astype(np.float32)
+    report = scene.update_vertices(4, second)
+    assert "faces" in [name for name, _, _ in report]  # refit in place now
+    check(second)
+    # Refused: the scene unchanged.
+    before = scene.closest_points(points)
+    with pytest.raises(ValueError, match="index: 12 is out of range"):
+        scene.update_vertices(12, second)
+    with pytest.raises(ValueError, match="positions"):
+        scene.update_vertices(0, second[:-1])
+    bad = second.copy()
+    bad[3, 1] = np.nan
+    with pytest.raises(ValueError, match="positions"):
+        scene.update_vertices(0, bad)
+    for a, b in zip(before, scene.closest_points(points)):
+        np.testing.assert_array_equal(a, b)
+
+
 def test_bad_input():
     sphere = proxima.noisy_icosphere(3)
     with pytest.raises(ValueError, match=r"instances\[0\]: expected a \(mesh, pose\) pair"):

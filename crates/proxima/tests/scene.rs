@@ -3,7 +3,8 @@
 //! frame exactly, distances kept by a rigid pose), first hits by a
 //! ray-triangle test in `f64` on the placed triangles, and the union's side
 //! by the exact winding sums. A moved instance answers as a scene built
-//! with the new pose; bad input is refused and changes nothing.
+//! with the new pose, a deformed mesh as a scene built over the moved
+//! vertices; bad input is refused and changes nothing.
 
 use crate::common;
 
@@ -320,6 +321,133 @@ fn a_moved_instance_answers_as_a_new_scene() {
     // The same mesh placed many times built its trees once, shared.
     assert!(Arc::ptr_eq(scene.instances()[0].mesh(), scene.instances()[3].mesh()));
     assert!(meshes[0].built().contains(&"faces") && meshes[0].built().contains(&"rays"));
+}
+
+/// `positions` moved: by noise of `noise` everywhere, and swirled about
+/// the y axis by an angle growing with height (wrecking a refit tree).
+fn deformed(positions: &[Vec3], noise: f32, swirl: f32, rng: &mut Rng) -> Vec<Vec3> {
+    positions
+        .iter()
+        .map(|&p| {
+            let (s, c) = (p.y * swirl).sin_cos();
+            let turned = Vec3::new(c * p.x + s * p.z, p.y, -s * p.x + c * p.z);
+            turned + Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)) * noise
+        })
+        .collect()
+}
+
+/// A scene of the same instances built anew: each instance's mesh as it
+/// is now, in an index of its own.
+fn rebuilt(scene: &Scene) -> Scene {
+    Scene::new(
+        scene
+            .instances()
+            .iter()
+            .map(|i| (Arc::new(MeshIndex::new(i.mesh().mesh().clone())), *i.pose()))
+            .collect(),
+    )
+    .unwrap()
+}
+
+/// Every query of `scene` equals `fresh`'s, and the closest points brute
+/// force's.
+fn assert_answers_as(scene: &Scene, fresh: &Scene, seed: u64) {
+    let points = proxima::sample::uniform_in(&fresh.bounds(), 150, seed);
+    let rays = proxima::sample::rays_at_box(&fresh.bounds(), 150, seed + 1);
+    // (The world boxes may differ: they are made from the top of each
+    // mesh's tree, refit or built anew.)
+    assert_eq!(scene.closest_batch(&points), fresh.closest_batch(&points));
+    assert_eq!(
+        scene.first_hit_batch(&rays, 0.0, f32::INFINITY),
+        fresh.first_hit_batch(&rays, 0.0, f32::INFINITY)
+    );
+    assert_eq!(
+        scene.signed_distance_batch(&points, Sign::WindingNumber),
+        fresh.signed_distance_batch(&points, Sign::WindingNumber)
+    );
+    for p in &points[..30] {
+        let best = brute_distances(scene, *p)
+            .iter()
+            .map(|x| x.0)
+            .fold(f64::INFINITY, f64::min);
+        let hit = scene.closest(*p).unwrap();
+        assert!((hit.distance as f64 - best).abs() <= 1e-5 * (1.0 + p.abs().max_element() as f64));
+    }
+}
+
+/// A mesh deformed inside a scene moves every instance of it, and the
+/// scene answers as one built anew over the moved vertices: first on a
+/// copy of the scene's own while the caller still holds the mesh (which
+/// stays as it was), then, once the scene holds the only references, by
+/// refitting the mesh's structures in place, 30 times over, with swirls
+/// that wear the trees and collapses of the noise to nothing.
+#[test]
+fn a_deformed_mesh_answers_as_a_new_scene() {
+    let (mut scene, meshes) = scene(12, 21);
+    let mut rng = Rng::new(22);
+    let points = proxima::sample::uniform_in(&scene.bounds(), 50, 23);
+    scene.closest_batch(&points); // the structures built
+    let rest = meshes[0].mesh().positions().to_vec();
+    let report = scene.update_vertices(3, &deformed(&rest, 0.02, 0.3, &mut rng)).unwrap();
+    assert!(report.is_empty(), "a copy has nothing built to update: {report:?}");
+    assert_eq!(
+        meshes[0].mesh().positions(),
+        &rest[..],
+        "the caller's mesh is untouched"
+    );
+    assert!(!Arc::ptr_eq(scene.instances()[0].mesh(), &meshes[0]));
+    assert!(Arc::ptr_eq(scene.instances()[0].mesh(), scene.instances()[3].mesh()));
+    assert_answers_as(&scene, &rebuilt(&scene), 24);
+    drop(meshes);
+    for step in 0..30 {
+        let i = rng.below(scene.len());
+        let at = scene.instances()[i].mesh().mesh().positions().to_vec();
+        let (noise, swirl) = match step % 3 {
+            0 => (0.0, 0.0),
+            1 => (0.01, 0.0),
+            _ => (0.005, 0.8),
+        };
+        let report = scene
+            .update_vertices(i, &deformed(&at, noise, swirl, &mut rng))
+            .unwrap();
+        // Unshared now: the structures built are refit or rebuilt in place.
+        assert!(report.iter().any(|u| u.structure == "faces"), "{report:?}");
+        if step % 6 == 5 {
+            assert_answers_as(&scene, &rebuilt(&scene), 25 + step as u64);
+        }
+    }
+}
+
+/// A deformation that cannot be taken changes nothing: the answers, the
+/// meshes and their sharing stay as they were.
+#[test]
+fn a_refused_deformation_changes_nothing() {
+    let (mut scene, meshes) = scene(6, 31);
+    let points = proxima::sample::uniform_in(&scene.bounds(), 100, 32);
+    let before = scene.closest_batch(&points);
+    let n = meshes[1].mesh().vertex_count();
+    let mut far = meshes[1].mesh().positions().to_vec();
+    far[0] = Vec3::new(1e30, 0.0, 0.0);
+    let mut nan = meshes[1].mesh().positions().to_vec();
+    nan[n - 1] = Vec3::NAN;
+    for (index, positions) in [
+        (1, vec![Vec3::ZERO; n - 1]),
+        (1, nan),
+        (1, far),
+        (6, meshes[1].mesh().positions().to_vec()),
+    ] {
+        let e = scene.update_vertices(index, &positions).unwrap_err();
+        match index {
+            6 => assert_eq!(e, SceneError::InstanceOutOfRange { index: 6, count: 6 }),
+            _ => assert!(
+                matches!(e, SceneError::Mesh { instance: 1, .. } | SceneError::Placement(_)),
+                "{e}"
+            ),
+        }
+        assert_eq!(scene.closest_batch(&points), before);
+        assert!(Arc::ptr_eq(scene.instances()[1].mesh(), &meshes[1]));
+        assert!(Arc::ptr_eq(scene.instances()[4].mesh(), &meshes[1]));
+    }
 }
 
 #[test]

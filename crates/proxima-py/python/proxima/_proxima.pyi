@@ -746,6 +746,36 @@ class Scene:
         top level is refit (rebuilt once refits made it 1.5 times costlier),
         the meshes' own trees are not touched: microseconds. ``ValueError``
         naming ``index`` out of range, ``pose`` for a pose that is not rigid."""
+    def update_vertices(self, index: int, positions: npt.ArrayLike) -> list[tuple[str, bool, float]]:
+        """Moves the vertices of instance ``index``'s mesh to ``positions``
+        ((V, 3), one row per vertex in order; the faces stay): every
+        instance of that mesh deforms with it, and the scene then answers as
+        a new ``Scene`` over the moved vertices.
+
+        The scene shares each mesh's structures with the ``Mesh`` you gave
+        it. The first time a mesh is deformed in the scene, the scene makes
+        a copy of its own (structures built on first use; returns ``[]``)
+        and your ``Mesh`` keeps its vertices. Later calls find that copy
+        unshared and update its structures in place, as
+        ``Mesh.update_vertices`` does, returning ``(structure, rebuilt,
+        cost_ratio)`` per structure. The top level is refit as by
+        ``set_pose``.
+
+        Raises ValueError naming ``index`` out of range, or ``positions``
+        for another vertex count, a NaN or infinite coordinate, or one
+        beyond the coordinate bound; the scene is then unchanged. The GIL
+        is released.
+
+        >>> import numpy as np, proxima
+        >>> mesh = proxima.Mesh(np.eye(3), [[0, 1, 2]])
+        >>> scene = proxima.Scene([(mesh, None), (mesh, np.diag([1.0, 1, 1, 1]))])
+        >>> scene.update_vertices(1, np.eye(3) * 2)
+        []
+        >>> float(scene.closest_points([[0, 0, 0]])[1][0]) > 1.1
+        True
+        >>> mesh.vertices[0].tolist()
+        [1.0, 0.0, 0.0]
+        """
     def closest_points(
         self, points: npt.ArrayLike, threads: Optional[int] = None
     ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.int64], npt.NDArray[np.int64]]:

@@ -45,7 +45,7 @@ use crate::aabb::Aabb;
 use crate::aabb_tree::AabbTree;
 use crate::build::BuildConfig;
 use crate::index::IndexError;
-use crate::index::MeshIndex;
+use crate::index::{MeshIndex, Updated};
 use crate::kind::PrimitiveKind;
 use crate::math::{DVec3, Vec3};
 use crate::pair::RigidPose;
@@ -258,6 +258,114 @@ impl Scene {
             self.build_top()?;
         }
         Ok(())
+    }
+
+    /// Moves the vertices of instance `index`'s mesh to `positions` (one
+    /// per vertex, in order; the faces unchanged): every instance that
+    /// shares that mesh deforms with it. When the scene holds the only
+    /// references to the mesh, its structures are brought up to date in
+    /// place ([`MeshIndex::update_vertices`], under the mesh's
+    /// [`RefitPolicy`](crate::index::RefitPolicy)) and what was done is
+    /// returned. When the mesh is also held outside the scene (an `Arc` the
+    /// caller kept), the scene deforms a copy of its own, whose structures
+    /// are built on first use (nothing to report), and the caller's mesh
+    /// is left as it was; later updates find the copy unshared and refit
+    /// it. Then those instances' world boxes are placed anew and the top
+    /// level refit, as [`set_pose`](Self::set_pose) does.
+    ///
+    /// Answers afterwards equal a new scene's over the moved vertices. Fails,
+    /// changing nothing, for an index out of range, positions the mesh
+    /// refuses (another count, NaN, beyond its coordinate bound) or a mesh
+    /// placed beyond the coordinates a tree takes.
+    ///
+    /// ```
+    /// use proxima::prelude::*;
+    /// use proxima::index::MeshIndex;
+    /// use proxima::pair::RigidPose;
+    /// use proxima::scene::Scene;
+    /// use std::sync::Arc;
+    /// let sphere = MeshIndex::new(proxima::mesh::generate::noisy_icosphere(8, 1));
+    /// let grown: Vec<Vec3> = sphere.mesh().positions().iter().map(|&p| p * 2.0).collect();
+    /// let mut scene = Scene::new(vec![(Arc::new(sphere), RigidPose::IDENTITY)]).unwrap();
+    /// let before = scene.closest(Vec3::new(3.0, 0.0, 0.0)).unwrap().distance;
+    /// scene.update_vertices(0, &grown).unwrap();
+    /// let after = scene.closest(Vec3::new(3.0, 0.0, 0.0)).unwrap().distance;
+    /// assert!((before - 2.0).abs() < 0.1 && (after - 1.0).abs() < 0.2, "{before} {after}");
+    /// ```
+    pub fn update_vertices(&mut self, index: usize, positions: &[Vec3]) -> Result<Vec<Updated>, SceneError> {
+        let count = self.instances.len();
+        let Some(instance) = self.instances.get(index) else {
+            return Err(SceneError::InstanceOutOfRange { index, count });
+        };
+        let sharing: Vec<usize> = (0..count)
+            .filter(|&j| Arc::ptr_eq(&self.instances[j].mesh, &instance.mesh))
+            .collect();
+        // Placed beyond the coordinates a tree takes? Checked on the box of
+        // the new positions, which holds the hull the boxes are made from,
+        // before anything changes.
+        let moved = Aabb::from_points(positions.iter().copied());
+        if !moved.is_empty() {
+            let corners: Arc<[Vec3]> = (0..8)
+                .map(|c| {
+                    let pick = |bit: usize, lo: f32, hi: f32| if c & bit == 0 { lo } else { hi };
+                    Vec3::new(
+                        pick(1, moved.min.x, moved.max.x),
+                        pick(2, moved.min.y, moved.max.y),
+                        pick(4, moved.min.z, moved.max.z),
+                    )
+                })
+                .collect();
+            for &j in &sharing {
+                let placed = InstanceBox(
+                    Instance {
+                        hull: corners.clone(),
+                        ..self.instances[j].clone()
+                    }
+                    .world_bounds(),
+                );
+                crate::build::check_primitives(&[placed]).map_err(SceneError::Placement)?;
+            }
+        }
+        // The scene's references out of the instances for the update, so
+        // that only an outside holder can keep the mesh shared; put back
+        // (moved or not) whatever the update gives.
+        let empty = Arc::new(MeshIndex::new(crate::mesh::Mesh::default()));
+        let mut held: Vec<Arc<MeshIndex>> = sharing
+            .iter()
+            .map(|&j| std::mem::replace(&mut self.instances[j].mesh, empty.clone()))
+            .collect();
+        let mut mesh = held.pop().expect("the instance shares its own mesh");
+        drop(held);
+        let updated = match Arc::get_mut(&mut mesh) {
+            Some(unshared) => unshared.update_vertices(positions),
+            None => {
+                let mut copy = MeshIndex::with_config(mesh.mesh().clone(), mesh.config().clone());
+                copy.update_vertices(positions).map(|report| {
+                    mesh = Arc::new(copy);
+                    report
+                })
+            }
+        };
+        let hull = updated.as_ref().ok().map(|_| hull_points(&mesh));
+        for &j in &sharing {
+            self.instances[j].mesh = mesh.clone();
+        }
+        let error = |source| SceneError::Mesh {
+            instance: index,
+            source,
+        };
+        let updated = updated.map_err(error)?;
+        let hull: Arc<[Vec3]> = hull.expect("made after an update").map_err(error)?.into();
+        for &j in &sharing {
+            self.instances[j].hull = hull.clone();
+            self.boxes.primitives[j] = InstanceBox(self.instances[j].world_bounds());
+        }
+        let top = self.top.as_mut().expect("a scene with instances has a top level");
+        top.refit_trusted(&self.boxes);
+        if top.surface_area_cost() > TOP_REBUILD_RATIO * self.top_cost {
+            self.build_top()?;
+        }
+        Ok(updated)
     }
 
     /// The instances, in the order given.
