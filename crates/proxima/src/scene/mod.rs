@@ -340,10 +340,11 @@ impl Scene {
             Some(unshared) => unshared.update_vertices(positions),
             None => {
                 let mut copy = MeshIndex::with_config(mesh.mesh().clone(), mesh.config().clone());
-                copy.update_vertices(positions).map(|report| {
+                let report = copy.update_vertices(positions);
+                if report.is_ok() {
                     mesh = Arc::new(copy);
-                    report
-                })
+                }
+                report
             }
         };
         let hull = updated.as_ref().ok().map(|_| hull_points(&mesh));
