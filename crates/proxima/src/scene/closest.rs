@@ -80,7 +80,9 @@ impl Scene {
     /// Walks the instances whose boxes lie within `bound_squared` of `p`
     /// (finite), nearest box first, with `visit` (see [`NearBoxes`]).
     pub(super) fn walk_near(&self, p: Vec3, bound_squared: f32, visit: impl FnMut(u32) -> ControlFlow<(), f32>) {
-        let Some(top) = self.top.as_ref() else { return };
+        let Some(top) = self.top.as_ref().map(|t| t.tree()) else {
+            return;
+        };
         let mut query = NearBoxes {
             indices: top.leaves().indices(),
             p: p.into(),

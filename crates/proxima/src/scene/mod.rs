@@ -52,7 +52,7 @@ use crate::pair::RigidPose;
 use crate::primitive::Triangle;
 use crate::primitive::{Bounded, BoundingPoints, PrimitiveSet};
 use crate::query::SpatialIndex;
-use crate::wide_tree::WideChild;
+use crate::wide_tree::{WideChild, WidePrimitive, WideTree};
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -144,6 +144,9 @@ fn hull_points(mesh: &MeshIndex) -> Result<Vec<Vec3>, IndexError> {
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct InstanceBox(Aabb);
 
+/// Tested one box at a time at the leaves.
+impl WidePrimitive for InstanceBox {}
+
 impl Bounded for InstanceBox {
     fn bounds(&self) -> Aabb {
         self.0
@@ -166,8 +169,9 @@ pub struct Scene {
     instances: Vec<Instance>,
     /// Each instance's world box, in instance order.
     boxes: PrimitiveSet<InstanceBox>,
-    /// Over the instances' world boxes; `None` for an empty scene.
-    top: Option<AabbTree<InstanceBox>>,
+    /// Over the instances' world boxes, 4-wide (rays test a node's four
+    /// boxes at once); `None` for an empty scene.
+    top: Option<WideTree<InstanceBox>>,
     /// The top tree's surface-area cost when built.
     top_cost: f64,
 }
@@ -228,7 +232,7 @@ impl Scene {
         };
         let tree = AabbTree::build_set(self.boxes.clone(), &config).map_err(SceneError::Placement)?;
         self.top_cost = tree.surface_area_cost();
-        self.top = Some(tree);
+        self.top = Some(WideTree::from_tree(tree));
         Ok(())
     }
 
@@ -254,7 +258,7 @@ impl Scene {
         self.boxes.primitives[index] = bounds;
         let top = self.top.as_mut().expect("a scene with instances has a top level");
         top.refit_trusted(&self.boxes);
-        if top.surface_area_cost() > TOP_REBUILD_RATIO * self.top_cost {
+        if top.tree().surface_area_cost() > TOP_REBUILD_RATIO * self.top_cost {
             self.build_top()?;
         }
         Ok(())
@@ -363,7 +367,7 @@ impl Scene {
         }
         let top = self.top.as_mut().expect("a scene with instances has a top level");
         top.refit_trusted(&self.boxes);
-        if top.surface_area_cost() > TOP_REBUILD_RATIO * self.top_cost {
+        if top.tree().surface_area_cost() > TOP_REBUILD_RATIO * self.top_cost {
             self.build_top()?;
         }
         Ok(updated)
@@ -386,6 +390,6 @@ impl Scene {
 
     /// The world box of every instance (empty for an empty scene).
     pub fn bounds(&self) -> Aabb {
-        self.top.as_ref().map_or(Aabb::EMPTY, |t| t.bounds())
+        self.top.as_ref().map_or(Aabb::EMPTY, |t| t.tree().bounds())
     }
 }

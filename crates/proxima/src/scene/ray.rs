@@ -1,15 +1,17 @@
 //! Rays through a scene: the first hit of any instance, and whether any is hit.
 
-use super::Scene;
+use super::{InstanceBox, Scene};
 use crate::aabb::Aabb;
-use crate::aabb_tree::{AabbNode, RaySlabs};
-use crate::build::{BinaryQuery, walk};
+use crate::aabb_tree::RaySlabs;
 use crate::error::RayError;
 use crate::math::{DVec3, Vec3};
-use crate::query::{RayQuery, SpatialIndex};
+use crate::query::{Counter, RayQuery, SpatialIndex};
 use crate::ray::Ray;
+use crate::wide_tree::walk::{Pending, Slices, WideQuery};
+use crate::wide_tree::{WideNode, WideSlabs, entry_order_bits};
 use rayon::prelude::*;
-use std::ops::{ControlFlow, Range};
+use std::ops::ControlFlow;
+use wide::f32x4;
 
 /// Where a ray first hits a scene.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -31,71 +33,93 @@ pub struct SceneRayHit {
     pub v: f32,
 }
 
-/// The top-level walk for rays: boxes by entry parameter, each instance's
-/// ray tree asked up to the nearest hit so far.
+/// The top-level walk for rays: the four child boxes of a wide node slab
+/// tested at once and entered by entry parameter, each instance's ray tree
+/// asked up to the nearest hit so far.
 struct Rays<'a> {
     scene: &'a Scene,
     indices: &'a [u32],
-    slabs: RaySlabs,
+    slabs: WideSlabs,
     origin: Vec3,
     direction: Vec3,
     t_min: f32,
     t_hi: f32,
     any: bool,
+    found: &'a mut Found,
+}
+
+/// What the walk of [`Rays`] found: the nearest hit so far, or the
+/// error that ended it.
+#[derive(Default)]
+struct Found {
     best: Option<SceneRayHit>,
     error: Option<RayError>,
 }
 
-impl BinaryQuery<AabbNode> for Rays<'_> {
-    const TOUCH_GRANDCHILDREN: bool = false;
-    #[inline]
-    fn key(&self, node: &AabbNode) -> f32 {
-        let b = node.bounds();
-        let (enter, exit) = self.slabs.interval(b.min, b.max, self.t_min, self.t_hi);
-        if enter <= exit { enter } else { f32::INFINITY }
+impl WideQuery<InstanceBox> for Rays<'_> {
+    #[inline(always)]
+    fn keys(&self, node: &WideNode) -> (f32x4, u32) {
+        self.slabs.entries(node, self.t_min, self.t_hi)
     }
+
+    #[inline(always)]
     fn bound(&self) -> f32 {
-        self.t_hi.min(f32::MAX)
+        self.t_hi
     }
-    fn leaf(&mut self, range: Range<usize>) -> ControlFlow<()> {
-        for slot in range {
-            let index = self.indices[slot];
-            let instance = &self.scene.instances[index as usize];
-            let tree = instance.mesh.ray_tree().expect("a scene's meshes have faces");
-            let (o, d) = (
-                instance.to_local(self.origin),
-                instance.direction_to_local(self.direction),
-            );
-            if misses_root(tree.bounds(), o, d, self.t_min, self.t_hi) {
-                continue;
+
+    #[inline(always)]
+    fn order_bits(key: f32) -> u32 {
+        entry_order_bits(key)
+    }
+
+    fn leaf<C: Counter>(&mut self, _: &Slices<'_, InstanceBox>, leaf: Pending, _: &mut C) -> ControlFlow<()> {
+        let first = leaf.child as usize;
+        for slot in first..first + leaf.leaf_len() {
+            self.visit(self.indices[slot])?;
+        }
+        ControlFlow::Continue(())
+    }
+}
+
+impl Rays<'_> {
+    /// Asks instance `index`'s ray tree, up to the nearest hit so far.
+    #[inline]
+    fn visit(&mut self, index: u32) -> ControlFlow<()> {
+        let instance = &self.scene.instances[index as usize];
+        let tree = instance.mesh.ray_tree().expect("a scene's meshes have faces");
+        let (o, d) = (
+            instance.to_local(self.origin),
+            instance.direction_to_local(self.direction),
+        );
+        if misses_root(tree.bounds(), o, d, self.t_min, self.t_hi) {
+            return ControlFlow::Continue(());
+        }
+        let hit = if self.any {
+            tree.some_hit(o, d, self.t_min, self.t_hi)
+        } else {
+            tree.first_hit(o, d, self.t_min, self.t_hi)
+        };
+        match hit {
+            Err(error) => {
+                self.found.error = Some(error);
+                return ControlFlow::Break(());
             }
-            let hit = if self.any {
-                tree.some_hit(o, d, self.t_min, self.t_hi)
-            } else {
-                tree.first_hit(o, d, self.t_min, self.t_hi)
-            };
-            match hit {
-                Err(error) => {
-                    self.error = Some(error);
+            Ok(Some(hit)) if self.found.best.is_none_or(|b| (hit.t, index) < (b.t, b.instance)) => {
+                self.found.best = Some(SceneRayHit {
+                    instance: index,
+                    face: hit.source,
+                    triangle: hit.primitive,
+                    t: hit.t,
+                    point: instance.pose.apply(hit.point),
+                    u: hit.u,
+                    v: hit.v,
+                });
+                self.t_hi = hit.t;
+                if self.any {
                     return ControlFlow::Break(());
                 }
-                Ok(Some(hit)) if self.best.is_none_or(|b| (hit.t, index) < (b.t, b.instance)) => {
-                    self.best = Some(SceneRayHit {
-                        instance: index,
-                        face: hit.source,
-                        triangle: hit.primitive,
-                        t: hit.t,
-                        point: instance.pose.apply(hit.point),
-                        u: hit.u,
-                        v: hit.v,
-                    });
-                    self.t_hi = hit.t;
-                    if self.any {
-                        return ControlFlow::Break(());
-                    }
-                }
-                Ok(_) => {}
             }
+            Ok(_) => {}
         }
         ControlFlow::Continue(())
     }
@@ -128,23 +152,23 @@ impl Scene {
     ) -> Result<Option<SceneRayHit>, RayError> {
         Ray::with_range(origin, direction, t_min, t_max)?;
         let Some(top) = self.top.as_ref() else { return Ok(None) };
-        let bounds = top.bounds();
-        let mut query = Rays {
+        let bounds = top.tree().bounds();
+        let mut found = Found::default();
+        let query = Rays {
             scene: self,
-            indices: top.leaves().indices(),
-            slabs: RaySlabs::new(origin, direction, bounds.min, bounds.max),
+            indices: top.tree().leaves().indices(),
+            slabs: WideSlabs::new(&RaySlabs::new(origin, direction, bounds.min, bounds.max)),
             origin,
             direction,
             t_min,
             t_hi: t_max,
             any,
-            best: None,
-            error: None,
+            found: &mut found,
         };
-        walk::<AabbNode, _, _>(top.pairs(), top.depth(), &mut query, &mut ());
-        match query.error {
+        top.walk(|_| query, &mut ());
+        match found.error {
             Some(error) => Err(error),
-            None => Ok(query.best),
+            None => Ok(found.best),
         }
     }
 

@@ -36,6 +36,7 @@ mod nearest;
 mod oriented;
 mod primitive;
 mod ray;
+pub(crate) use ray::{WideSlabs, entry_order_bits};
 mod refit;
 pub(crate) mod walk;
 

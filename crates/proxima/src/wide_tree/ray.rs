@@ -22,7 +22,7 @@ use wide::f32x4;
 
 /// A ray's slab data splatted over four lanes, near and far planes chosen
 /// per axis by the direction's sign bit.
-struct WideSlabs {
+pub(crate) struct WideSlabs {
     origin: [f32x4; 3],
     inv_direction: [f32x4; 3],
     negative: [bool; 3],
@@ -31,7 +31,7 @@ struct WideSlabs {
 }
 
 impl WideSlabs {
-    fn new(slabs: &RaySlabs) -> Self {
+    pub(crate) fn new(slabs: &RaySlabs) -> Self {
         let s = |v: crate::math::Vec3A| [f32x4::splat(v.x), f32x4::splat(v.y), f32x4::splat(v.z)];
         let negative = slabs.negative.bitmask();
         Self {
@@ -46,7 +46,7 @@ impl WideSlabs {
     /// Entry parameters into the four child boxes, and the lanes crossed
     /// within `[t_lo, t_hi]`.
     #[inline(always)]
-    fn entries(&self, node: &WideNode, t_lo: f32, t_hi: f32) -> (f32x4, u32) {
+    pub(crate) fn entries(&self, node: &WideNode, t_lo: f32, t_hi: f32) -> (f32x4, u32) {
         let mins = [&node.min_x, &node.min_y, &node.min_z];
         let maxs = [&node.max_x, &node.max_y, &node.max_z];
         let mut enter = f32x4::splat(t_lo);
@@ -71,6 +71,15 @@ impl WideSlabs {
     }
 }
 
+/// Bits of a ray's entry parameter that order entries as the entries do:
+/// they may be negative (a range starting before the origin), so the
+/// sign's order is restored ([`WideQuery::order_bits`]).
+#[inline(always)]
+pub(crate) fn entry_order_bits(key: f32) -> u32 {
+    let bits = key.to_bits();
+    if bits >> 31 == 1 { !bits } else { bits | 1 << 31 }
+}
+
 /// A ray query on the wide tree: keys are the ray's entry parameters into
 /// the four (per-ray widened) child boxes; leaves are tested four triangles
 /// at a time where the tree has packets.
@@ -92,12 +101,9 @@ impl<T: RayIntersect, V: RayVisitor<T>> WideQuery<T> for Rays<'_, V> {
         self.visitor.t_hi()
     }
 
-    /// Entry parameters may be negative (a range starting before the
-    /// origin): their bits, with the sign's order restored.
     #[inline(always)]
     fn order_bits(key: f32) -> u32 {
-        let bits = key.to_bits();
-        if bits >> 31 == 1 { !bits } else { bits | 1 << 31 }
+        entry_order_bits(key)
     }
 
     #[inline(always)]
