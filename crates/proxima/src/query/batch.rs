@@ -273,7 +273,7 @@ pub(crate) fn unpermute<R>(order: &[u32], answers: Vec<R>) -> Vec<R> {
 
 /// [`unpermute`] for plain values: one scatter into a copy, with no
 /// temporary slots (faster than following the permutation's cycles).
-pub(crate) fn unpermute_copied<R: Copy>(order: &[u32], answers: &[R]) -> Vec<R> {
+fn unpermute_copied<R: Copy>(order: &[u32], answers: &[R]) -> Vec<R> {
     let mut out = answers.to_vec();
     for (&i, &answer) in order.iter().zip(answers) {
         out[i as usize] = answer;

@@ -44,9 +44,7 @@ pub use ray::{RayHit, RayQuery};
 pub use visitor::{Counter, NearestVisitor, QueryStats, RayVisitor};
 
 pub(crate) use batch::answer_batch_indexed;
-pub(crate) use batch::{
-    CHUNK, already_coherent, in_chunks, in_chunks_ordered, morton_order, sort_by_code, unpermute_copied,
-};
+pub(crate) use batch::{CHUNK, already_coherent, in_chunks, in_chunks_ordered, morton_order, sort_by_code};
 pub(crate) use closest::Best;
 pub(crate) use nearest::closest_chunk;
 pub(crate) use point::answerable;

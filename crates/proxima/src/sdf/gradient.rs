@@ -17,7 +17,8 @@
 use super::{Pseudonormals, SignedDistance};
 use crate::math::{DVec3, Vec3};
 use crate::mesh::Mesh;
-use crate::surface::{SurfacePoint, in_triangle_order};
+use crate::query::ClosestHit;
+use crate::surface::{Attributes, GROUP, Located, SurfacePoint, answer_groups, in_triangle_order_blocks};
 use std::borrow::Cow;
 
 /// A signed distance with its gradient with respect to the query point
@@ -35,7 +36,8 @@ pub struct SdfGradient {
 
 /// The gradients of `answers`, the signed distances at `points` on `mesh`'s
 /// faces (a field built on `mesh`), on all cores: each answer's closest
-/// point is located again in `f64` ([`SurfacePoint::closest`]) and
+/// point is located again in `f64` (as [`SurfacePoint::closest`] does, a
+/// group of answers at a time in the order of their triangles) and
 /// [`signed_distance_gradient`] taken from it; points on the surface take
 /// the unit pseudonormal of their closest feature, from `pseudonormals`,
 /// called once and only when there are such points.
@@ -45,30 +47,41 @@ pub fn signed_distance_gradients<'a, E>(
     answers: &[Option<SignedDistance>],
     pseudonormals: impl FnOnce() -> Result<Cow<'a, Pseudonormals>, E>,
 ) -> Result<Vec<Option<SdfGradient>>, E> {
-    let triangles: Vec<u32> = answers
-        .iter()
-        .map(|a| a.map_or(u32::MAX, |a| a.closest.primitive))
-        .collect();
-    let located: Vec<Option<(SdfGradient, bool)>> = in_triangle_order(&triangles, |i| {
-        let (p, distance) = (points[i], answers[i]?);
-        let at = SurfacePoint::closest(mesh, &distance.closest, p);
-        let gradient = signed_distance_gradient(p, at.point(mesh), distance.is_inside());
-        let answer = SdfGradient {
-            distance,
-            gradient: gradient.unwrap_or(DVec3::ZERO),
-            at,
-        };
-        Some((answer, gradient.is_none()))
-    });
+    let hits: Vec<Option<ClosestHit>> = answers.iter().map(|a| a.map(|a| a.closest)).collect();
+    let triangles: Vec<u32> = hits.iter().map(|h| h.map_or(u32::MAX, |h| h.primitive)).collect();
+    let located = Located::Closest { points, hits: &hits };
+    let work = |block: &[u32], out: &mut [Option<(SdfGradient, bool)>]| {
+        // A group's surface points, then their gradients while the
+        // triangles' corners are still in cache.
+        let mut at = [None; GROUP];
+        for (group, out) in block.chunks(GROUP).zip(out.chunks_mut(GROUP)) {
+            at[..group.len()].fill(None);
+            answer_groups(mesh, &[], Attributes::NONE, located, group, &mut at[..group.len()]);
+            for ((out, answer), &i) in out.iter_mut().zip(&at).zip(group) {
+                let (Some(answer), Some(distance)) = (answer, answers[i as usize]) else {
+                    continue;
+                };
+                let gradient =
+                    signed_distance_gradient(points[i as usize], answer.at.point(mesh), distance.is_inside());
+                let found = SdfGradient {
+                    distance,
+                    gradient: gradient.unwrap_or(DVec3::ZERO),
+                    at: answer.at,
+                };
+                *out = Some((found, gradient.is_none()));
+            }
+        }
+    };
+    let located = in_triangle_order_blocks(&triangles, None, work);
     let normals = match located.iter().flatten().any(|&(_, on_surface)| on_surface) {
         true => Some(pseudonormals()?),
         false => None,
     };
     Ok(located
-        .into_iter()
+        .iter()
         .zip(points)
         .map(|(found, &p)| {
-            let (mut answer, on_surface) = found?;
+            let (mut answer, on_surface) = (*found)?;
             if let (true, Some(normals)) = (on_surface, &normals) {
                 answer.gradient = normals.normal(answer.at.triangle, p);
             }

@@ -136,7 +136,7 @@ struct Read {
 
 /// Answers gathered together: enough independent loads in flight to hide
 /// most of the mesh arrays' cache misses, little enough stack.
-const GROUP: usize = 64;
+pub(crate) const GROUP: usize = 64;
 
 /// What an answer reads at its triangle's corners.
 #[derive(Clone, Copy, Default)]

@@ -35,9 +35,9 @@ pub(crate) mod normals;
 mod order;
 
 pub use answer::{Attributes, SurfaceAnswer};
-pub(crate) use answer::{Located, answer_groups};
+pub(crate) use answer::{GROUP, Located, answer_groups};
 pub use normals::vertex_normals;
-pub use order::{TriangleOrdered, in_triangle_order, in_triangle_order_blocks};
+pub use order::{TriangleOrdered, in_triangle_order_blocks};
 
 use crate::math::{DVec3, Vec3};
 use crate::mesh::Mesh;

@@ -1,32 +1,8 @@
 //! Batches of surface answers taken in the order of their triangles, so
 //! that the mesh's arrays are read nearly in order.
 
-use crate::query::{sort_by_code, unpermute_copied};
+use crate::query::sort_by_code;
 use rayon::prelude::*;
-
-/// `work(i)` for every answer `i` in `0..triangles.len()`, on all cores,
-/// visiting the answers in the order of their triangles (`triangles[i]`,
-/// `u32::MAX` for none, visited last), ties in input order: the mesh's
-/// arrays are then read nearly in order rather than at random, which made
-/// the surface points of 100k queries on an 871k-triangle mesh 3.5× cheaper
-/// than taking them in input order. The results are in input order.
-///
-/// ```
-/// use proxima::surface::in_triangle_order;
-/// assert_eq!(in_triangle_order(&[7, 2, u32::MAX, 2], |i| i * 10), [0, 10, 20, 30]);
-/// ```
-pub fn in_triangle_order<T: Copy + Send + Sync>(triangles: &[u32], work: impl Fn(usize) -> T + Sync) -> Vec<T> {
-    // One array of results in triangle order, and one scatter into input
-    // order (no per-answer slots).
-    let order = triangle_order(triangles);
-    let mut values = Vec::with_capacity(order.len());
-    order
-        .par_iter()
-        .with_min_len(BLOCK)
-        .map(|&i| work(i as usize))
-        .collect_into_vec(&mut values);
-    unpermute_copied(&order, &values)
-}
 
 /// Results computed in the order of their triangles and read in input
 /// order ([`in_triangle_order_blocks`]): no copy of them is made in input
@@ -75,11 +51,15 @@ impl<T> TriangleOrdered<T> {
     }
 }
 
-/// [`in_triangle_order`]'s visits a block at a time: `work(block, out)`
-/// gets the indices of up to 1,024 answers in triangle order and writes
-/// their results to `out` (as long as the block, filled with `empty`), so
-/// that it can gather what the whole block reads before computing any of
-/// it (cache misses in flight together).
+/// The results of the answers `0..triangles.len()`, on all cores, computed
+/// in the order of their triangles (`triangles[i]`, `u32::MAX` for none,
+/// last), ties in input order: the mesh's arrays are then read nearly in
+/// order rather than at random (surface points of 100k queries on an
+/// 871k-triangle mesh were 3.5× cheaper so than in input order).
+/// `work(block, out)` gets the indices of up to 1,024 answers in that order
+/// and writes their results to `out` (as long as the block, filled with
+/// `empty`), so that it can gather what the whole block reads before
+/// computing any of it (cache misses in flight together).
 ///
 /// ```
 /// use proxima::surface::in_triangle_order_blocks;
@@ -110,8 +90,7 @@ pub fn in_triangle_order_blocks<T: Clone + Send + Sync>(
     TriangleOrdered { values, rank }
 }
 
-/// Results worked per task of [`in_triangle_order`] and
-/// [`in_triangle_order_blocks`].
+/// Results worked per task of [`in_triangle_order_blocks`].
 const BLOCK: usize = 1024;
 
 /// The answers `0..triangles.len()` by triangle, ties in input order,
@@ -140,7 +119,7 @@ mod tests {
     /// triangle (none last), and comes back in input order: over few and
     /// many triangles, ids past 2^30 and answers without a triangle.
     #[test]
-    fn in_triangle_order_visits_by_triangle_and_answers_in_input_order() {
+    fn answers_are_worked_by_triangle_and_read_in_input_order() {
         let mut rng = Rng::new(3);
         for (n, range) in [
             (0usize, 1u64),
@@ -156,15 +135,17 @@ mod tests {
                     _ => (rng.next_u64() % range) as u32,
                 })
                 .collect();
-            // On one thread, the visits follow the order itself.
+            // On one thread, the blocks come in order: the visits follow
+            // the order itself.
             let visited = Mutex::new(Vec::new());
             let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
-            let out = one.install(|| {
-                in_triangle_order(&triangles, |i| {
-                    visited.lock().unwrap().push(i);
-                    (i, triangles[i])
-                })
-            });
+            let record = |block: &[u32], out: &mut [(usize, u32)]| {
+                for (o, &i) in out.iter_mut().zip(block) {
+                    visited.lock().unwrap().push(i as usize);
+                    *o = (i as usize, triangles[i as usize]);
+                }
+            };
+            let out = one.install(|| in_triangle_order_blocks(&triangles, (usize::MAX, 0), record).to_vec());
             assert_eq!(out, triangles.iter().copied().enumerate().collect::<Vec<_>>());
             let mut expected: Vec<usize> = (0..n).collect();
             expected.sort_by_key(|&i| (triangles[i] == u32::MAX, triangles[i]));
