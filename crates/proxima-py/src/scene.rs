@@ -22,6 +22,19 @@ fn pose_rows<'py>(py: Python<'py>, pose: &proxima::pair::RigidPose) -> PyResult<
     arrays::matrix(py, pose.to_rows().into_iter().flatten().collect(), 4)
 }
 
+impl PyScene {
+    /// The instance `index` names, or a ValueError naming `index`.
+    fn instance(&self, index: i64) -> PyResult<usize> {
+        let count = self.scene.len();
+        usize::try_from(index).ok().filter(|&i| i < count).ok_or_else(|| {
+            value_error(
+                "index",
+                format!("{index} is out of range: the scene has {count} instances"),
+            )
+        })
+    }
+}
+
 #[pymethods]
 impl PyScene {
     /// A scene of ``instances``: (mesh, pose) pairs, pose a (4, 4) rigid
@@ -65,27 +78,12 @@ impl PyScene {
 
     /// The pose of instance ``index``, (4, 4) float64.
     fn pose<'py>(&self, py: Python<'py>, index: i64) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let instance = usize::try_from(index)
-            .ok()
-            .and_then(|i| self.scene.instances().get(i))
-            .ok_or_else(|| {
-                value_error(
-                    "index",
-                    format!("{index} is out of range: the scene has {} instances", self.scene.len()),
-                )
-            })?;
-        pose_rows(py, instance.pose())
+        pose_rows(py, self.scene.instances()[self.instance(index)?].pose())
     }
 
     /// Moves instance ``index`` to ``pose``; only the top level is refit.
     fn set_pose(&mut self, index: i64, pose: &Bound<'_, PyAny>) -> PyResult<()> {
-        let count = self.scene.len();
-        let i = usize::try_from(index).ok().filter(|&i| i < count).ok_or_else(|| {
-            value_error(
-                "index",
-                format!("{index} is out of range: the scene has {count} instances"),
-            )
-        })?;
+        let i = self.instance(index)?;
         let pose = poses::one(Some(pose), "pose")?;
         self.scene.set_pose(i, pose).map_err(|e| value_error("pose", e))
     }
@@ -98,13 +96,7 @@ impl PyScene {
         index: i64,
         positions: &Bound<'py, PyAny>,
     ) -> PyResult<Vec<(&'static str, bool, f64)>> {
-        let count = self.scene.len();
-        let i = usize::try_from(index).ok().filter(|&i| i < count).ok_or_else(|| {
-            value_error(
-                "index",
-                format!("{index} is out of range: the scene has {count} instances"),
-            )
-        })?;
+        let i = self.instance(index)?;
         let positions = arrays::points(positions, "positions", Check::Finite)?;
         let positions = positions.as_slice();
         let updated = py
