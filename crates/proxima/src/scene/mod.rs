@@ -128,16 +128,19 @@ fn hull_points(mesh: &MeshIndex) -> Result<Vec<Vec3>, IndexError> {
     Ok(boxes
         .into_iter()
         .filter(|b| !b.is_empty())
-        .flat_map(|b| {
-            (0..8).map(move |c| {
-                Vec3::new(
-                    if c & 1 == 0 { b.min.x } else { b.max.x },
-                    if c & 2 == 0 { b.min.y } else { b.max.y },
-                    if c & 4 == 0 { b.min.z } else { b.max.z },
-                )
-            })
-        })
+        .flat_map(|b| corners(&b))
         .collect())
+}
+
+/// The eight corners of `b`.
+fn corners(b: &Aabb) -> [Vec3; 8] {
+    std::array::from_fn(|c| {
+        Vec3::new(
+            if c & 1 == 0 { b.min.x } else { b.max.x },
+            if c & 2 == 0 { b.min.y } else { b.max.y },
+            if c & 4 == 0 { b.min.z } else { b.max.z },
+        )
+    })
 }
 
 /// An instance's world box: the top-level tree's primitive.
@@ -309,20 +312,11 @@ impl Scene {
         // before anything changes.
         let moved = Aabb::from_points(positions.iter().copied());
         if !moved.is_empty() {
-            let corners: Arc<[Vec3]> = (0..8)
-                .map(|c| {
-                    let pick = |bit: usize, lo: f32, hi: f32| if c & bit == 0 { lo } else { hi };
-                    Vec3::new(
-                        pick(1, moved.min.x, moved.max.x),
-                        pick(2, moved.min.y, moved.max.y),
-                        pick(4, moved.min.z, moved.max.z),
-                    )
-                })
-                .collect();
+            let hull: Arc<[Vec3]> = corners(&moved).into();
             for &j in &sharing {
                 let placed = InstanceBox(
                     Instance {
-                        hull: corners.clone(),
+                        hull: hull.clone(),
                         ..self.instances[j].clone()
                     }
                     .world_bounds(),
