@@ -290,25 +290,18 @@ impl MeshIndex {
         hits: &[Option<ClosestHit>],
         asked: Attributes,
     ) -> TriangleOrdered<Option<SurfaceAnswer>> {
-        let triangles: Vec<u32> = hits.iter().map(|h| h.map_or(u32::MAX, |h| h.primitive)).collect();
-        self.surface_answers(&triangles, Located::Closest { points, hits }, asked)
+        self.surface_answers(Located::Closest { points, hits }, asked)
     }
 
     /// [`closest_surface`](Self::closest_surface) for the first hits of rays
     /// on [`ray_tree`](Self::ray_tree) ([`SurfacePoint::of_ray_hit`](crate::surface::SurfacePoint::of_ray_hit)).
     pub fn ray_surface(&self, hits: &[Option<RayHit>], asked: Attributes) -> TriangleOrdered<Option<SurfaceAnswer>> {
-        let triangles: Vec<u32> = hits.iter().map(|h| h.map_or(u32::MAX, |h| h.primitive)).collect();
-        self.surface_answers(&triangles, Located::Rays(hits), asked)
+        self.surface_answers(Located::Rays(hits), asked)
     }
 
-    /// The surface answers of the batch `located`, whose answer `i` lies on
-    /// triangle `triangles[i]` (`u32::MAX` for no answer).
-    fn surface_answers(
-        &self,
-        triangles: &[u32],
-        located: Located<'_>,
-        asked: Attributes,
-    ) -> TriangleOrdered<Option<SurfaceAnswer>> {
+    /// The surface answers of the batch `located`.
+    fn surface_answers(&self, located: Located<'_>, asked: Attributes) -> TriangleOrdered<Option<SurfaceAnswer>> {
+        let triangles = located.triangles();
         // The vertex normals are read only where corner normals are missing,
         // and not made for a batch without answers.
         let normals = match asked.normals && !triangles.is_empty() && self.mesh.corner_normals().is_none() {
@@ -316,7 +309,7 @@ impl MeshIndex {
             false => &[],
         };
         let work = |block: &[u32], out: &mut [_]| answer_groups(&self.mesh, normals, asked, located, block, out);
-        in_triangle_order_blocks(triangles, None, work)
+        in_triangle_order_blocks(&triangles, None, work)
     }
 
     /// The signed distance of every point, signed by `sign`, with its

@@ -48,8 +48,8 @@ pub fn signed_distance_gradients<'a, E>(
     pseudonormals: impl FnOnce() -> Result<Cow<'a, Pseudonormals>, E>,
 ) -> Result<Vec<Option<SdfGradient>>, E> {
     let hits: Vec<Option<ClosestHit>> = answers.iter().map(|a| a.map(|a| a.closest)).collect();
-    let triangles: Vec<u32> = hits.iter().map(|h| h.map_or(u32::MAX, |h| h.primitive)).collect();
     let located = Located::Closest { points, hits: &hits };
+    let triangles = located.triangles();
     let work = |block: &[u32], out: &mut [Option<(SdfGradient, bool)>]| {
         // A group's surface points, then their gradients while the
         // triangles' corners are still in cache.

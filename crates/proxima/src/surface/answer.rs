@@ -97,6 +97,16 @@ pub(crate) enum Located<'a> {
 }
 
 impl Located<'_> {
+    /// Each answer's fan triangle, `u32::MAX` where there is no answer: the
+    /// key of [`in_triangle_order_blocks`](super::in_triangle_order_blocks).
+    pub(crate) fn triangles(&self) -> Vec<u32> {
+        let triangle = |primitive: Option<u32>| primitive.unwrap_or(u32::MAX);
+        match self {
+            Located::Closest { hits, .. } => hits.iter().map(|h| triangle(h.map(|h| h.primitive))).collect(),
+            Located::Rays(hits) => hits.iter().map(|h| triangle(h.map(|h| h.primitive))).collect(),
+        }
+    }
+
     /// What answer `i` reads of the batch: its face and fan triangle, and
     /// its query point or its ray hit's `u`, `v` (in the first two lanes).
     #[inline]
@@ -148,11 +158,12 @@ struct Corners {
 
 /// The answers `block` (input indices) of `located` with the attributes
 /// `asked`, written to `out` (as long as `block`); those without an answer
-/// are left as they are. Each group of [`GROUP`] answers is taken in four passes: what
-/// they read of the batch, their fan triangles, every corner value they
-/// read, then the arithmetic, so that the loads of a pass do not wait on one another
-/// (about twice as fast as one answer after another: docs/perf-log.md). Each
-/// answer equals [`SurfaceAnswer::new`] of the surface point located alone.
+/// are left as they are. Each group of [`GROUP`] answers is taken in four
+/// passes: what they read of the batch, their fan triangles, every corner
+/// value they read, then the arithmetic, so that the loads of a pass do
+/// not wait on one another (about twice as fast as one answer after
+/// another: docs/perf-log.md). Each answer equals [`SurfaceAnswer::new`]
+/// of the surface point located alone.
 pub(crate) fn answer_groups(
     mesh: &Mesh,
     normals: &[Vec3],
