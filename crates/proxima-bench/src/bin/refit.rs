@@ -18,7 +18,8 @@
 //! surface and `N` rays, on the refit index and on a fresh one, after the
 //! wave and after a swirl of half a turn (refit, then with the default
 //! policy's rebuild). Rounds alternate between variants; the best of `R`
-//! (default 5) is kept. Prints one markdown table.
+//! (default 5) is kept. Prints one markdown table. With `--updates K`,
+//! only `K` updates of the index, each timed (for a profiler).
 
 use proxima::index::{IndexConfig, MeshIndex, RefitPolicy};
 use proxima::prelude::*;
@@ -99,6 +100,16 @@ fn main() {
         };
         let mut index = MeshIndex::with_config(mesh.clone(), refit_config.clone());
         build_all(&index);
+        // `--updates K`: only K updates of the index, for a profiler.
+        let updates = flag_value(&args, "--updates", 0.0) as usize;
+        if updates > 0 {
+            for k in 0..updates {
+                let to = if k % 2 == 0 { &waved } else { &rest };
+                let seconds = timed(|| drop(index.update_vertices(to).unwrap()));
+                println!("update {k}: {seconds:.4} s");
+            }
+            return;
+        }
         let mut flip = false;
         let [build, refit] = best(
             rounds,

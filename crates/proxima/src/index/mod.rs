@@ -267,15 +267,17 @@ impl MeshIndex {
             Sign::WindingNumber => &self.winding,
             Sign::Pseudonormal => &self.pseudonormal,
         };
-        lazy.get_or_try_init(|| {
+        let field = lazy.get_or_try_init(|| {
             let tree = self.shared_tree::<Triangle>()?.clone();
             let config = SdfConfig {
                 sign,
                 certify: self.config.certify_sign,
                 ..SdfConfig::default()
             };
-            Ok(SignedDistanceField::with_tree(tree, &self.mesh, &config))
-        })
+            Ok::<_, IndexError>(SignedDistanceField::with_tree(tree, &self.mesh, &config))
+        })?;
+        field.certify_when_due(&self.mesh);
+        Ok(field)
     }
 
     /// Where on the surface each closest-point answer of

@@ -6,8 +6,8 @@ use crate::build::MAX_COORDINATE;
 use crate::kind::{KindGeneric, MeshPrimitive, PrimitiveKind};
 use crate::math::Vec3;
 use crate::mesh::MeshError;
-use crate::sdf::Sign;
-use crate::{RayTree, WideTree};
+use crate::sdf::SignedDistanceField;
+use crate::{RayTree, Triangle, WideTree};
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -116,8 +116,11 @@ impl MeshIndex {
         // The fields and oriented boxes hold or read the faces' tree: out of
         // the way first, so that the refit finds the tree unshared.
         let fields = [
-            (Sign::WindingNumber, self.winding.take().is_some()),
-            (Sign::Pseudonormal, self.pseudonormal.take().is_some()),
+            ("winding", self.winding.take().map(SignedDistanceField::detach)),
+            (
+                "pseudonormal",
+                self.pseudonormal.take().map(SignedDistanceField::detach),
+            ),
         ];
         let oriented = self.oriented.take().is_some();
         let normals = self.normals.take().is_some();
@@ -133,13 +136,18 @@ impl MeshIndex {
             rebuilt: false,
             cost_ratio: 1.0,
         };
-        for (sign, built) in fields {
-            if built {
-                self.field(sign)?;
-                report.push(recomputed(match sign {
-                    Sign::WindingNumber => "winding",
-                    Sign::Pseudonormal => "pseudonormal",
-                }));
+        let faces_rebuilt = report
+            .iter()
+            .any(|u| u.structure == PrimitiveKind::Faces.name() && u.rebuilt);
+        for (structure, detached) in fields {
+            if let Some(detached) = detached {
+                let tree = self.shared_tree::<Triangle>()?.clone();
+                let field = detached.attach(tree, &self.mesh, faces_rebuilt);
+                match structure {
+                    "winding" => self.winding.put(field),
+                    _ => self.pseudonormal.put(field),
+                }
+                report.push(recomputed(structure));
             }
         }
         self.update_ray_tree(policy, &mut report)?;

@@ -13,6 +13,7 @@ use crate::mesh::Mesh;
 use crate::query::{BatchOptions, CHUNK, answer_batch_indexed, closest_chunk, in_chunks};
 use crate::query::{ClosestHit, NearestQuery, SpatialIndex};
 use crate::wide_tree::WideTree;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, OnceLock};
 
 /// How the side of a point (inside or outside) is decided.
@@ -124,9 +125,84 @@ pub struct SignedDistanceField {
     beta: f32,
     /// For the pseudonormal sign (a certificate holds its own).
     pseudonormals: Option<Pseudonormals>,
-    certificate: Option<Arc<SignCertificate>>,
+    certificate: OnceLock<Arc<SignCertificate>>,
+    /// Set when the mesh's vertices have moved since the certificate was
+    /// made: it is made again later, if the queries pay for it.
+    deferred: Option<Deferred>,
     sign: Sign,
     exact: bool,
+}
+
+/// A certificate not made again when the mesh's vertices moved (finding
+/// its crossings again costs several closest-point batches over the whole
+/// mesh, more than most frames of a moving mesh ask), but once the signed
+/// distances answered without it have cost about what making it costs.
+#[derive(Debug)]
+struct Deferred {
+    /// Signed distances answered by the walked winding number since.
+    walked: AtomicUsize,
+    /// When `walked` reaches this, the certificate is made: half the
+    /// triangle count. Making it costs about 0.8 µs per triangle on the
+    /// dragon, and saves about 1.7 µs per signed distance near its surface
+    /// (docs/perf-log.md): never more than about twice the better choice,
+    /// in hindsight, of making it at once or never.
+    due: usize,
+}
+
+impl Clone for Deferred {
+    fn clone(&self) -> Self {
+        Self {
+            walked: AtomicUsize::new(self.walked.load(Ordering::Relaxed)),
+            due: self.due,
+        }
+    }
+}
+
+/// A field without its tree, while the tree is refit to moved vertices
+/// ([`SignedDistanceField::detach`]).
+#[derive(Debug)]
+pub(crate) struct Detached {
+    winding: Option<WindingNumbers>,
+    beta: f32,
+    pseudonormals: Option<Pseudonormals>,
+    certify: bool,
+    sign: Sign,
+    exact: bool,
+}
+
+impl Detached {
+    /// The field again, on `tree`, the detached field's tree refit to
+    /// `mesh`'s moved vertices (`rebuilt`: built anew instead): the winding
+    /// numbers and the pseudonormals refit over it, the certificate
+    /// [deferred](Deferred).
+    pub(crate) fn attach(self, tree: Arc<WideTree<Triangle>>, mesh: &Mesh, rebuilt: bool) -> SignedDistanceField {
+        let winding = OnceLock::new();
+        if let Some(mut numbers) = self.winding {
+            if rebuilt {
+                numbers = WindingNumbers::new(&tree, self.beta);
+            } else {
+                numbers.refit(&tree);
+            }
+            let _ = winding.set(numbers);
+        }
+        let mut pseudonormals = self.pseudonormals;
+        if let Some(normals) = &mut pseudonormals {
+            normals.refit(mesh);
+        }
+        SignedDistanceField {
+            tree,
+            winding,
+            beta: self.beta,
+            pseudonormals,
+            certificate: OnceLock::new(),
+            deferred: self.certify.then(|| Deferred {
+                walked: AtomicUsize::new(0),
+                due: mesh.triangle_count() / 2,
+            }),
+            sign: self.sign,
+            exact: self.exact,
+        }
+    }
 }
 
 impl SignedDistanceField {
@@ -160,11 +236,11 @@ impl SignedDistanceField {
         // Built now when every signed distance needs it, so that a field's
         // build time holds all of its build.
         let winding = OnceLock::new();
-        let mut certificate = None;
+        let certificate = OnceLock::new();
         if config.sign == Sign::WindingNumber && !config.exact {
             let numbers = winding.get_or_init(|| WindingNumbers::new(&tree, config.beta));
             if config.certify {
-                certificate = Some(Arc::new(SignCertificate::new(mesh, &tree, numbers)));
+                let _ = certificate.set(Arc::new(SignCertificate::new(mesh, &tree, numbers)));
             }
         }
         let pseudonormals = (config.sign == Sign::Pseudonormal).then(|| Pseudonormals::new(mesh));
@@ -174,8 +250,45 @@ impl SignedDistanceField {
             beta: config.beta,
             pseudonormals,
             certificate,
+            deferred: None,
             sign: config.sign,
             exact: config.exact,
+        }
+    }
+
+    /// The field without its tree (so that the tree, unshared, can be refit
+    /// in place), to [attach](Detached::attach) to it again.
+    pub(crate) fn detach(self) -> Detached {
+        Detached {
+            certify: self.certificate.get().is_some() || self.deferred.is_some(),
+            winding: self.winding.into_inner(),
+            beta: self.beta,
+            pseudonormals: self.pseudonormals,
+            sign: self.sign,
+            exact: self.exact,
+        }
+    }
+
+    /// Makes the [deferred](Deferred) certificate once the queries answered
+    /// without it have paid for it; `mesh` is the field's mesh, as it is now.
+    pub(crate) fn certify_when_due(&self, mesh: &Mesh) {
+        if let Some(deferred) = &self.deferred
+            && self.certificate.get().is_none()
+            && deferred.walked.load(Ordering::Relaxed) >= deferred.due
+        {
+            self.certificate
+                .get_or_init(|| Arc::new(SignCertificate::new(mesh, &self.tree, self.winding_numbers())));
+        }
+    }
+
+    /// Counts `n` signed distances answered while a deferred certificate
+    /// is not made yet.
+    #[inline]
+    fn count_walked(&self, n: usize) {
+        if let Some(deferred) = &self.deferred
+            && self.certificate.get().is_none()
+        {
+            deferred.walked.fetch_add(n, Ordering::Relaxed);
         }
     }
 
@@ -189,14 +302,16 @@ impl SignedDistanceField {
     pub fn pseudonormals(&self) -> Option<&Pseudonormals> {
         self.pseudonormals
             .as_ref()
-            .or_else(|| self.certificate.as_deref().map(SignCertificate::pseudonormals))
+            .or_else(|| self.certificate.get().map(|c| c.pseudonormals()))
     }
 
     /// The certificate that decides the winding number's side from the
     /// closest query, in a field signed by winding numbers and made with
-    /// [`SdfConfig::certify`].
+    /// [`SdfConfig::certify`]. After [`MeshIndex::update_vertices`](crate::index::MeshIndex::update_vertices)
+    /// it is made again only once the index's signed distances answered
+    /// without it number half the mesh's triangles (`None` until then).
     pub fn certificate(&self) -> Option<&SignCertificate> {
-        self.certificate.as_deref()
+        self.certificate.get().map(|c| &**c)
     }
 
     /// The winding numbers' tree of expansions.
@@ -246,10 +361,17 @@ impl SignedDistanceField {
     /// The closest query's answer `closest` at `p`, signed.
     #[inline]
     pub(crate) fn signed_answer(&self, p: Vec3, closest: ClosestHit) -> SignedDistance {
+        self.count_walked(1);
+        self.sign_answer(p, closest)
+    }
+
+    /// [`signed_answer`](Self::signed_answer) without the count.
+    #[inline]
+    fn sign_answer(&self, p: Vec3, closest: ClosestHit) -> SignedDistance {
         let (inside, winding_number) = match (self.sign, &self.pseudonormals) {
             (Sign::Pseudonormal, Some(normals)) => (normals.is_inside(closest.primitive, p), None),
             _ => {
-                let certified = self.certificate.as_ref().and_then(|c| c.winding_number(&closest, p));
+                let certified = self.certificate.get().and_then(|c| c.winding_number(&closest, p));
                 let w = certified.unwrap_or_else(|| self.winding_number(p));
                 (w > 0.5, Some(w))
             }
@@ -276,12 +398,14 @@ impl SignedDistanceField {
             // The records of the answers a few ahead are fetched while this
             // one is signed: their misses overlap.
             const AHEAD: usize = 8;
+            let certificate = self.certificate.get();
             for k in 0..chunk.len() {
-                if let (Some(certificate), Some(Some(ahead))) = (&self.certificate, hits.get(k + AHEAD)) {
+                if let (Some(certificate), Some(Some(ahead))) = (certificate, hits.get(k + AHEAD)) {
                     certificate.prefetch(ahead.primitive);
                 }
-                out[k] = hits[k].map(|hit| self.signed_answer(chunk[k], hit));
+                out[k] = hits[k].map(|hit| self.sign_answer(chunk[k], hit));
             }
+            self.count_walked(chunk.len());
         })
     }
 

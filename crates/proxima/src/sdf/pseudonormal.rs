@@ -12,12 +12,13 @@
 //! Vertices are welded by exact position first, so meshes stored as
 //! separate triangles (STL) get the normals of their shared edges.
 
+use crate::grid::FastHash;
 use crate::math::{DVec3, Vec3};
 use crate::memory::prefetch;
 use crate::mesh::Mesh;
 use crate::surface::normals::angle_weighted_sums;
 use rayon::prelude::*;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 /// The feature of a triangle that a point's closest point lies on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -51,10 +52,68 @@ pub enum Feature {
 pub struct Pseudonormals {
     /// Per triangle, all a query reads: one record, about two cache lines.
     triangles: Vec<TriangleNormals>,
+    /// Kept once the pseudonormals have been [refit](Self::refit).
+    welding: Option<Box<Welding>>,
+}
+
+/// What a mesh's pseudonormals depend on besides its positions: the weld
+/// and the edges. Pseudonormals refit to moved vertices keep it, and make
+/// it again only where the weld no longer holds.
+#[derive(Clone, Debug)]
+struct Welding {
+    /// Per vertex of the mesh, its welded vertex.
+    weld: Vec<u32>,
+    /// Per welded vertex, the first vertex welded to it.
+    first: Vec<u32>,
+    corners: Vec<[u32; 3]>,
+    edges: Vec<(u64, u32)>,
+}
+
+impl Welding {
+    fn new(mesh: &Mesh) -> Self {
+        let (_, weld, corners) = welded(mesh);
+        let mut first = Vec::new();
+        for (v, &w) in weld.iter().enumerate() {
+            if w as usize == first.len() {
+                first.push(v as u32);
+            }
+        }
+        let edges = half_edges(&corners, first.len());
+        Self {
+            weld,
+            first,
+            corners,
+            edges,
+        }
+    }
+
+    /// Whether welding `positions` gives this weld: each vertex at the
+    /// position of the first vertex of its welded vertex, and those
+    /// positions all different (bit for bit, with -0 and +0 alike).
+    fn holds(&self, positions: &[Vec3]) -> bool {
+        if positions.len() != self.weld.len() {
+            return false;
+        }
+        let key = |v: u32| weld_key(positions[v as usize]);
+        if !self
+            .weld
+            .iter()
+            .enumerate()
+            .all(|(v, &w)| key(v as u32) == key(self.first[w as usize]))
+        {
+            return false;
+        }
+        // The keys folded to 64 bits: equal folds of different keys only
+        // make the weld again (a false "no"), never keep a wrong one.
+        let fold =
+            |k: [u32; 3]| ((k[0] as u64) << 32 | k[1] as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15) ^ (k[2] as u64);
+        let mut seen = HashSet::with_capacity_and_hasher(self.first.len(), FastHash);
+        self.first.iter().all(|&v| seen.insert(fold(key(v))))
+    }
 }
 
 /// A triangle's corners and the pseudonormals of its edges and corners.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[repr(C, align(16))]
 struct TriangleNormals {
     corners: [[f32; 3]; 3],
@@ -80,6 +139,26 @@ impl Pseudonormals {
         Self::from_welded(&positions, &corners, &edges)
     }
 
+    /// The pseudonormals of `mesh`, whose vertices have moved since these
+    /// were made (the same faces): equal to [`new`](Self::new)'s. The weld
+    /// and the edges of the last refit are kept where the weld still holds,
+    /// so that a mesh moved again and again is not welded and its edges
+    /// are not sorted each time.
+    pub(crate) fn refit(&mut self, mesh: &Mesh) {
+        let positions = mesh.positions();
+        let welding = match self.welding.take() {
+            Some(welding) if welding.holds(positions) => welding,
+            _ => Box::new(Welding::new(mesh)),
+        };
+        let welded: Vec<DVec3> = welding
+            .first
+            .iter()
+            .map(|&v| positions[v as usize].as_dvec3())
+            .collect();
+        *self = Self::from_welded(&welded, &welding.corners, &welding.edges);
+        self.welding = Some(welding);
+    }
+
     /// The pseudonormals of triangles `corners` (vertex indices into
     /// `positions`, already welded: one index per position), `edges` their
     /// [`half_edges`].
@@ -103,7 +182,10 @@ impl Pseudonormals {
                 triangles[h as usize / 3].edges[h as usize % 3] = to_f32(sum);
             }
         }
-        Self { triangles }
+        Self {
+            triangles,
+            welding: None,
+        }
     }
 
     /// The feature of triangle `triangle` nearest to `p` (Voronoi regions, in `f64`).
@@ -225,12 +307,23 @@ pub(crate) fn half_edges(corners: &[[u32; 3]], vertices: usize) -> Vec<(u64, u32
 /// `mesh`'s positions welded ([`weld`]) in `f64`, and its triangles'
 /// vertex indices ([`Mesh::triangle_vertex_indices`]) into them.
 pub(crate) fn welded_triangles(mesh: &Mesh) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+    let (positions, _, corners) = welded(mesh);
+    (positions, corners)
+}
+
+/// [`welded_triangles`], with each vertex's welded index.
+fn welded(mesh: &Mesh) -> (Vec<DVec3>, Vec<u32>, Vec<[u32; 3]>) {
     let (positions, weld) = weld(mesh.positions());
     let mut corners = mesh.triangle_vertex_indices();
     for c in &mut corners {
         *c = c.map(|v| weld[v as usize]);
     }
-    (positions, corners)
+    (positions, weld, corners)
+}
+
+/// What the weld compares: the bits of a position, with -0 and +0 alike.
+fn weld_key(p: Vec3) -> [u32; 3] {
+    (p + Vec3::ZERO).to_array().map(f32::to_bits)
 }
 
 /// Positions without repeats (equal bit for bit, with -0 and +0 alike), and
@@ -241,8 +334,7 @@ fn weld(positions: &[Vec3]) -> (Vec<DVec3>, Vec<u32>) {
     let map = positions
         .iter()
         .map(|p| {
-            let bits = (*p + Vec3::ZERO).to_array().map(f32::to_bits);
-            *index.entry(bits).or_insert_with(|| {
+            *index.entry(weld_key(*p)).or_insert_with(|| {
                 welded.push(p.as_dvec3());
                 (welded.len() - 1) as u32
             })
@@ -330,6 +422,51 @@ mod tests {
         assert_eq!(f(0.5, -1.0), Feature::Edge(0));
         assert_eq!(f(1.0, 1.0), Feature::Edge(1));
         assert_eq!(f(-1.0, 0.5), Feature::Edge(2));
+    }
+
+    /// Refit after refit, the pseudonormals are those made anew: while the
+    /// weld holds (noise), when vertices come to share a position (the weld
+    /// merges them) and when they part again.
+    #[test]
+    fn refits_equal_new_pseudonormals_as_the_weld_changes() {
+        let mesh = crate::mesh::generate::noisy_icosphere(6, 3);
+        let mut normals = Pseudonormals::new(&mesh);
+        let mut rng = crate::sample::Rng::new(4);
+        let rest = mesh.positions().to_vec();
+        let noise = |rng: &mut crate::sample::Rng| -> Vec<Vec3> {
+            rest.iter()
+                .map(|p| *p + Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)) * 0.01)
+                .collect()
+        };
+        let mut collapsed = noise(&mut rng);
+        for k in (0..collapsed.len()).step_by(5) {
+            collapsed[k] = collapsed[1];
+        }
+        // Vertex 7 on vertex 8's position: weld unchanged at vertex 7 itself,
+        // but two welded vertices now meet.
+        let mut meeting = noise(&mut rng);
+        meeting[7] = meeting[8];
+        let steps = [
+            noise(&mut rng),
+            noise(&mut rng),
+            noise(&mut rng),
+            collapsed,
+            noise(&mut rng),
+            meeting,
+            rest.clone(),
+        ];
+        let mut moved = mesh.clone();
+        let mut kept = 0;
+        for (step, positions) in steps.iter().enumerate() {
+            moved.set_positions(positions).unwrap();
+            let held = normals.welding.as_ref().is_some_and(|w| w.holds(positions));
+            kept += held as usize;
+            normals.refit(&moved);
+            assert!(normals.triangles == Pseudonormals::new(&moved).triangles, "step {step}");
+        }
+        // Kept by the second and third noise steps only: the first makes
+        // the weld, the others change it.
+        assert_eq!(kept, 2);
     }
 
     #[test]

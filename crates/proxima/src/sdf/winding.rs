@@ -37,6 +37,7 @@ use crate::query::SpatialIndex;
 #[cfg(target_arch = "x86_64")]
 use crate::simd::{Avx2, Avx2Task};
 use crate::wide_tree::{WideChild, WideTree};
+use rayon::prelude::*;
 use std::ops::Range;
 use wide::f32x4;
 
@@ -253,6 +254,8 @@ pub struct WindingNumbers {
     /// wide tree's: a query's loads are mostly cache and TLB misses.
     nodes: HugePageArray<WindingNode>,
     packets: HugePageArray<Packet>,
+    /// Where the lanes' expansions and packets lie, for a refit.
+    layout: Layout,
     frame: Frame,
     beta: f32,
     /// Present when the walk runs compiled for AVX2 (VEX encodings of the
@@ -270,23 +273,55 @@ impl WindingNumbers {
         // A walk's stack names a leaf lane by 4 · node + lane below bit 31;
         // a tree with 2^29 wide nodes would hold billions of triangles.
         assert!(tree.node_count() < 1 << 29, "too many wide nodes for the winding walk");
-        let mut build = Build {
-            tree,
-            frame,
-            nodes: vec![WindingNode::EMPTY; tree.node_count()],
-            packets: Vec::with_capacity(tree.len() / 3 + 1),
-        };
-        if tree.node_count() > 0 {
-            build.node(0);
-        }
+        let (layout, mut nodes) = Layout::new(tree);
+        let mut packets = vec![Packet::default(); layout.slots.len()];
+        fill(tree, &frame, &layout, &mut nodes, &mut packets);
         Self {
-            nodes: HugePageArray::new(build.nodes),
-            packets: HugePageArray::new(build.packets),
+            nodes: HugePageArray::new(nodes),
+            packets: HugePageArray::new(packets),
+            layout,
             frame,
             beta: if beta.is_finite() { beta.max(1.0) } else { 1.0 },
             #[cfg(target_arch = "x86_64")]
             avx2: Avx2::detect(),
         }
+    }
+
+    /// The expansions again over `tree`, the tree they were made on, refit
+    /// to moved triangles ([`WideTree::refit`]): equal to
+    /// [`new`](Self::new) on the refit tree, without laying the tree out
+    /// again or allocating.
+    ///
+    /// ```
+    /// use proxima::prelude::*;
+    /// use proxima::sdf::WindingNumbers;
+    /// let mesh = proxima::mesh::generate::noisy_icosphere(6, 1);
+    /// let mut tree = WideTree::build_set(mesh.triangles(), &Default::default()).unwrap();
+    /// let mut winding = WindingNumbers::new(&tree, 1.5);
+    /// let mut moved = mesh.clone();
+    /// moved.set_positions(&mesh.positions().iter().map(|p| *p * 2.0 + Vec3::X).collect::<Vec<_>>()).unwrap();
+    /// tree.refit(&moved.triangles()).unwrap();
+    /// winding.refit(&tree);
+    /// let p = Vec3::new(0.9, 0.3, 0.2);
+    /// assert_eq!(winding.winding_number(p), WindingNumbers::new(&tree, 1.5).winding_number(p));
+    /// ```
+    ///
+    /// # Panics
+    /// When `tree`'s shape is not the one the expansions were made on.
+    pub fn refit(&mut self, tree: &WideTree<Triangle>) {
+        assert!(
+            tree.node_count() == self.nodes.len()
+                && self.layout.slots.last().map_or(0, |s| s.end as usize) <= tree.len(),
+            "winding numbers refit on another tree"
+        );
+        self.frame = Frame::new(&tree.bounds());
+        fill(
+            tree,
+            &self.frame,
+            &self.layout,
+            self.nodes.as_mut_slice(),
+            self.packets.as_mut_slice(),
+        );
     }
 
     /// Runs the walk compiled for AVX2 or not (on by default where the CPU
@@ -413,67 +448,144 @@ impl WindingNumbers {
     }
 }
 
-/// The expansions of a wide tree, made depth first.
-struct Build<'a> {
-    tree: &'a WideTree<Triangle>,
-    frame: Frame,
-    nodes: Vec<WindingNode>,
-    packets: Vec<Packet>,
+/// Where each lane's expansion and packets lie, depth first (a leaf
+/// lane's packets follow those of the lanes before it, so that a subtree's
+/// packets are contiguous): the tree's shape alone.
+#[derive(Clone, Debug)]
+struct Layout {
+    /// Each packet's leaf-order slots.
+    slots: Vec<Range<u32>>,
+    /// Per node and lane, the packets of the lane's subtree.
+    subtrees: Vec<[Range<u32>; 4]>,
 }
 
-impl Build<'_> {
-    /// Fills node `index` and returns the sums of its whole subtree and the
-    /// subtree's leaf-order slots (a subtree's slots are contiguous).
-    fn node(&mut self, index: usize) -> (Sums, Range<usize>) {
-        let tree = self.tree;
-        let triangles = tree.leaves().primitives();
-        let mut node = WindingNode::EMPTY;
-        let mut total = Sums::default();
-        let (mut first, mut end) = (usize::MAX, 0);
-        for lane in 0..4 {
-            let (sums, slots) = match tree.child(index, lane) {
-                WideChild::Empty => continue,
-                WideChild::Inner(child) => {
-                    node.child[lane] = child as u32;
-                    node.count[lane] = INNER;
-                    self.node(child)
-                }
-                WideChild::Leaf(slots) => {
-                    node.child[lane] = self.packets.len() as u32;
-                    node.count[lane] = slots.len().div_ceil(4) as u32;
-                    let mut sums = Sums::default();
-                    for four in triangles[slots.clone()].chunks(4) {
-                        let mut packet = Packet::default();
-                        for (i, t) in four.iter().enumerate() {
-                            sums.add(&Sums::triangle(t, &self.frame));
-                            let [a, b, c] = [t.a, t.b, t.c].map(|v| self.frame.local(v));
-                            for axis in 0..3 {
-                                packet.a[axis][i] = a[axis];
-                                packet.b[axis][i] = b[axis];
-                                packet.c[axis][i] = c[axis];
-                            }
-                        }
-                        self.packets.push(packet);
-                    }
-                    (sums, slots)
-                }
-            };
-            let centre = if sums.area > 0.0 {
-                sums.weighted_centre / sums.area
-            } else {
-                self.frame.local_f64(tree.nodes()[index].child_bounds(lane).center())
-            };
-            let radius_squared = triangles[slots.clone()]
-                .iter()
-                .flat_map(|t| [t.a, t.b, t.c])
-                .map(|v| (self.frame.local_f64(v) - centre).length_squared())
-                .fold(0.0, f64::max);
-            set_lane(&mut node, lane, &sums, centre, radius_squared);
-            total.add(&sums);
-            (first, end) = (first.min(slots.start), end.max(slots.end));
+impl Layout {
+    /// The layout of `tree`, and its nodes with `child` and `count` set.
+    fn new(tree: &WideTree<Triangle>) -> (Self, Vec<WindingNode>) {
+        let mut nodes = vec![WindingNode::EMPTY; tree.node_count()];
+        let mut layout = Self {
+            slots: Vec::with_capacity(tree.len() / 3 + 1),
+            subtrees: vec![[0..0, 0..0, 0..0, 0..0]; tree.node_count()],
+        };
+        if !nodes.is_empty() {
+            layout.visit(tree, 0, &mut nodes);
         }
-        self.nodes[index] = node;
-        (total, first..end)
+        (layout, nodes)
+    }
+
+    fn visit(&mut self, tree: &WideTree<Triangle>, index: usize, nodes: &mut [WindingNode]) {
+        for lane in 0..4 {
+            let first = self.slots.len() as u32;
+            match tree.child(index, lane) {
+                WideChild::Empty => {}
+                WideChild::Inner(child) => {
+                    nodes[index].child[lane] = child as u32;
+                    nodes[index].count[lane] = INNER;
+                    self.visit(tree, child, nodes);
+                }
+                WideChild::Leaf(leaf) => {
+                    nodes[index].child[lane] = first;
+                    nodes[index].count[lane] = leaf.len().div_ceil(4) as u32;
+                    let (start, end) = (leaf.start as u32, leaf.end as u32);
+                    self.slots.extend((start..end).step_by(4).map(|s| s..(s + 4).min(end)));
+                }
+            }
+            self.subtrees[index][lane] = first..self.slots.len() as u32;
+        }
+    }
+}
+
+/// Fills the expansions and packets laid out in `layout` from `tree`'s
+/// triangles, as they are now: the packets and leaf lanes in parallel,
+/// the inner lanes' sums from their children's, children before parents
+/// (a node's children come after it in the array), then every lane's
+/// radius in parallel. A refit runs it again on the same layout, so that it
+/// gives what a build over the refit tree gives.
+fn fill(tree: &WideTree<Triangle>, frame: &Frame, layout: &Layout, nodes: &mut [WindingNode], packets: &mut [Packet]) {
+    let triangles = tree.leaves().primitives();
+    let slots = |r: &Range<u32>| r.start as usize..r.end as usize;
+    packets
+        .par_iter_mut()
+        .zip(&layout.slots)
+        .with_min_len(1024)
+        .for_each(|(packet, range)| {
+            *packet = Packet::default();
+            for (i, t) in triangles[slots(range)].iter().enumerate() {
+                for (corner, v) in [(&mut packet.a, t.a), (&mut packet.b, t.b), (&mut packet.c, t.c)] {
+                    let local = frame.local(v);
+                    for axis in 0..3 {
+                        corner[axis][i] = local[axis];
+                    }
+                }
+            }
+        });
+    // Each node's sums over its whole subtree: its leaf lanes' first.
+    let mut totals = vec![Sums::default(); nodes.len()];
+    nodes
+        .par_iter_mut()
+        .zip(&mut totals)
+        .enumerate()
+        .with_min_len(64)
+        .for_each(|(index, (node, total))| {
+            for lane in 0..4 {
+                let WideChild::Leaf(leaf) = tree.child(index, lane) else {
+                    continue;
+                };
+                let leaf = &triangles[leaf];
+                let sums = leaf.iter().fold(Sums::default(), |mut sums, t| {
+                    sums.add(&Sums::triangle(t, frame));
+                    sums
+                });
+                set_lane(node, lane, &sums, centre(&sums, tree, index, lane, frame));
+                total.add(&sums);
+            }
+        });
+    for index in (0..nodes.len()).rev() {
+        for lane in 0..4 {
+            if nodes[index].count[lane] == INNER {
+                let sums = totals[nodes[index].child[lane] as usize];
+                set_lane(&mut nodes[index], lane, &sums, centre(&sums, tree, index, lane, frame));
+                totals[index].add(&sums);
+            }
+        }
+    }
+    // Each lane's radius: the largest distance from its centre, as the
+    // walk reads it, to the vertices of its subtree's packets (in `f32`,
+    // each difference rounded once: relative errors of about 1e-7, which
+    // the radius's rounding up covers).
+    let packets = &*packets;
+    nodes
+        .par_iter_mut()
+        .enumerate()
+        .with_min_len(16)
+        .for_each(|(index, node)| {
+            for lane in 0..4 {
+                if node.count[lane] == 0 {
+                    continue;
+                }
+                let [cx, cy, cz] = node.centre.map(|axis| f32x4::splat(axis[lane]));
+                let range = slots(&layout.subtrees[index][lane]);
+                let mut farthest = f32x4::ZERO;
+                for (packet, filled) in packets[range.clone()].iter().zip(&layout.slots[range]) {
+                    let valid = f32x4::new([0, 1, 2, 3].map(|i| if i < filled.len() { 1.0 } else { 0.0 }));
+                    for v in [&packet.a, &packet.b, &packet.c] {
+                        let (dx, dy, dz) = (f32x4::new(v[0]) - cx, f32x4::new(v[1]) - cy, f32x4::new(v[2]) - cz);
+                        farthest = farthest.max((dx * dx + dy * dy + dz * dz) * valid);
+                    }
+                }
+                let radius_squared = farthest.to_array().into_iter().fold(0.0f32, f32::max);
+                set_radius(node, lane, radius_squared as f64);
+            }
+        });
+}
+
+/// The expansion centre of lane `lane` of node `index` with sums `sums`:
+/// its area-weighted centroid, or its box's centre where it has no area.
+fn centre(sums: &Sums, tree: &WideTree<Triangle>, index: usize, lane: usize, frame: &Frame) -> DVec3 {
+    if sums.area > 0.0 {
+        sums.weighted_centre / sums.area
+    } else {
+        frame.local_f64(tree.nodes()[index].child_bounds(lane).center())
     }
 }
 
@@ -496,8 +608,8 @@ impl Avx2Task for WalkTask<'_> {
 }
 
 /// Writes lane `lane` of `node`: the expansion about `centre` of the
-/// triangles summed in `sums`, and the squared radius around `centre`.
-fn set_lane(node: &mut WindingNode, lane: usize, sums: &Sums, centre: DVec3, radius_squared: f64) {
+/// triangles summed in `sums` (its radius is [`set_radius`]'s).
+fn set_lane(node: &mut WindingNode, lane: usize, sums: &Sums, centre: DVec3) {
     let n = sums.normal;
     // First moment about the centre: M = Σ aₜnₜ(cₜ − p̃)ᵀ = second − N p̃ᵀ,
     // m(j, k) = M[j][k]; only its symmetric part reaches the expansion.
@@ -540,8 +652,11 @@ fn set_lane(node: &mut WindingNode, lane: usize, sums: &Sums, centre: DVec3, rad
     for (k, value) in cubic.into_iter().enumerate() {
         node.cubic[k][lane] = value as f32;
     }
-    // Rounded up a little, so that f32 rounding never expands a subtree the
-    // query is too near to.
+}
+
+/// Sets lane `lane`'s squared radius: rounded up a little, so that `f32`
+/// rounding never expands a subtree the query is too near to.
+fn set_radius(node: &mut WindingNode, lane: usize, radius_squared: f64) {
     node.radius_squared[lane] = (radius_squared * (1.0 + 1e-5)) as f32;
 }
 
@@ -611,6 +726,49 @@ mod tests {
     use super::*;
     use crate::sample::Rng;
 
+    /// Refit over a refit tree, the expansions and packets are a build's on
+    /// that tree, bit for bit, after noise, a swirl and faces collapsed to
+    /// a point.
+    #[test]
+    fn refit_equals_a_build_on_the_refit_tree() {
+        let mesh = crate::mesh::generate::noisy_icosphere(7, 2);
+        let mut tree = WideTree::build_set(mesh.triangles(), &Default::default()).unwrap();
+        let mut numbers = WindingNumbers::new(&tree, DEFAULT_BETA);
+        let mut rng = Rng::new(8);
+        let mut moved = mesh.clone();
+        for how in 0..3 {
+            let positions: Vec<Vec3> = mesh
+                .positions()
+                .iter()
+                .enumerate()
+                .map(|(k, &p)| match how {
+                    0 => p + Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)) * 0.05,
+                    1 => Vec3::new(
+                        p.x * p.z.cos() - p.y * p.z.sin(),
+                        p.x * p.z.sin() + p.y * p.z.cos(),
+                        p.z * 3.0,
+                    ),
+                    _ if k % 4 == 0 => Vec3::ONE,
+                    _ => p,
+                })
+                .collect();
+            moved.set_positions(&positions).unwrap();
+            tree.refit(&moved.triangles()).unwrap();
+            numbers.refit(&tree);
+            let fresh = WindingNumbers::new(&tree, DEFAULT_BETA);
+            let bytes = |n: &WindingNumbers| {
+                let nodes: &[u8] = bytemuck::cast_slice(&n.nodes[..]);
+                let packets: &[u8] = bytemuck::cast_slice(&n.packets[..]);
+                [nodes.to_vec(), packets.to_vec()]
+            };
+            assert!(bytes(&numbers) == bytes(&fresh), "deformation {how}");
+            for _ in 0..50 {
+                let p = Vec3::new(rng.range(-3.0, 3.0), rng.range(-3.0, 3.0), rng.range(-3.0, 3.0));
+                assert_eq!(numbers.winding_number(p).to_bits(), fresh.winding_number(p).to_bits());
+            }
+        }
+    }
+
     /// The expansion of a patch of triangles converges to the exact solid
     /// angle as the third power of `ρ / |r|`: doubling the distance divides
     /// the error (relative to the patch's area over `|r|²`) by about 8,
@@ -631,7 +789,8 @@ mod tests {
             }
             let centre = sums.weighted_centre / sums.area;
             let mut node = WindingNode::EMPTY;
-            set_lane(&mut node, 0, &sums, centre, 1.0);
+            set_lane(&mut node, 0, &sums, centre);
+            set_radius(&mut node, 0, 1.0);
             let direction = DVec3::new(0.6, 0.7, 0.39).normalize();
             let mut errors = Vec::new();
             for d in [2.0, 4.0, 8.0] {
