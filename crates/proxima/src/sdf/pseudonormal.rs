@@ -16,7 +16,7 @@ use crate::grid::FastHash;
 use crate::math::{DVec3, Vec3};
 use crate::memory::prefetch;
 use crate::mesh::Mesh;
-use crate::surface::normals::angle_weighted_sums;
+use crate::surface::normals::AngleWeighted;
 use rayon::prelude::*;
 use std::collections::{HashMap, HashSet};
 
@@ -67,6 +67,9 @@ struct Welding {
     first: Vec<u32>,
     corners: Vec<[u32; 3]>,
     edges: Vec<(u64, u32)>,
+    /// The arrays of the last refit, used again.
+    positions: Vec<DVec3>,
+    weighted: AngleWeighted,
 }
 
 impl Welding {
@@ -84,6 +87,8 @@ impl Welding {
             first,
             corners,
             edges,
+            positions: Vec::new(),
+            weighted: AngleWeighted::default(),
         }
     }
 
@@ -146,16 +151,21 @@ impl Pseudonormals {
     /// are not sorted each time.
     pub(crate) fn refit(&mut self, mesh: &Mesh) {
         let positions = mesh.positions();
-        let welding = match self.welding.take() {
+        let mut welding = match self.welding.take() {
             Some(welding) if welding.holds(positions) => welding,
             _ => Box::new(Welding::new(mesh)),
         };
-        let welded: Vec<DVec3> = welding
-            .first
-            .iter()
-            .map(|&v| positions[v as usize].as_dvec3())
-            .collect();
-        *self = Self::from_welded(&welded, &welding.corners, &welding.edges);
+        let Welding {
+            first,
+            corners,
+            edges,
+            positions: welded,
+            weighted,
+            ..
+        } = &mut *welding;
+        welded.clear();
+        welded.extend(first.iter().map(|&v| positions[v as usize].as_dvec3()));
+        self.fill(welded, corners, edges, weighted);
         self.welding = Some(welding);
     }
 
@@ -163,28 +173,42 @@ impl Pseudonormals {
     /// `positions`, already welded: one index per position), `edges` their
     /// [`half_edges`].
     pub(crate) fn from_welded(positions: &[DVec3], corners: &[[u32; 3]], edges: &[(u64, u32)]) -> Self {
-        let (normals, vertices) = angle_weighted_sums(positions, corners);
+        let mut normals = Self {
+            triangles: Vec::new(),
+            welding: None,
+        };
+        normals.fill(positions, corners, edges, &mut AngleWeighted::default());
+        normals
+    }
 
+    /// Writes the records of [`from_welded`](Self::from_welded) in place,
+    /// `weighted` the arrays of the angle-weighted sums: a refit reuses
+    /// both (fresh pages cost about as much as filling them).
+    fn fill(&mut self, positions: &[DVec3], corners: &[[u32; 3]], edges: &[(u64, u32)], weighted: &mut AngleWeighted) {
+        weighted.compute(positions, corners);
+        let (normals, vertices) = (&weighted.normals, &weighted.sums);
         let to_f32 = |v: DVec3| v.as_vec3().to_array();
-        let mut triangles: Vec<TriangleNormals> = corners
-            .par_iter()
-            .map(|c| TriangleNormals {
-                corners: c.map(|v| to_f32(positions[v as usize])),
-                edges: [[0.0; 3]; 3],
-                vertices: c.map(|v| to_f32(vertices[v as usize])),
-                front: NOT_CERTIFIED,
-            })
-            .collect();
+        let record = |c: &[u32; 3]| TriangleNormals {
+            corners: c.map(|v| to_f32(positions[v as usize])),
+            edges: [[0.0; 3]; 3],
+            vertices: c.map(|v| to_f32(vertices[v as usize])),
+            front: NOT_CERTIFIED,
+        };
+        if self.triangles.len() == corners.len() {
+            self.triangles
+                .par_iter_mut()
+                .zip(corners)
+                .for_each(|(t, c)| *t = record(c));
+        } else {
+            self.triangles = corners.par_iter().map(record).collect();
+        }
+        let triangles = &mut self.triangles;
         // Edges: each run of one edge's half-edges summed.
         for run in edges.chunk_by(|x, y| x.0 == y.0) {
             let sum: DVec3 = run.iter().map(|&(_, h)| normals[h as usize / 3]).sum();
             for &(_, h) in run {
                 triangles[h as usize / 3].edges[h as usize % 3] = to_f32(sum);
             }
-        }
-        Self {
-            triangles,
-            welding: None,
         }
     }
 

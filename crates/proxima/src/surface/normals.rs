@@ -27,30 +27,51 @@ use rayon::prelude::*;
 /// ```
 pub fn vertex_normals(mesh: &Mesh) -> Vec<Vec3> {
     let positions: Vec<DVec3> = mesh.positions().iter().map(|p| p.as_dvec3()).collect();
-    let (_, sums) = angle_weighted_sums(&positions, &mesh.triangle_vertex_indices());
-    sums.iter().map(|s| s.normalize_or_zero().as_vec3()).collect()
+    let mut weighted = AngleWeighted::default();
+    weighted.compute(&positions, &mesh.triangle_vertex_indices());
+    weighted.sums.iter().map(|s| s.normalize_or_zero().as_vec3()).collect()
 }
 
 /// The unit normal of every triangle (zero without area), and for every
 /// vertex the sum of its triangles' unit normals weighted by their angles
 /// at it, unnormalized (the vertex pseudonormals of [`crate::sdf`] too).
-pub(crate) fn angle_weighted_sums(positions: &[DVec3], triangles: &[[u32; 3]]) -> (Vec<DVec3>, Vec<DVec3>) {
-    let normals: Vec<DVec3> = triangles
-        .par_iter()
-        .map(|c| {
-            let [a, b, c] = c.map(|v| positions[v as usize]);
-            (b - a).cross(c - a).normalize_or_zero()
-        })
-        .collect();
-    let mut sums = vec![DVec3::ZERO; positions.len()];
-    for (corners, n) in triangles.iter().zip(&normals) {
-        let p = corners.map(|v| positions[v as usize]);
-        for k in 0..3 {
-            let angle = (p[(k + 1) % 3] - p[k]).angle_between(p[(k + 2) % 3] - p[k]);
-            if angle.is_finite() {
-                sums[corners[k] as usize] += angle * *n;
+/// Computed again in the same arrays when the positions move.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct AngleWeighted {
+    /// Per triangle.
+    pub normals: Vec<DVec3>,
+    /// Per triangle, its angle at each corner.
+    angles: Vec<[f64; 3]>,
+    /// Per vertex.
+    pub sums: Vec<DVec3>,
+}
+
+impl AngleWeighted {
+    /// The normals and sums of `triangles` (vertex indices into
+    /// `positions`), in the arrays of the last call: fresh pages cost about
+    /// as much as the arithmetic.
+    pub(crate) fn compute(&mut self, positions: &[DVec3], triangles: &[[u32; 3]]) {
+        // The normals and the corners' angles on all cores (an `acos` per
+        // corner is most of the work); the sums, which scatter, on one.
+        triangles
+            .par_iter()
+            .map(|c| {
+                let p = c.map(|v| positions[v as usize]);
+                let angle = |k: usize| (p[(k + 1) % 3] - p[k]).angle_between(p[(k + 2) % 3] - p[k]);
+                (
+                    (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero(),
+                    [angle(0), angle(1), angle(2)],
+                )
+            })
+            .unzip_into_vecs(&mut self.normals, &mut self.angles);
+        self.sums.clear();
+        self.sums.resize(positions.len(), DVec3::ZERO);
+        for ((corners, n), angles) in triangles.iter().zip(&self.normals).zip(&self.angles) {
+            for k in 0..3 {
+                if angles[k].is_finite() {
+                    self.sums[corners[k] as usize] += angles[k] * *n;
+                }
             }
         }
     }
-    (normals, sums)
 }
