@@ -343,7 +343,10 @@ class Mesh:
         far up to date: the trees are refit in place (the same shape, new
         boxes) or rebuilt where a refit has worn them past 1.5 times their
         surface-area cost at build; the signed-distance fields' expansions
-        and normals are computed again. Structures not built yet stay so.
+        are refit over the faces' tree and their normals computed again; the
+        sign certificate is made again once the signed distances asked
+        since number half the triangles (until then the winding number is
+        walked: the same signs). Structures not built yet stay so.
         The file's corner normals are dropped (they described the old
         surface); corner UVs stay.
 

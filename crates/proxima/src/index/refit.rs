@@ -66,11 +66,16 @@ impl MeshIndex {
     /// Moves the mesh's vertices to `positions` (one per vertex, in order;
     /// the faces unchanged) and brings every structure built so far up to
     /// date, as the configuration's [`RefitPolicy`] says: the trees of each
-    /// primitive kind and the ray tree are refit in place (or rebuilt), the
-    /// signed-distance fields' winding-number expansions and pseudonormals,
-    /// the oriented boxes and the vertex normals are computed again over
-    /// the refit trees. Structures not built yet stay so. The file's corner
-    /// normals are dropped ([`Mesh::set_positions`](crate::Mesh::set_positions)).
+    /// primitive kind and the ray tree are refit in place (or rebuilt); the
+    /// signed-distance fields' winding-number expansions are refit over the
+    /// refit faces' tree, their pseudonormals computed again (with the weld
+    /// and edges of the last update while no vertices meet or part); the
+    /// sign certificate is made again only once the signed distances asked
+    /// since number half the triangles
+    /// ([`certificate`](crate::sdf::SignedDistanceField::certificate));
+    /// the oriented boxes and the vertex normals are computed again.
+    /// Structures not built yet stay so. The file's corner normals are
+    /// dropped ([`Mesh::set_positions`](crate::Mesh::set_positions)).
     ///
     /// Afterwards every query gives what a new index over the moved mesh
     /// would. Returns what was done to each structure.
