@@ -120,13 +120,8 @@ impl MeshIndex {
         let mut report = Vec::new();
         // The fields and oriented boxes hold or read the faces' tree: out of
         // the way first, so that the refit finds the tree unshared.
-        let fields = [
-            ("winding", self.winding.take().map(SignedDistanceField::detach)),
-            (
-                "pseudonormal",
-                self.pseudonormal.take().map(SignedDistanceField::detach),
-            ),
-        ];
+        let winding = self.winding.take().map(SignedDistanceField::detach);
+        let pseudonormal = self.pseudonormal.take().map(SignedDistanceField::detach);
         let oriented = self.oriented.take().is_some();
         let normals = self.normals.take().is_some();
         for kind in PrimitiveKind::ALL {
@@ -144,14 +139,14 @@ impl MeshIndex {
         let faces_rebuilt = report
             .iter()
             .any(|u| u.structure == PrimitiveKind::Faces.name() && u.rebuilt);
-        for (structure, detached) in fields {
-            if let Some(detached) = detached {
-                let tree = self.shared_tree::<Triangle>()?.clone();
-                let field = detached.attach(tree, &self.mesh, faces_rebuilt);
-                match structure {
-                    "winding" => self.winding.put(field),
-                    _ => self.pseudonormal.put(field),
-                }
+        for (structure, detached, slot) in [
+            ("winding", winding, &mut self.winding),
+            ("pseudonormal", pseudonormal, &mut self.pseudonormal),
+        ] {
+            // A field's faces' tree was built with it and updated above; a
+            // field without one would be made again on its next use.
+            if let (Some(detached), Some(tree)) = (detached, self.trees.get::<Triangle>().get()) {
+                slot.put(detached.attach(tree.clone(), &self.mesh, faces_rebuilt));
                 report.push(recomputed(structure));
             }
         }
