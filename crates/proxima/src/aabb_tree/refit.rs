@@ -36,11 +36,12 @@ impl<T: BoundingPoints + Copy + Send + Sync> AabbTree<T> {
         Ok(())
     }
 
-    /// [`refit`](Self::refit) to a set known to be the tree's primitives
-    /// moved, each within the coordinates a build takes (a mesh index's,
-    /// whose positions it has checked), without checking either.
-    pub(crate) fn refit_trusted(&mut self, set: &PrimitiveSet<T>) {
-        self.leaves.refill_trusted(set);
+    /// [`refit`](Self::refit) with the primitive of each build input index
+    /// and source given by `primitive` ([`Leaves::refill_by`](crate::query::Leaves)):
+    /// the tree's primitives moved, each within the coordinates a build
+    /// takes (a mesh index's, whose positions it has checked), unchecked.
+    pub(crate) fn refit_trusted_by(&mut self, primitive: impl Fn(u32, u32) -> T + Sync) {
+        self.leaves.refill_by(primitive);
         refit(self.nodes.as_mut_slice(), self.leaves.primitives());
     }
 }

@@ -185,8 +185,7 @@ impl MeshIndex {
         let Some(tree) = self.rays.get_mut() else {
             return Ok(());
         };
-        let set = self.mesh.triangles();
-        // The faces' triangles, moved within the checked coordinates.
+        let mesh = &self.mesh;
         let (ratio, rebuilt) = refit_or_rebuild(
             &mut self.build_costs,
             "rays",
@@ -194,13 +193,14 @@ impl MeshIndex {
             tree,
             RayTree::surface_area_cost,
             |tree| {
-                tree.refit_trusted(&set);
+                // The faces' triangles, moved within the checked coordinates.
+                tree.refit_trusted_by(|triangle, face| mesh.fan_triangle(triangle, face));
                 true
             },
         );
         if rebuilt {
             self.rays.take();
-            let tree = RayTree::build_set(set, &RayTree::config())?;
+            let tree = RayTree::build_set(self.mesh.triangles(), &RayTree::config())?;
             self.rays.put(tree);
         }
         report.push(Updated {
@@ -227,7 +227,7 @@ impl KindGeneric for UpdateTree<'_> {
         let Some(shared) = T::of_kind_mut(&mut index.trees).get_mut() else {
             return Ok(());
         };
-        let set = T::extract(&index.mesh, index.config.planarity);
+        let (mesh, planarity) = (&index.mesh, index.config.planarity);
         // Cloned only if a caller still holds the tree.
         let tree = Arc::make_mut(shared);
         let (ratio, rebuilt) = refit_or_rebuild(
@@ -240,18 +240,22 @@ impl KindGeneric for UpdateTree<'_> {
                 // A polygon that is no longer planar is split: another set
                 // of primitives, which only a build can take (the refit
                 // says so). Vertices, edges and fan triangles come from
-                // the faces alone, and the coordinates are checked.
+                // the faces alone, and the coordinates are checked; the
+                // triangles are read from the faces where they sit.
                 if T::KIND == PrimitiveKind::Polygons {
-                    tree.refit(&set).is_ok()
+                    tree.refit(&T::extract(mesh, planarity)).is_ok()
+                } else if let Some(tree) = T::as_triangle_tree(tree) {
+                    tree.refit_trusted_by(|triangle, face| mesh.fan_triangle(triangle, face));
+                    true
                 } else {
-                    tree.refit_trusted(&set);
+                    tree.refit_trusted(&T::extract(mesh, planarity));
                     true
                 }
             },
         );
         if rebuilt {
             T::of_kind_mut(&mut index.trees).take();
-            let tree = WideTree::build_set(set, &index.config.build)?;
+            let tree = WideTree::build_set(T::extract(&index.mesh, planarity), &index.config.build)?;
             T::of_kind_mut(&mut index.trees).put(Arc::new(tree));
         }
         report.push(Updated {

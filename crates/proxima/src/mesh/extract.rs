@@ -96,4 +96,57 @@ impl Mesh {
         }
         set
     }
+
+    /// Triangle `triangle` of [`triangles`](Self::triangles), whose source
+    /// is face `face`, read from the positions as they are now: what a
+    /// refit gathers without extracting the whole set again.
+    ///
+    /// # Panics
+    /// When `face` is not a face, or `triangle` not one of its fan.
+    #[inline]
+    pub(crate) fn fan_triangle(&self, triangle: u32, face: u32) -> Triangle {
+        let p = |corner: usize| self.positions[self.indices[corner] as usize];
+        // Where every face is a triangle, face f starts at 3f: one random
+        // read fewer per triangle than through the offsets.
+        if self.indices.len() == 3 * self.face_count() {
+            let start = 3 * face as usize;
+            return Triangle::new(p(start), p(start + 1), p(start + 2));
+        }
+        let start = self.offsets[face as usize] as usize;
+        // The fan's `k`-th triangle is (v0, v(k + 1), v(k + 2)).
+        let k = triangle as usize + 2 * face as usize - start;
+        Triangle::new(p(start), p(start + k + 1), p(start + k + 2))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::math::Vec3;
+    use crate::mesh::Mesh;
+
+    /// Every fan triangle read alone is the one the whole extraction gives,
+    /// in a mesh of faces of three to six corners and in one of triangles
+    /// only (whose faces are found without the offsets).
+    #[test]
+    fn fan_triangles_read_alone_are_those_extracted() {
+        let positions: Vec<Vec3> = (0..12)
+            .map(|i| Vec3::new(i as f32, (i * i % 7) as f32, (i % 3) as f32))
+            .collect();
+        let faces = [
+            vec![0, 1, 2],
+            vec![3, 4, 5, 6],
+            vec![7, 8, 9, 10, 11],
+            vec![0, 2, 4, 6, 8, 10],
+            vec![1, 3, 5],
+        ];
+        let mixed = Mesh::from_faces(positions.clone(), &faces).unwrap();
+        let triangles = Mesh::from_triangles(positions, &[[0, 1, 2], [3, 4, 5], [9, 10, 11], [2, 6, 10]]).unwrap();
+        for mesh in [mixed, triangles] {
+            let set = mesh.triangles();
+            assert!(set.primitives.len() >= 4);
+            for (i, (t, &face)) in set.primitives.iter().zip(&set.sources).enumerate() {
+                assert_eq!(mesh.fan_triangle(i as u32, face), *t, "triangle {i}");
+            }
+        }
+    }
 }

@@ -68,11 +68,21 @@ impl<T> Leaves<T> {
         T: Copy + Send + Sync,
     {
         debug_assert_eq!(set.primitives.len(), self.primitives.len());
+        self.refill_by(|input, _| set.primitives[input as usize]);
+    }
+
+    /// Puts in every slot `primitive(input, source)` of the slot's build
+    /// input index and source: the primitive moved, read wherever the
+    /// caller keeps it (a mesh's faces, without extracting them again).
+    pub(crate) fn refill_by(&mut self, primitive: impl Fn(u32, u32) -> T + Sync)
+    where
+        T: Send,
+    {
         self.primitives
             .par_iter_mut()
-            .zip(self.indices.par_iter())
+            .zip(self.indices.par_iter().zip(self.sources.par_iter()))
             .with_min_len(4096)
-            .for_each(|(primitive, &index)| *primitive = set.primitives[index as usize]);
+            .for_each(|(slot, (&input, &source))| *slot = primitive(input, source));
     }
 
     /// The primitives in leaf order.

@@ -5,7 +5,7 @@ use super::{LEAF, PACKET_INDEX, PAIR, RayNode, RayTree, WIDTH};
 use crate::aabb::Aabb;
 use crate::build::{check_primitives, surface_area_cost, widen};
 use crate::error::BuildError;
-use crate::primitive::{Bounded, PrimitiveSet, Triangle};
+use crate::primitive::{PrimitiveSet, Triangle};
 use crate::simd::TrianglePacket;
 use crate::wide_tree::repack;
 use rayon::prelude::*;
@@ -66,10 +66,12 @@ impl RayTree {
         Ok(())
     }
 
-    /// [`refit`](Self::refit) to the triangles of the same faces, moved
-    /// within the coordinates a build takes, without checking either.
-    pub(crate) fn refit_trusted(&mut self, set: &PrimitiveSet<Triangle>) {
-        self.leaves.refill_trusted(set);
+    /// [`refit`](Self::refit) with the triangle of each build input index
+    /// and source given by `triangle` (a mesh's faces read from it, without
+    /// extracting them again): the same faces, moved within the
+    /// coordinates a build takes, unchecked.
+    pub(crate) fn refit_trusted_by(&mut self, triangle: impl Fn(u32, u32) -> Triangle + Sync) {
+        self.leaves.refill_by(triangle);
         self.refit_above_leaves();
     }
 
@@ -82,12 +84,18 @@ impl RayTree {
             .for_each(|packet| repack(packet, triangles, indices));
         let packets = &self.packets[..];
         let nodes = self.nodes.as_mut_slice();
+        // Leaf lanes from their one or two packets, just made (the same box
+        // as their triangles').
         nodes.par_iter_mut().with_min_len(128).for_each(|node| {
             for lane in 0..WIDTH {
-                if let Some(slots) = node.leaf_slots(lane, packets) {
-                    let b = triangles[slots].iter().fold(Aabb::EMPTY, |b, t| b.merge(&t.bounds()));
-                    node.set_bounds(lane, widen(b));
+                let child = node.children[lane];
+                if child & LEAF == 0 || node.bounds[0][lane] > node.bounds[1][lane] {
+                    continue;
                 }
+                let first = (child & PACKET_INDEX) as usize;
+                let packets = &packets[first..first + 1 + usize::from(child & PAIR != 0)];
+                let b = packets.iter().fold(Aabb::EMPTY, |b, p| b.merge(&p.bounds()));
+                node.set_bounds(lane, widen(b));
             }
         });
         // Children come after their parent in the array.

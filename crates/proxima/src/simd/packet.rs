@@ -11,6 +11,7 @@
 //! degenerate triangles, which the scalar routine sends to its `f64` path,
 //! are marked at build time and answered by the scalar routine itself.
 
+use crate::aabb::Aabb;
 use crate::math::{Vec3, Vec3A};
 use crate::memory::prefetch;
 use crate::primitive::closest_triangle::{FAST_REACH2, takes_f64_path_x4};
@@ -181,6 +182,24 @@ impl TrianglePacket {
         }
     }
 
+    /// The box of the packet's triangles: what their boxes merged one by
+    /// one give (the lanes past a leaf's end repeat a real triangle, so
+    /// they add nothing). A refit reads a leaf's box from its packets, just
+    /// made, instead of from its triangles again.
+    #[inline]
+    pub(crate) fn bounds(&self) -> Aabb {
+        let axis = |k: usize| {
+            let (a, b, c) = (f32x4::new(self.a[k]), f32x4::new(self.b[k]), f32x4::new(self.c[k]));
+            let (low, high) = (a.min(b).min(c).to_array(), a.max(b).max(c).to_array());
+            (
+                low.into_iter().fold(f32::INFINITY, f32::min),
+                high.into_iter().fold(f32::NEG_INFINITY, f32::max),
+            )
+        };
+        let [x, y, z] = [0, 1, 2].map(axis);
+        Aabb::new(Vec3::new(x.0, y.0, z.0), Vec3::new(x.1, y.1, z.1))
+    }
+
     /// Which lanes of a packet a ray hits within `[t_min, t_max]`, with their hit,
     /// and which lanes need the scalar test (an edge function exactly zero, or a
     /// `t` beyond `f32`).
@@ -299,6 +318,22 @@ pub(crate) mod tests {
             rng.range(-scale, scale),
             rng.range(-scale, scale),
         )
+    }
+
+    /// A packet's box is its triangles' boxes merged, for packets of one to
+    /// four triangles of every shape (the lanes past the end repeat one).
+    #[test]
+    fn packet_bounds_are_the_triangles_bounds() {
+        use crate::primitive::Bounded;
+        let mut rng = Rng::new(17);
+        let all = triangles(&mut rng, 400);
+        for (k, chunk) in all.chunks(4).enumerate() {
+            let chunk = &chunk[..1 + k % 4];
+            let indices: Vec<u32> = (0..chunk.len() as u32).collect();
+            let packet = TrianglePacket::new(chunk, &indices, 0);
+            let expected = chunk.iter().fold(Aabb::EMPTY, |b, t| b.merge(&t.bounds()));
+            assert_eq!(packet.bounds(), expected, "{chunk:?}");
+        }
     }
 
     /// Triangles of every shape: ordinary, thin across the sliver bound

@@ -1,10 +1,12 @@
 //! Which primitive types the wide tree tests in SIMD packets.
 
+use super::WideTree;
 use crate::primitive::Triangle;
 
 /// What the wide tree needs to know of a primitive type: whether its leaves
 /// are tested in SIMD packets ([`Triangle`]s, on x86-64) or one primitive at
-/// a time (the default). Chosen at compile time, per type.
+/// a time (the default), and whether its tree is a tree of triangles.
+/// Chosen at compile time, per type.
 ///
 /// ```
 /// use proxima::prelude::*;
@@ -22,6 +24,13 @@ pub trait WidePrimitive: Sized {
     fn as_triangles(_primitives: &[Self]) -> Option<&[Triangle]> {
         None
     }
+    /// The tree as a tree of triangles, for triangles: a mesh index refits
+    /// it by reading each triangle from the moved mesh's faces, without
+    /// extracting them all again.
+    #[inline(always)]
+    fn as_triangle_tree(_tree: &mut WideTree<Self>) -> Option<&mut WideTree<Triangle>> {
+        None
+    }
 }
 
 impl WidePrimitive for Triangle {
@@ -30,6 +39,10 @@ impl WidePrimitive for Triangle {
     #[inline(always)]
     fn as_triangles(primitives: &[Self]) -> Option<&[Triangle]> {
         Self::PACKED.then_some(primitives)
+    }
+    #[inline(always)]
+    fn as_triangle_tree(tree: &mut WideTree<Self>) -> Option<&mut WideTree<Triangle>> {
+        Some(tree)
     }
 }
 

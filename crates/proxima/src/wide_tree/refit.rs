@@ -10,7 +10,6 @@ use crate::primitive::{BoundingPoints, PrimitiveSet, Triangle};
 use crate::query::SpatialIndex;
 use crate::simd::TrianglePacket;
 use rayon::prelude::*;
-use std::ops::Range;
 
 impl WideNode {
     /// Sets the box of lane `lane`, keeping what the lane holds.
@@ -22,18 +21,6 @@ impl WideNode {
     /// The union of the four lanes' boxes (empty lanes add nothing).
     fn union(&self) -> Aabb {
         (0..4).fold(Aabb::EMPTY, |b, lane| b.merge(&self.child_bounds(lane)))
-    }
-
-    /// The leaf-order slots of lane `lane` when it is a non-empty leaf,
-    /// reading a packet's first slot where leaves refer to packets.
-    fn leaf_slots(&self, lane: usize, packets: &[TrianglePacket]) -> Option<Range<usize>> {
-        let count = self.counts[lane];
-        if count & LEAF == 0 || count == LEAF {
-            return None;
-        }
-        let child = self.children[lane] as usize;
-        let first = packets.get(child).map_or(child, |p| p.first as usize);
-        Some(first..first + (count & !LEAF) as usize)
     }
 }
 
@@ -76,7 +63,14 @@ impl<T: BoundingPoints + WidePrimitive + Copy + Send + Sync> WideTree<T> {
     /// [`refit`](Self::refit) to a set known to match, within the
     /// coordinates a build takes ([`AabbTree::refit_trusted`](crate::AabbTree)).
     pub(crate) fn refit_trusted(&mut self, set: &PrimitiveSet<T>) {
-        self.tree.refit_trusted(set);
+        self.refit_trusted_by(|input, _| set.primitives[input as usize]);
+    }
+
+    /// [`refit_trusted`](Self::refit_trusted) with the primitive of each
+    /// build input index and source given by `primitive` (a mesh index's
+    /// faces read from its mesh, without extracting them again).
+    pub(crate) fn refit_trusted_by(&mut self, primitive: impl Fn(u32, u32) -> T + Sync) {
+        self.tree.refit_trusted_by(primitive);
         self.refit_above_leaves();
     }
 
@@ -92,13 +86,26 @@ impl<T: BoundingPoints + WidePrimitive + Copy + Send + Sync> WideTree<T> {
         }
         let packets = &self.packets[..];
         let nodes = self.nodes.as_mut_slice();
-        // Leaf lanes first, in parallel: they read every primitive once.
+        // Leaf lanes first, in parallel: they read every primitive once,
+        // from the packets just made where there are packets (a leaf of
+        // `n` triangles has the `ceil(n / 4)` packets from its `children`).
         nodes.par_iter_mut().with_min_len(256).for_each(|node| {
             for lane in 0..4 {
-                if let Some(slots) = node.leaf_slots(lane, packets) {
-                    let b = primitives[slots].iter().fold(Aabb::EMPTY, |b, p| b.merge(&p.bounds()));
-                    node.set_bounds(lane, widen(b));
+                let count = node.counts[lane];
+                if count & LEAF == 0 || count == LEAF {
+                    continue;
                 }
+                let (first, n) = (node.children[lane] as usize, (count & !LEAF) as usize);
+                let b = if packets.is_empty() {
+                    primitives[first..first + n]
+                        .iter()
+                        .fold(Aabb::EMPTY, |b, p| b.merge(&p.bounds()))
+                } else {
+                    packets[first..first + n.div_ceil(4)]
+                        .iter()
+                        .fold(Aabb::EMPTY, |b, p| b.merge(&p.bounds()))
+                };
+                node.set_bounds(lane, widen(b));
             }
         });
         // Then inner lanes, children before parents: a node's children come
@@ -126,10 +133,11 @@ impl<T> WideTree<T> {
         let lanes = self.nodes.iter().flat_map(|node| {
             (0..4).filter_map(move |lane| {
                 let b = node.child_bounds(lane);
-                if node.counts[lane] & LEAF == 0 {
-                    Some((b, None))
-                } else {
-                    node.leaf_slots(lane, &self.packets).map(|slots| (b, Some(slots.len())))
+                // A leaf lane's count, without reading its packet.
+                match node.counts[lane] {
+                    count if count & LEAF == 0 => Some((b, None)),
+                    LEAF => None,
+                    count => Some((b, Some((count & !LEAF) as usize))),
                 }
             })
         });
