@@ -67,6 +67,8 @@ struct Welding {
     first: Vec<u32>,
     corners: Vec<[u32; 3]>,
     edges: Vec<(u64, u32)>,
+    /// Per half-edge, its run of `edges` ([`edge_runs`]).
+    runs: Vec<u32>,
     /// The arrays of the last refit, used again.
     positions: Vec<DVec3>,
     weighted: AngleWeighted,
@@ -83,6 +85,7 @@ impl Welding {
         }
         let edges = half_edges(&corners, first.len());
         Self {
+            runs: edge_runs(&edges),
             weld,
             first,
             corners,
@@ -102,8 +105,9 @@ impl Welding {
         let key = |v: u32| weld_key(positions[v as usize]);
         if !self
             .weld
-            .iter()
+            .par_iter()
             .enumerate()
+            .with_min_len(4096)
             .all(|(v, &w)| key(v as u32) == key(self.first[w as usize]))
         {
             return false;
@@ -159,13 +163,15 @@ impl Pseudonormals {
             first,
             corners,
             edges,
+            runs,
             positions: welded,
             weighted,
             ..
         } = &mut *welding;
         welded.clear();
         welded.extend(first.iter().map(|&v| positions[v as usize].as_dvec3()));
-        self.fill(welded, corners, edges, weighted);
+        let topology = Topology { corners, edges, runs };
+        self.fill(welded, &topology, weighted);
         self.welding = Some(welding);
     }
 
@@ -177,20 +183,44 @@ impl Pseudonormals {
             triangles: Vec::new(),
             welding: None,
         };
-        normals.fill(positions, corners, edges, &mut AngleWeighted::default());
+        let topology = Topology {
+            corners,
+            edges,
+            runs: &edge_runs(edges),
+        };
+        normals.fill(positions, &topology, &mut AngleWeighted::default());
         normals
     }
 
     /// Writes the records of [`from_welded`](Self::from_welded) in place,
     /// `weighted` the arrays of the angle-weighted sums: a refit reuses
-    /// both (fresh pages cost about as much as filling them).
-    fn fill(&mut self, positions: &[DVec3], corners: &[[u32; 3]], edges: &[(u64, u32)], weighted: &mut AngleWeighted) {
+    /// both (fresh pages cost about as much as filling them). The records
+    /// on all cores: each triangle sums its own edges (each edge twice, to
+    /// the same bits: a sum of two commutes, a longer run is summed in the
+    /// order of `edges`).
+    fn fill(&mut self, positions: &[DVec3], topology: &Topology, weighted: &mut AngleWeighted) {
+        let Topology { corners, edges, runs } = *topology;
         weighted.compute(positions, corners);
         let (normals, vertices) = (&weighted.normals, &weighted.sums);
         let to_f32 = |v: DVec3| v.as_vec3().to_array();
-        let record = |c: &[u32; 3]| TriangleNormals {
+        // The sum of the normals of the triangles around half-edge `h`'s
+        // edge: an edge of two faces, by its other half; any other, its run
+        // of `edges` in order.
+        let edge_normal = |h: usize| {
+            let run = runs[h];
+            let sum = if run & NOT_PAIRED == 0 {
+                normals[h / 3] + normals[run as usize / 3]
+            } else {
+                let start = (run & !NOT_PAIRED) as usize;
+                let key = edges[start].0;
+                let run = edges[start..].iter().take_while(|e| e.0 == key);
+                run.fold(DVec3::ZERO, |sum, &(_, h)| sum + normals[h as usize / 3])
+            };
+            to_f32(sum)
+        };
+        let record = |t: usize, c: &[u32; 3]| TriangleNormals {
             corners: c.map(|v| to_f32(positions[v as usize])),
-            edges: [[0.0; 3]; 3],
+            edges: [0, 1, 2].map(|k| edge_normal(3 * t + k)),
             vertices: c.map(|v| to_f32(vertices[v as usize])),
             front: NOT_CERTIFIED,
         };
@@ -198,17 +228,16 @@ impl Pseudonormals {
             self.triangles
                 .par_iter_mut()
                 .zip(corners)
-                .for_each(|(t, c)| *t = record(c));
+                .enumerate()
+                .with_min_len(1024)
+                .for_each(|(t, (record_t, c))| *record_t = record(t, c));
         } else {
-            self.triangles = corners.par_iter().map(record).collect();
-        }
-        let triangles = &mut self.triangles;
-        // Edges: each run of one edge's half-edges summed.
-        for run in edges.chunk_by(|x, y| x.0 == y.0) {
-            let sum: DVec3 = run.iter().map(|&(_, h)| normals[h as usize / 3]).sum();
-            for &(_, h) in run {
-                triangles[h as usize / 3].edges[h as usize % 3] = to_f32(sum);
-            }
+            self.triangles = corners
+                .par_iter()
+                .enumerate()
+                .with_min_len(1024)
+                .map(|(t, c)| record(t, c))
+                .collect();
         }
     }
 
@@ -295,6 +324,43 @@ impl Pseudonormals {
     pub fn memory_bytes(&self) -> usize {
         std::mem::size_of_val(&self.triangles[..])
     }
+}
+
+/// What the records are made of besides the positions: the welded
+/// triangles, their sorted [`half_edges`] and the runs of these
+/// ([`edge_runs`]).
+#[derive(Clone, Copy)]
+struct Topology<'a> {
+    corners: &'a [[u32; 3]],
+    edges: &'a [(u64, u32)],
+    runs: &'a [u32],
+}
+
+/// In [`edge_runs`], the mark of a half-edge whose edge does not have
+/// exactly two.
+const NOT_PAIRED: u32 = 1 << 31;
+
+/// Per half-edge (of sorted `edges`, from [`half_edges`]), its edge's other
+/// half-edge where the edge has two; otherwise [`NOT_PAIRED`] and where its
+/// edge's run of `edges` starts. The pseudonormals read it in triangle
+/// order, on all cores: an edge's sum is then one more triangle's normal,
+/// where a scatter over the sorted runs wrote every triangle's record at
+/// random, on one core.
+fn edge_runs(edges: &[(u64, u32)]) -> Vec<u32> {
+    debug_assert!(edges.len() < NOT_PAIRED as usize);
+    let mut runs = vec![0u32; edges.len()];
+    let mut start = 0;
+    for run in edges.chunk_by(|x, y| x.0 == y.0) {
+        if let [(_, a), (_, b)] = *run {
+            (runs[a as usize], runs[b as usize]) = (b, a);
+        } else {
+            for &(_, h) in run {
+                runs[h as usize] = NOT_PAIRED | start as u32;
+            }
+        }
+        start += run.len();
+    }
+    runs
 }
 
 /// Every half-edge `3t + k` (triangle t's edge from corner k to corner
@@ -491,6 +557,43 @@ mod tests {
         // Kept by the second and third noise steps only: the first makes
         // the weld, the others change it.
         assert_eq!(kept, 2);
+    }
+
+    /// Each edge's pseudonormal is the sum of the unit normals of the faces
+    /// on that edge, found by brute force over all faces: edges of two
+    /// faces, boundary edges, and an edge of three faces (a fin).
+    #[test]
+    fn edge_normals_sum_the_faces_on_the_edge() {
+        let fin = Mesh::from_triangles(
+            vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z, Vec3::new(0.5, -1.0, 0.3)],
+            &[[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3], [0, 1, 4]],
+        )
+        .unwrap();
+        let closed = crate::mesh::generate::noisy_icosphere(2, 5);
+        let corners = closed.triangle_vertex_indices();
+        let open = Mesh::from_triangles(closed.positions().to_vec(), &corners[..corners.len() / 2]).unwrap();
+        for mesh in [fin, closed, open] {
+            let normals = Pseudonormals::new(&mesh);
+            let (positions, corners) = welded_triangles(&mesh);
+            let unit = |c: &[u32; 3]| {
+                let p = c.map(|v| positions[v as usize]);
+                (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero()
+            };
+            let has_edge = |c: &[u32; 3], a: u32, b: u32| {
+                (0..3).any(|j| [c[j], c[(j + 1) % 3]] == [a, b] || [c[j], c[(j + 1) % 3]] == [b, a])
+            };
+            for (t, c) in corners.iter().enumerate() {
+                for k in 0..3 {
+                    let (a, b) = (c[k], c[(k + 1) % 3]);
+                    let expected: DVec3 = corners.iter().filter(|o| has_edge(o, a, b)).map(unit).sum();
+                    let got = Vec3::from(normals.triangles[t].edges[k]).as_dvec3();
+                    assert!(
+                        (got - expected).length() <= 1e-6 * (1.0 + expected.length()),
+                        "triangle {t} edge {k}: {got} against {expected}"
+                    );
+                }
+            }
+        }
     }
 
     #[test]

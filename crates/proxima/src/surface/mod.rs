@@ -30,6 +30,7 @@
 //! assert!((middle.point(&mesh) - DVec3::new(0.5, 0.5, 0.0)).length() < 1e-12);
 //! ```
 
+mod angle;
 mod answer;
 pub(crate) mod normals;
 mod order;
