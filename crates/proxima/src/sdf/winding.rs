@@ -628,10 +628,14 @@ fn fill(tree: &WideTree<Triangle>, frame: &Frame, layout: &Layout, nodes: &mut [
         .with_min_len(64)
         .for_each(|(index, (node, total))| {
             for lane in 0..4 {
-                let WideChild::Leaf(leaf) = tree.child(index, lane) else {
+                if matches!(node.count[lane], 0 | INNER) {
                     continue;
-                };
-                let leaf = &triangles[leaf];
+                }
+                // The lane's slots from its packets' (not from the tree's
+                // packet, one more read at random per leaf).
+                let packets = slots(&layout.subtrees[index][lane]);
+                let leaf =
+                    &triangles[layout.slots[packets.start].start as usize..layout.slots[packets.end - 1].end as usize];
                 let sums = Sums::of_triangles(leaf, frame);
                 set_lane(node, lane, &sums, centre(&sums, tree, index, lane, frame));
                 total.add(&sums);
