@@ -228,6 +228,8 @@ impl KindGeneric for UpdateTree<'_> {
             return Ok(());
         };
         let (mesh, planarity) = (&index.mesh, index.config.planarity);
+        // Polygons extracted for a refit that refuses them serve the build.
+        let mut extracted = None;
         // Cloned only if a caller still holds the tree.
         let tree = Arc::make_mut(shared);
         let (ratio, rebuilt) = refit_or_rebuild(
@@ -243,7 +245,7 @@ impl KindGeneric for UpdateTree<'_> {
                 // the faces alone, and the coordinates are checked; the
                 // triangles are read from the faces where they sit.
                 if T::KIND == PrimitiveKind::Polygons {
-                    tree.refit(&T::extract(mesh, planarity)).is_ok()
+                    tree.refit(extracted.insert(T::extract(mesh, planarity))).is_ok()
                 } else if let Some(tree) = T::as_triangle_tree(tree) {
                     tree.refit_trusted_by(|triangle, face| mesh.fan_triangle(triangle, face));
                     true
@@ -255,7 +257,8 @@ impl KindGeneric for UpdateTree<'_> {
         );
         if rebuilt {
             T::of_kind_mut(&mut index.trees).take();
-            let tree = WideTree::build_set(T::extract(&index.mesh, planarity), &index.config.build)?;
+            let set = extracted.unwrap_or_else(|| T::extract(&index.mesh, planarity));
+            let tree = WideTree::build_set(set, &index.config.build)?;
             T::of_kind_mut(&mut index.trees).put(Arc::new(tree));
         }
         report.push(Updated {

@@ -12,15 +12,20 @@ use rayon::prelude::*;
 use std::ops::Range;
 
 impl RayNode {
-    /// The leaf-order slots of lane `lane` when it is a leaf (an empty
-    /// lane, whose box is empty, is none).
-    fn leaf_slots(&self, lane: usize, packets: &[TrianglePacket]) -> Option<Range<usize>> {
+    /// The indices of lane `lane`'s one or two packets when it is a leaf
+    /// (an empty lane, whose box is empty, is none).
+    fn leaf_packets(&self, lane: usize) -> Option<Range<usize>> {
         let child = self.children[lane];
         if child & LEAF == 0 || self.bounds[0][lane] > self.bounds[1][lane] {
             return None;
         }
         let first = (child & PACKET_INDEX) as usize;
-        let packets = &packets[first..first + 1 + usize::from(child & PAIR != 0)];
+        Some(first..first + 1 + usize::from(child & PAIR != 0))
+    }
+
+    /// The leaf-order slots of lane `lane` when it is a leaf.
+    fn leaf_slots(&self, lane: usize, packets: &[TrianglePacket]) -> Option<Range<usize>> {
+        let packets = &packets[self.leaf_packets(lane)?];
         let count: u32 = packets.iter().map(|p| (p.fast | p.slow).count_ones()).sum();
         let start = packets[0].first as usize;
         Some(start..start + count as usize)
@@ -88,14 +93,10 @@ impl RayTree {
         // as their triangles').
         nodes.par_iter_mut().with_min_len(128).for_each(|node| {
             for lane in 0..WIDTH {
-                let child = node.children[lane];
-                if child & LEAF == 0 || node.bounds[0][lane] > node.bounds[1][lane] {
-                    continue;
+                if let Some(leaf) = node.leaf_packets(lane) {
+                    let b = packets[leaf].iter().fold(Aabb::EMPTY, |b, p| b.merge(&p.bounds()));
+                    node.set_bounds(lane, widen(b));
                 }
-                let first = (child & PACKET_INDEX) as usize;
-                let packets = &packets[first..first + 1 + usize::from(child & PAIR != 0)];
-                let b = packets.iter().fold(Aabb::EMPTY, |b, p| b.merge(&p.bounds()));
-                node.set_bounds(lane, widen(b));
             }
         });
         // Children come after their parent in the array.

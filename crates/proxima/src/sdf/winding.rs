@@ -197,7 +197,7 @@ impl Sums {
 
 /// [`Sums`] in four lanes, the third moments kept as their six distinct
 /// entries (`xx, yy, zz, xy, xz, yz`): a leaf's triangles summed four at a
-/// time, about a third of the time one at a time took on a moving mesh.
+/// time, with a third fewer third-moment products than the full matrices.
 #[derive(Default)]
 struct LaneSums {
     area: f64x4,

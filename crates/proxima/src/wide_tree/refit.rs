@@ -22,6 +22,12 @@ impl WideNode {
     fn union(&self) -> Aabb {
         (0..4).fold(Aabb::EMPTY, |b, lane| b.merge(&self.child_bounds(lane)))
     }
+
+    /// How many primitives lane `lane` holds when it is a non-empty leaf.
+    fn leaf_count(&self, lane: usize) -> Option<usize> {
+        let count = self.counts[lane];
+        (count & LEAF != 0 && count != LEAF).then_some((count & !LEAF) as usize)
+    }
 }
 
 /// The packet of the same slots as `packet`, made anew from `triangles`
@@ -60,8 +66,8 @@ impl<T: BoundingPoints + WidePrimitive + Copy + Send + Sync> WideTree<T> {
         Ok(())
     }
 
-    /// [`refit`](Self::refit) to a set known to match, within the
-    /// coordinates a build takes ([`AabbTree::refit_trusted`](crate::AabbTree)).
+    /// [`refit`](Self::refit) to a set known to be the tree's primitives
+    /// moved, each within the coordinates a build takes, unchecked.
     pub(crate) fn refit_trusted(&mut self, set: &PrimitiveSet<T>) {
         self.refit_trusted_by(|input, _| set.primitives[input as usize]);
     }
@@ -91,11 +97,8 @@ impl<T: BoundingPoints + WidePrimitive + Copy + Send + Sync> WideTree<T> {
         // `n` triangles has the `ceil(n / 4)` packets from its `children`).
         nodes.par_iter_mut().with_min_len(256).for_each(|node| {
             for lane in 0..4 {
-                let count = node.counts[lane];
-                if count & LEAF == 0 || count == LEAF {
-                    continue;
-                }
-                let (first, n) = (node.children[lane] as usize, (count & !LEAF) as usize);
+                let Some(n) = node.leaf_count(lane) else { continue };
+                let first = node.children[lane] as usize;
                 let b = if packets.is_empty() {
                     primitives[first..first + n]
                         .iter()
@@ -134,10 +137,10 @@ impl<T> WideTree<T> {
             (0..4).filter_map(move |lane| {
                 let b = node.child_bounds(lane);
                 // A leaf lane's count, without reading its packet.
-                match node.counts[lane] {
-                    count if count & LEAF == 0 => Some((b, None)),
-                    LEAF => None,
-                    count => Some((b, Some((count & !LEAF) as usize))),
+                if node.counts[lane] & LEAF == 0 {
+                    Some((b, None))
+                } else {
+                    node.leaf_count(lane).map(|n| (b, Some(n)))
                 }
             })
         });
