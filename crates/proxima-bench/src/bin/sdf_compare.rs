@@ -308,19 +308,24 @@ fn work_profile(set: &str, points: &[Vec3], field: &SignedDistanceField) {
     let n = points.len() as f64;
     let (mut nodes, mut primitives) = (0, 0);
     let mut winding = WindingStats::default();
+    let mut certified = 0usize;
     for &p in points {
-        let stats = field.tree().closest_with_stats(p).1;
+        let (closest, stats) = field.tree().closest_with_stats(p);
         nodes += stats.nodes_visited;
         primitives += stats.primitives_tested;
         field.winding_numbers().winding_number_with_stats(p, &mut winding);
+        if let (Some(certificate), Some(closest)) = (field.certificate(), closest) {
+            certified += usize::from(certificate.winding_number(&closest, p).is_some());
+        }
     }
     println!(
-        "work per query, {set}: closest {:.1} wide nodes, {:.1} triangles; winding number {:.1} wide nodes, {:.1} expansions, {:.1} triangles summed exactly",
+        "work per query, {set}: closest {:.1} wide nodes, {:.1} triangles; winding number {:.1} wide nodes, {:.1} expansions, {:.1} triangles summed exactly; sign from the certificate {:.2}%",
         nodes as f64 / n,
         primitives as f64 / n,
         winding.nodes as f64 / n,
         winding.expansions as f64 / n,
         winding.triangles as f64 / n,
+        100.0 * certified as f64 / n,
     );
 }
 

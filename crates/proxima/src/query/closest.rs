@@ -90,3 +90,40 @@ impl<T: ClosestPoint> NearestVisitor<T> for Best<'_> {
         Best::offer_indexed(self, slot, index, q, d2);
     }
 }
+
+/// [`Best`], handing the input index of each new best to `on_better` as the
+/// walk finds it: a caller that reads something of the answer's primitive
+/// afterwards (a signed distance, its pseudonormal record) can ask the cache
+/// for it while the rest of the walk runs, instead of waiting on it after.
+pub(crate) struct Announcing<'a, F> {
+    pub(crate) best: Best<'a>,
+    pub(crate) on_better: F,
+}
+
+impl<F: FnMut(u32)> Announcing<'_, F> {
+    #[inline(always)]
+    fn announce_if_taken(&mut self, before: (bool, usize)) {
+        if (self.best.found, self.best.slot) != before {
+            (self.on_better)(self.best.index());
+        }
+    }
+}
+
+impl<T: ClosestPoint, F: FnMut(u32)> NearestVisitor<T> for Announcing<'_, F> {
+    #[inline(always)]
+    fn bound(&self) -> f32 {
+        self.best.bound
+    }
+    #[inline(always)]
+    fn visit(&mut self, slot: usize, primitive: &T, p: Vec3A) {
+        let before = (self.best.found, self.best.slot);
+        NearestVisitor::<T>::visit(&mut self.best, slot, primitive, p);
+        self.announce_if_taken(before);
+    }
+    #[inline(always)]
+    fn offer(&mut self, slot: usize, index: u32, q: Vec3A, d2: f32) {
+        let before = (self.best.found, self.best.slot);
+        self.best.offer_indexed(slot, index, q, d2);
+        self.announce_if_taken(before);
+    }
+}

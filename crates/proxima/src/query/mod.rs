@@ -45,8 +45,8 @@ pub use visitor::{Counter, NearestVisitor, QueryStats, RayVisitor};
 
 pub(crate) use batch::answer_batch_indexed;
 pub(crate) use batch::{CHUNK, already_coherent, in_chunks, in_chunks_ordered, morton_order, sort_by_code};
-pub(crate) use closest::Best;
-pub(crate) use nearest::closest_chunk;
+pub(crate) use closest::{Announcing, Best};
+pub(crate) use nearest::{closest_announcing, closest_chunk};
 pub(crate) use point::answerable;
 pub(crate) use ray::{
     AnyHit, FarRay, FirstHit, first_hit_by, hit_answer, nearest_to, prepare_structure_ray, sort_points,

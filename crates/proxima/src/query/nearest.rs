@@ -3,7 +3,7 @@
 
 use super::batch::{BatchOptions, Seed, answer_batch, closest_in_chunks};
 use super::knn::{KBest, KnnScratch, NearestAnswers, distinct_sources, drain_sorted};
-use super::{Best, ClosestHit, Counter, NearestVisitor, QueryStats, SpatialIndex};
+use super::{Announcing, Best, ClosestHit, Counter, NearestVisitor, QueryStats, SpatialIndex};
 use crate::math::{Vec3, Vec3A};
 use crate::primitive::ClosestPoint;
 
@@ -209,6 +209,30 @@ pub(crate) fn best_within<'a, T: ClosestPoint + 'a, S: NearestQuery<T> + ?Sized,
     best.found.then_some(best)
 }
 
+/// [`NearestQuery::closest`], handing each better candidate's input index to
+/// `on_better` during the walk (see [`Announcing`]).
+#[inline]
+pub(crate) fn closest_announcing<T: ClosestPoint, S: NearestQuery<T> + ?Sized>(
+    structure: &S,
+    p: Vec3,
+    on_better: impl FnMut(u32),
+) -> Option<ClosestHit> {
+    if !super::answerable(p) {
+        return None;
+    }
+    let mut visitor = Announcing {
+        best: Best::new(structure.leaves().indices(), f32::INFINITY),
+        on_better,
+    };
+    structure.nearest_walk(Vec3A::from(p), &mut visitor, &mut ());
+    let best = visitor.best;
+    best.found.then(|| {
+        structure
+            .leaves()
+            .hit(best.slot, best.index(), best.point, best.distance_squared)
+    })
+}
+
 /// [`NearestQuery::closest_within`], except that the answer's `source`
 /// holds its leaf-order slot, for [`Leaves::resolve_sources`](super::Leaves)
 /// to replace later; `primitive` is the input index the walk already knows.
@@ -239,4 +263,49 @@ fn closest_deferred<T: ClosestPoint, S: NearestQuery<T> + ?Sized>(
         point: best.point.into(),
         distance: best.distance_squared.sqrt(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sample::{Rng, small_triangles};
+    use crate::{AabbTree, WideTree};
+
+    /// The announcing walk answers as `closest` does, ties included, and
+    /// its last announcement is the answer's primitive.
+    #[test]
+    fn announcing_answers_as_closest_and_announces_the_answer_last() {
+        let mut triangles = small_triangles(3000, 7);
+        // Exact ties: the same triangles again, later in the input.
+        triangles.extend_from_within(..200);
+        let wide = WideTree::from_tree(AabbTree::build(triangles.clone(), &Default::default()).unwrap());
+        let binary = AabbTree::build(triangles, &Default::default()).unwrap();
+        let mut rng = Rng::new(3);
+        let mut announced_any = 0;
+        for k in 0..2000 {
+            let p = match k % 3 {
+                0 => Vec3::new(rng.range(-1.2, 1.2), rng.range(-1.2, 1.2), rng.range(-1.2, 1.2)),
+                // On a vertex of a duplicated triangle: a tie at distance 0.
+                1 => wide.leaves().primitives()[rng.below(3200)].a,
+                _ => Vec3::splat(rng.range(-4.0, 4.0)),
+            };
+            for answer in [
+                (wide.closest(p), {
+                    let mut last = None;
+                    (closest_announcing(&wide, p, |t| last = Some(t)), last)
+                }),
+                (binary.closest(p), {
+                    let mut last = None;
+                    (closest_announcing(&binary, p, |t| last = Some(t)), last)
+                }),
+            ] {
+                let (expected, (got, last)) = answer;
+                assert_eq!(got, expected, "at {p}");
+                assert_eq!(last, expected.map(|h| h.primitive), "at {p}");
+                announced_any += usize::from(last.is_some());
+            }
+        }
+        assert_eq!(announced_any, 4000);
+        assert_eq!(closest_announcing(&wide, Vec3::NAN, |_| panic!("announced")), None);
+    }
 }

@@ -10,7 +10,7 @@ use crate::build::BuildConfig;
 use crate::error::SdfError;
 use crate::math::Vec3;
 use crate::mesh::Mesh;
-use crate::query::{BatchOptions, CHUNK, answer_batch_indexed, closest_chunk, in_chunks};
+use crate::query::{BatchOptions, CHUNK, answer_batch_indexed, closest_announcing, closest_chunk, in_chunks};
 use crate::query::{ClosestHit, NearestQuery, SpatialIndex};
 use crate::wide_tree::WideTree;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -354,7 +354,12 @@ impl SignedDistanceField {
     /// The signed distance at `p`, `None` where [`NearestQuery::closest`]
     /// has no answer (a `p` that is not finite or too large).
     pub fn signed_distance(&self, p: Vec3) -> Option<SignedDistance> {
-        let closest = self.tree.closest(p)?;
+        // The sign reads the closest triangle's pseudonormal record: asked
+        // for as each better triangle is found, it arrives during the walk.
+        let closest = match self.pseudonormals() {
+            Some(normals) => closest_announcing(&*self.tree, p, |t| normals.prefetch(t))?,
+            None => self.tree.closest(p)?,
+        };
         Some(self.signed_answer(p, closest))
     }
 
