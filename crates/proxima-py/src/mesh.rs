@@ -280,6 +280,19 @@ impl PyMesh {
         PyList::new(py, faces)?.into_bound_py_any(py)
     }
 
+    /// Whether a face uses each vertex, (V,) bool: without making
+    /// :attr:`faces`' arrays, which for a mesh of mixed polygons is a list
+    /// of one array per face.
+    #[getter]
+    fn used_vertices<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<bool>> {
+        let mesh = self.mesh();
+        let mut used = vec![false; mesh.positions().len()];
+        for &v in mesh.faces().flatten() {
+            used[v as usize] = true;
+        }
+        arrays::vector(py, used)
+    }
+
     /// The bounding box, [[min x, min y, min z], [max x, max y, max z]].
     #[getter]
     fn bounds<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
@@ -701,7 +714,10 @@ impl PyMesh {
             return Ok((arrays::matrix(py, Vec::new(), 3)?, arrays::vector(py, Vec::new())));
         }
         let samples = threads::run(py, threads, || {
-            let field = self.index.field(sign).map_err(|e| value_error("training_samples", e))?;
+            let field = self
+                .index
+                .field_for(sign, n)
+                .map_err(|e| value_error("training_samples", e))?;
             let uniform_box = cube.unwrap_or_else(|| {
                 let b = field.bounds();
                 let grow = b.size() * SdfGrid::DEFAULT_MARGIN;
@@ -753,7 +769,10 @@ impl PyMesh {
         check_budget("resolution", n, (n as u128).pow(3), 8)?;
         self.require_faces("sdf_grid")?;
         let values = threads::run(py, threads, || {
-            let field = self.index.field(sign).map_err(|e| value_error("sdf_grid", e))?;
+            let field = self
+                .index
+                .field_for(sign, n.saturating_pow(3))
+                .map_err(|e| value_error("sdf_grid", e))?;
             let grid = match cube {
                 Some(cube) => SdfGrid::over(&cube, [n; 3]),
                 None => SdfGrid::around(&field.bounds(), n, SdfGrid::DEFAULT_MARGIN),

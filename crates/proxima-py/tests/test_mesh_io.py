@@ -130,6 +130,22 @@ def test_mesh_round_trip_polygons():
     assert isinstance(m.faces, np.ndarray) and m.faces.tolist() == [[0, 1, 2, 3], [4, 5, 6, 7]]
 
 
+def test_used_vertices_are_those_the_faces_name():
+    rng = np.random.default_rng(2)
+    vv = rng.random((12, 3))
+    for faces in ([[0, 1, 2], [0, 2, 3, 4], [4, 5, 6, 7, 1]], [[3, 9, 10], [10, 9, 2]], np.zeros((0, 3), np.int64)):
+        try:
+            m = proxima.Mesh(vv, faces)
+        except ValueError:
+            continue
+        expected = np.zeros(len(vv), bool)
+        for f in faces:
+            expected[np.asarray(f, np.int64)] = True
+        used = m.used_vertices
+        assert used.dtype == np.bool_ and used.shape == (12,)
+        np.testing.assert_array_equal(used, expected)
+
+
 def test_empty_mesh_is_usable_or_refused():
     """A mesh of no faces either raises ValueError or answers with misses."""
     try:

@@ -438,3 +438,57 @@ fn indexes_with_and_without_the_certificate_agree_after_a_move() {
     let stats = with.field(Sign::WindingNumber).unwrap().certificate().unwrap().stats();
     assert!(stats.meeting > 0, "the folded sphere crosses itself: {stats:?}");
 }
+
+/// A field made for fewer signed distances than pay for the certificate
+/// (`MeshIndex::field_for`) answers without one, the same sides as the
+/// oracle and the same answers as a certified field's, and makes it once
+/// its walked signed distances reach half the triangles; one made for more
+/// has it from the start.
+#[test]
+fn a_field_made_for_few_queries_certifies_once_they_pay() {
+    use proxima::sdf::certificate_pays;
+    use proxima::{IndexConfig, MeshIndex};
+    let mesh = bumpy_sphere(8, 11);
+    let triangles = mesh.triangles().primitives;
+    let due = mesh.triangle_count() / 2;
+    assert!(certificate_pays(due, mesh.triangle_count()) && !certificate_pays(due - 1, mesh.triangle_count()));
+    let eager = MeshIndex::new(mesh.clone());
+    let certified = eager.field(Sign::WindingNumber).unwrap();
+    assert!(certified.certificate().is_some());
+    let few = MeshIndex::new(mesh.clone());
+    let field = few.field_for(Sign::WindingNumber, due - 1).unwrap();
+    assert!(field.certificate().is_none());
+    let probes = points(&mesh, 200, 61);
+    let (got, expected) = (
+        field.signed_distance_batch(&probes),
+        certified.signed_distance_batch(&probes),
+    );
+    for (k, &p) in probes.iter().enumerate() {
+        let (x, y) = (got[k].unwrap(), expected[k].unwrap());
+        assert_eq!(x.closest, y.closest);
+        let e = oracle(&triangles, p);
+        if (e - 0.5).abs() > CLEAR && x.distance != 0.0 {
+            assert_eq!(x.is_inside(), e > 0.5, "{p}, oracle {e}");
+            assert_eq!(x.distance, y.distance, "{p}");
+        }
+    }
+    // 200 walked so far: the rest of the due count, then the index's next call makes it.
+    field.signed_distance_batch(&points(&mesh, due - 200, 62));
+    assert!(field.certificate().is_none());
+    let field = few.field(Sign::WindingNumber).unwrap();
+    assert!(field.certificate().is_some());
+    // Made for as many as pay: certified at once; without the option: never.
+    let many = MeshIndex::new(mesh.clone());
+    assert!(
+        many.field_for(Sign::WindingNumber, due)
+            .unwrap()
+            .certificate()
+            .is_some()
+    );
+    let off = IndexConfig {
+        certify_sign: false,
+        ..IndexConfig::default()
+    };
+    let never = MeshIndex::with_config(mesh, off);
+    assert!(never.field_for(Sign::WindingNumber, 0).unwrap().certificate().is_none());
+}

@@ -8,7 +8,7 @@ use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 use proxima::budget::check_fits;
 use proxima::sample::training_sample_counts;
-use proxima::sdf::{DEFAULT_BETA, Pseudonormals, SdfGrid, signed_distance_gradients};
+use proxima::sdf::{DEFAULT_BETA, Pseudonormals, SdfGrid, certificate_pays, signed_distance_gradients};
 use proxima::{Aabb, Mesh, SdfConfig, SdfError, Sign, SignedDistance, SignedDistanceField, Vec3};
 use rayon::prelude::*;
 use serde_json::{Value, json};
@@ -168,11 +168,18 @@ pub fn run(args: Args) -> Result<()> {
         .num_threads(threads)
         .build()
         .context("thread pool")?;
+    // The sign certificate is made when the queries pay for it.
+    let queries = match (&points, args.grid, args.sample) {
+        (Some(points), _, _) => points.len(),
+        (None, Some(n), _) => n.saturating_pow(3),
+        (None, None, n) => n.unwrap_or(0),
+    };
     pool.install(|| {
         let config = SdfConfig {
             sign: args.sign.sign(),
             beta: args.beta,
             exact: args.exact,
+            certify: certificate_pays(queries, mesh.triangle_count()),
             ..SdfConfig::default()
         };
         let start = Instant::now();

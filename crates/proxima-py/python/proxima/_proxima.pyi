@@ -383,6 +383,11 @@ class Mesh:
         """The faces: an (F, k) int64 array when every face has k vertices,
         otherwise a list of F int64 arrays."""
     @property
+    def used_vertices(self) -> npt.NDArray[np.bool_]:
+        """Whether a face uses each vertex, (V,) bool: without making
+        :attr:`faces`' arrays, which for a mesh of mixed polygons is a list
+        of one array per face."""
+    @property
     def bounds(self) -> npt.NDArray[np.float64]:
         """The bounding box, [[min x, min y, min z], [max x, max y, max z]]."""
     def __len__(self) -> int:

@@ -263,6 +263,15 @@ impl MeshIndex {
 
     /// The signed-distance field signed by `sign`, on the faces' tree.
     pub fn field(&self, sign: Sign) -> Result<&SignedDistanceField, IndexError> {
+        self.field_for(sign, usize::MAX)
+    }
+
+    /// [`field`](Self::field), for a caller about to ask it `queries`
+    /// signed distances (a grid, a set of training samples): a field made
+    /// now for fewer than [`certificate_pays`](crate::sdf::certificate_pays)
+    /// makes its sign certificate only once the signed distances answered
+    /// without it have paid for it. The answers are the same either way.
+    pub fn field_for(&self, sign: Sign, queries: usize) -> Result<&SignedDistanceField, IndexError> {
         let lazy = match sign {
             Sign::WindingNumber => &self.winding,
             Sign::Pseudonormal => &self.pseudonormal,
@@ -274,7 +283,12 @@ impl MeshIndex {
                 certify: self.config.certify_sign,
                 ..SdfConfig::default()
             };
-            Ok::<_, IndexError>(SignedDistanceField::with_tree(tree, &self.mesh, &config))
+            let field = if crate::sdf::certificate_pays(queries, self.mesh.triangle_count()) {
+                SignedDistanceField::with_tree(tree, &self.mesh, &config)
+            } else {
+                SignedDistanceField::with_tree_deferring(tree, &self.mesh, &config)
+            };
+            Ok::<_, IndexError>(field)
         })?;
         field.certify_when_due(&self.mesh);
         Ok(field)

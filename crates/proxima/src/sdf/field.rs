@@ -149,6 +149,40 @@ struct Deferred {
     due: usize,
 }
 
+impl Deferred {
+    /// Nothing walked yet, due at [`certificate_pays`]'s count.
+    fn new(triangles: usize) -> Self {
+        Self {
+            walked: AtomicUsize::new(0),
+            due: certificate_due(triangles),
+        }
+    }
+}
+
+/// The signed distances, answered without a certificate, that cost about
+/// what making one costs on a mesh of `triangles` triangles: half their
+/// number.
+const fn certificate_due(triangles: usize) -> usize {
+    triangles / 2
+}
+
+/// Whether `queries` signed distances on a mesh of `triangles` triangles
+/// pay for making the field's [`SignCertificate`] before them: making it
+/// costs about 0.8 µs per triangle, and it saves about 1.7 µs per signed
+/// distance near the surface (docs/perf-log.md). A caller that knows how
+/// many it will ask (a grid, a set of training samples) passes the answer
+/// to [`SdfConfig::certify`]; with fewer, the field answers by the walked
+/// winding number (the same sides).
+///
+/// ```
+/// use proxima::sdf::certificate_pays;
+/// assert!(certificate_pays(250_000, 100_000));
+/// assert!(!certificate_pays(250_000, 871_414));
+/// ```
+pub const fn certificate_pays(queries: usize, triangles: usize) -> bool {
+    queries >= certificate_due(triangles)
+}
+
 impl Clone for Deferred {
     fn clone(&self) -> Self {
         Self {
@@ -195,10 +229,7 @@ impl Detached {
             beta: self.beta,
             pseudonormals,
             certificate: OnceLock::new(),
-            deferred: self.certify.then(|| Deferred {
-                walked: AtomicUsize::new(0),
-                due: mesh.triangle_count() / 2,
-            }),
+            deferred: self.certify.then(|| Deferred::new(mesh.triangle_count())),
             sign: self.sign,
             exact: self.exact,
         }
@@ -232,6 +263,19 @@ impl SignedDistanceField {
     /// assert!(field.contains(Vec3::ZERO));
     /// ```
     pub fn with_tree(tree: Arc<WideTree<Triangle>>, mesh: &Mesh, config: &SdfConfig) -> Self {
+        Self::assemble(tree, mesh, config, false)
+    }
+
+    /// [`with_tree`](Self::with_tree), except that with
+    /// [`SdfConfig::certify`] the certificate is not made now but once the
+    /// signed distances answered without it have paid for it (as after
+    /// [`MeshIndex::update_vertices`](crate::index::MeshIndex::update_vertices)):
+    /// for a field asked fewer signed distances than [`certificate_pays`].
+    pub(crate) fn with_tree_deferring(tree: Arc<WideTree<Triangle>>, mesh: &Mesh, config: &SdfConfig) -> Self {
+        Self::assemble(tree, mesh, config, true)
+    }
+
+    fn assemble(tree: Arc<WideTree<Triangle>>, mesh: &Mesh, config: &SdfConfig, defer: bool) -> Self {
         debug_assert_eq!(tree.len(), mesh.triangle_count());
         // Built now when every signed distance needs it, so that a field's
         // build time holds all of its build.
@@ -239,10 +283,12 @@ impl SignedDistanceField {
         let certificate = OnceLock::new();
         if config.sign == Sign::WindingNumber && !config.exact {
             let numbers = winding.get_or_init(|| WindingNumbers::new(&tree, config.beta));
-            if config.certify {
+            if config.certify && !defer {
                 let _ = certificate.set(Arc::new(SignCertificate::new(mesh, &tree, numbers)));
             }
         }
+        let deferred = (defer && config.certify && config.sign == Sign::WindingNumber && !config.exact)
+            .then(|| Deferred::new(mesh.triangle_count()));
         let pseudonormals = (config.sign == Sign::Pseudonormal).then(|| Pseudonormals::new(mesh));
         Self {
             tree,
@@ -250,7 +296,7 @@ impl SignedDistanceField {
             beta: config.beta,
             pseudonormals,
             certificate,
-            deferred: None,
+            deferred,
             sign: config.sign,
             exact: config.exact,
         }

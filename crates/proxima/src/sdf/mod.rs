@@ -27,7 +27,7 @@ mod winding;
 
 pub use certificate::{CertificateStats, SignCertificate};
 pub use error::SdfError;
-pub use field::{SdfConfig, Sign, SignedDistance, SignedDistanceField};
+pub use field::{SdfConfig, Sign, SignedDistance, SignedDistanceField, certificate_pays};
 pub use gradient::{ON_SURFACE, SdfGradient, signed_distance_gradient, signed_distance_gradients};
 pub use grid::{Samples, SdfGrid};
 pub use pseudonormal::{Feature, Pseudonormals};

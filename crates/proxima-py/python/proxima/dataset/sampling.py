@@ -243,21 +243,11 @@ def sample_seed(seed: int, name: str) -> int:
     return int(mesh_seed(seed, name).generate_state(1, dtype=np.uint64)[0])
 
 
-def used_vertex_mask(n_vertices: int, faces) -> np.ndarray:
-    if isinstance(faces, np.ndarray):
-        flat = faces.ravel()
-    else:
-        flat = np.concatenate([np.asarray(f, dtype=np.int64).ravel() for f in faces]) if len(faces) else np.zeros(0, np.int64)
-    mask = np.zeros(n_vertices, dtype=bool)
-    mask[flat] = True
-    return mask
-
-
-def normalization(vertices, faces, normalize: str, padding: float):
+def normalization(vertices, used_vertices, normalize: str, padding: float):
     """``(scale, offset)`` with ``original = normalized * scale + offset``,
-    float64, from the vertices that faces use."""
+    float64, from the vertices that faces use (``used_vertices``, a mask)."""
     v = np.asarray(vertices, dtype=np.float64)
-    used = v[used_vertex_mask(len(v), faces)]
+    used = v[np.asarray(used_vertices, dtype=bool)]
     if len(used) == 0:
         raise ValueError("the mesh has no face")
     lo, hi = used.min(axis=0), used.max(axis=0)
@@ -353,13 +343,14 @@ def sample_mesh(path, name: str, options: Options, threads: Optional[int] = None
     """The arrays of one mesh's output (see the module's docstring)."""
     timings = {} if timings is None else timings
     t = time.perf_counter()
-    source = proxima.load(path)
-    faces = source.faces
-    if len(faces) == 0:
+    mesh = proxima.load(path)
+    if len(mesh) == 0:
         raise ValueError(f"{path}: the mesh has no face")
-    scale, offset = normalization(source.vertices, faces, options.normalize, options.effective_padding)
-    mesh = proxima.Mesh(normalize_vertices(source.vertices, scale, offset), faces)
-    del source
+    vertices = mesh.vertices
+    scale, offset = normalization(vertices, mesh.used_vertices, options.normalize, options.effective_padding)
+    # Moved in place: the faces stay in the library (a mesh of mixed
+    # polygons would otherwise make one array per face, and back).
+    mesh.update_vertices(normalize_vertices(vertices, scale, offset))
     timings["load_s"] = time.perf_counter() - t
 
     t = time.perf_counter()
