@@ -3,7 +3,7 @@
 //! answers that `peers/sdf_peers.py` times Open3D and libigl on.
 //!
 //! ```text
-//! cargo run --release -p proxima-bench --bin sdf_compare -- [MESH|ico1m ...] [--queries N] [--check N] [--rounds N] [--export DIR] [--uncertified]
+//! cargo run --release -p proxima-bench --bin sdf_compare -- [MESH|ico1m ...] [--queries N] [--check N] [--rounds N] [--export DIR] [--uncertified] [--sah]
 //! ```
 //!
 //! For each mesh (default: the dragon and `ico1m`) and each query set (`near`
@@ -78,6 +78,9 @@ struct Options {
     /// (`SdfConfig::certify` off): every signed distance walks the winding
     /// number, as before the certificate.
     uncertified: bool,
+    /// Trees split by the binned surface area heuristic
+    /// (`BuildConfig::fast_queries`) instead of the default median split.
+    sah: bool,
 }
 
 fn parse_options() -> Result<Options, String> {
@@ -88,6 +91,7 @@ fn parse_options() -> Result<Options, String> {
         rounds: 5,
         export: None,
         uncertified: false,
+        sah: false,
     };
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
@@ -102,6 +106,7 @@ fn parse_options() -> Result<Options, String> {
             "--rounds" => options.rounds = number("--rounds")?.max(1),
             "--export" => options.export = Some(PathBuf::from(value("--export")?)),
             "--uncertified" => options.uncertified = true,
+            "--sah" => options.sah = true,
             flag if flag.starts_with("--") => return Err(format!("unknown option {flag}")),
             _ => options.names.push(a),
         }
@@ -385,6 +390,11 @@ fn run_mesh(name: &str, mesh: &Mesh, options: &Options) -> Result<usize, String>
         let config = SdfConfig {
             sign,
             certify: !options.uncertified,
+            build: if options.sah {
+                proxima::BuildConfig::fast_queries()
+            } else {
+                proxima::BuildConfig::default()
+            },
             ..SdfConfig::default()
         };
         let start = Instant::now();
