@@ -150,12 +150,8 @@ pub fn near_surface(mesh: &Mesh, n: usize, sigma_fraction: f32, seed: u64) -> Ve
 /// offset per axis of standard deviation `sigma`. Empty when the triangles
 /// have no area.
 pub fn near_triangles(triangles: &[Triangle], n: usize, sigma: f32, seed: u64) -> Vec<Vec3> {
-    let mut cumulative = Vec::with_capacity(triangles.len());
-    let mut total = 0f64;
-    for t in triangles {
-        total += t.area() as f64;
-        cumulative.push(total);
-    }
+    let table = AreaTable::new(triangles.iter().map(|t| t.area() as f64));
+    let total = table.total();
     if triangles.is_empty() || total <= 0.0 {
         return Vec::new();
     }
@@ -163,7 +159,7 @@ pub fn near_triangles(triangles: &[Triangle], n: usize, sigma: f32, seed: u64) -
     (0..n)
         .map(|_| {
             let target = rng.unit() * total;
-            let i = cumulative.partition_point(|&c| c <= target).min(triangles.len() - 1);
+            let i = table.pick(target).min(triangles.len() - 1);
             let t = &triangles[i];
             let (mut u, mut v) = (rng.unit() as f32, rng.unit() as f32);
             if u + v > 1.0 {
@@ -174,6 +170,73 @@ pub fn near_triangles(triangles: &[Triangle], n: usize, sigma: f32, seed: u64) -
             on + offset * sigma
         })
         .collect()
+}
+
+/// The running sums of weights (triangles' areas) and where each of
+/// equal parts of their total starts: [`pick`](Self::pick) finds the item
+/// a uniform number falls on in a few steps within one part, instead of a
+/// search over every sum (which on a large mesh misses the cache at most of
+/// its steps).
+struct AreaTable {
+    cumulative: Vec<f64>,
+    /// `starts[k]`: the first item whose sum exceeds `k · step` (the count of
+    /// sums at most that), for `k` in `0..parts`.
+    starts: Vec<u32>,
+    step: f64,
+}
+
+/// Items per part of an [`AreaTable`], on average.
+const ITEMS_PER_PART: usize = 8;
+
+impl AreaTable {
+    fn new(weights: impl Iterator<Item = f64>) -> Self {
+        let mut total = 0f64;
+        let cumulative: Vec<f64> = weights
+            .map(|w| {
+                total += w;
+                total
+            })
+            .collect();
+        let parts = (cumulative.len() / ITEMS_PER_PART).max(1);
+        let step = total / parts as f64;
+        let mut starts = Vec::with_capacity(parts);
+        let mut at = 0;
+        for k in 0..parts {
+            let bound = k as f64 * step;
+            while at < cumulative.len() && cumulative[at] <= bound {
+                at += 1;
+            }
+            starts.push(at as u32);
+        }
+        Self {
+            cumulative,
+            starts,
+            step,
+        }
+    }
+
+    fn total(&self) -> f64 {
+        self.cumulative.last().copied().unwrap_or(0.0)
+    }
+
+    /// `cumulative.partition_point(|&c| c <= target)`, exactly: the search
+    /// runs between the starts of the part that holds `target` and the next
+    /// (the count is monotone in the bound, so it lies between theirs).
+    fn pick(&self, target: f64) -> usize {
+        let parts = self.starts.len();
+        // The part `k` with `k · step <= target < (k + 1) · step`, the
+        // estimate corrected where it rounded across a bound.
+        let mut k = ((target / self.step) as usize).min(parts - 1);
+        while k > 0 && k as f64 * self.step > target {
+            k -= 1;
+        }
+        while k + 1 < parts && (k + 1) as f64 * self.step <= target {
+            k += 1;
+        }
+        let lo = self.starts[k] as usize;
+        let hi = self.starts.get(k + 1).map_or(self.cumulative.len(), |&s| s as usize);
+        lo + self.cumulative[lo..hi].partition_point(|&c| c <= target)
+    }
 }
 
 /// How many of `total` training samples are drawn near the surface and how
@@ -212,4 +275,52 @@ pub(crate) fn small_triangles(n: usize, seed: u64) -> Vec<crate::Triangle> {
             crate::Triangle::new(a, a + v() * 0.05, a + v() * 0.05)
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The table picks what a search over every running sum picks: on
+    /// random weights, zero weights (equal sums), one weight, and targets
+    /// exactly on sums and on the parts' bounds and an ulp on either side.
+    #[test]
+    fn area_table_picks_as_a_search_over_every_sum() {
+        let mut rng = Rng::new(5);
+        for case in 0..40 {
+            let n = [1, 2, 7, 8, 9, 100, 1000][case % 7] + case;
+            let weights: Vec<f64> = (0..n)
+                .map(|i| match (case + i) % 5 {
+                    0 => 0.0,
+                    1 => rng.unit() * 1e-6,
+                    _ => rng.unit(),
+                })
+                .collect();
+            let table = AreaTable::new(weights.iter().copied());
+            let total = table.total();
+            let mut targets: Vec<f64> = (0..200).map(|_| rng.unit() * total).collect();
+            let ulps = |x: f64| {
+                [
+                    x,
+                    f64::from_bits(x.to_bits().saturating_sub(1)),
+                    f64::from_bits(x.to_bits() + 1),
+                ]
+            };
+            for &c in &table.cumulative {
+                targets.extend(ulps(c));
+            }
+            for k in 0..table.starts.len() {
+                targets.extend(ulps(k as f64 * table.step));
+            }
+            targets.push(0.0);
+            for target in targets.into_iter().filter(|t| (0.0..total).contains(t)) {
+                let expected = table.cumulative.partition_point(|&c| c <= target);
+                assert_eq!(
+                    table.pick(target),
+                    expected,
+                    "case {case}: target {target:e} of {total:e}"
+                );
+            }
+        }
+    }
 }
