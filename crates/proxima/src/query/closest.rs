@@ -1,6 +1,6 @@
 //! The visitor behind closest-primitive queries.
 
-use super::{NearestVisitor, PRUNE_SLACK};
+use super::{ClosestHit, Leaves, NearestVisitor, PRUNE_SLACK};
 use crate::math::Vec3A;
 use crate::primitive::ClosestPoint;
 
@@ -59,6 +59,13 @@ impl<'a> Best<'a> {
         if d2 < self.distance_squared || (d2 == self.distance_squared && (!self.found || index < self.index())) {
             self.take(slot, index, q, d2);
         }
+    }
+
+    /// The answer of the best found, its primitive in `leaves` (the walked
+    /// structure's).
+    #[inline]
+    pub(crate) fn hit<T>(&self, leaves: &Leaves<T>) -> ClosestHit {
+        leaves.hit(self.slot, self.index(), self.point, self.distance_squared)
     }
 
     #[inline(always)]

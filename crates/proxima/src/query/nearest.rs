@@ -42,22 +42,14 @@ pub trait NearestQuery<T: ClosestPoint>: SpatialIndex<T> {
     /// speeds the search up without changing its answer.
     #[inline]
     fn closest_within(&self, p: Vec3, max_distance: f32) -> Option<ClosestHit> {
-        let best = best_within(self, p, max_distance, &mut ())?;
-        Some(
-            self.leaves()
-                .hit(best.slot, best.index(), best.point, best.distance_squared),
-        )
+        Some(best_within(self, p, max_distance, &mut ())?.hit(self.leaves()))
     }
 
     /// [`closest`](Self::closest), also counting the nodes and primitives visited.
     fn closest_with_stats(&self, p: Vec3) -> (Option<ClosestHit>, QueryStats) {
         let mut stats = QueryStats::default();
         let best = best_within(self, p, f32::INFINITY, &mut stats);
-        let hit = best.map(|best| {
-            self.leaves()
-                .hit(best.slot, best.index(), best.point, best.distance_squared)
-        });
-        (hit, stats)
+        (best.map(|best| best.hit(self.leaves())), stats)
     }
 
     /// The `k` primitives closest to `p`, nearest first (ties by input
@@ -226,11 +218,7 @@ pub(crate) fn closest_announcing<T: ClosestPoint, S: NearestQuery<T> + ?Sized>(
     };
     structure.nearest_walk(Vec3A::from(p), &mut visitor, &mut ());
     let best = visitor.best;
-    best.found.then(|| {
-        structure
-            .leaves()
-            .hit(best.slot, best.index(), best.point, best.distance_squared)
-    })
+    best.found.then(|| best.hit(structure.leaves()))
 }
 
 /// [`NearestQuery::closest_within`], except that the answer's `source`
