@@ -6,7 +6,7 @@
 mod common;
 
 use common::temp_dir;
-use proxima::sdf::SdfGrid;
+use proxima::sdf::{SdfGrid, certificate_pays};
 use proxima::{Mesh, SdfConfig, Sign, SignedDistanceField, Vec3};
 use std::path::Path;
 use std::process::{Command, Output};
@@ -21,11 +21,15 @@ fn bunny() -> Mesh {
     proxima::io::load(BUNNY).unwrap()
 }
 
-fn field(mesh: &Mesh, sign: Sign) -> SignedDistanceField {
+/// The field `proxima sdf` makes for `queries` queries: with the sign
+/// certificate only when they pay for it (its winding numbers are then the
+/// certificate's integers, otherwise the walked ones).
+fn field(mesh: &Mesh, sign: Sign, queries: usize) -> SignedDistanceField {
     SignedDistanceField::new(
         mesh,
         &SdfConfig {
             sign,
+            certify: certificate_pays(queries, mesh.triangle_count()),
             ..SdfConfig::default()
         },
     )
@@ -60,7 +64,7 @@ fn csv_rows_are_the_library_answers_in_input_order() {
     let (points, path) = points_file(&mesh, &dir);
     let rows = rows(&proxima(&["sdf", BUNNY, "--points", &path]), HEADER);
     assert_eq!(rows.len(), points.len());
-    let field = field(&mesh, Sign::WindingNumber);
+    let field = field(&mesh, Sign::WindingNumber, points.len());
     let mut inside = 0;
     for (i, (row, &p)) in rows.iter().zip(&points).enumerate() {
         let expected = field.signed_distance(p).unwrap();
@@ -229,7 +233,7 @@ fn pseudonormal_sign_leaves_the_winding_number_empty() {
         &proxima(&["sdf", BUNNY, "--points", &path, "--sign", "pseudonormal"]),
         HEADER,
     );
-    let field = field(&mesh, Sign::Pseudonormal);
+    let field = field(&mesh, Sign::Pseudonormal, usize::MAX);
     for (row, &p) in rows.iter().zip(&points) {
         assert_eq!(row.len(), 7);
         assert_eq!(row[2], "", "{row:?}");
@@ -246,7 +250,7 @@ fn json_answers_and_timings() {
     let p = Vec3::new(0.1, 4.0, 0.2);
     let out = proxima(&["sdf", BUNNY, "--point", "0.1,4,0.2", "--threads", "2", "--json"]);
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    let expected = field(&mesh, Sign::WindingNumber).signed_distance(p).unwrap();
+    let expected = field(&mesh, Sign::WindingNumber, 1).signed_distance(p).unwrap();
     assert_eq!(json["queries"], 1);
     assert_eq!(json["inside"], usize::from(expected.is_inside()));
     assert_eq!(json["threads"], 2);
@@ -295,7 +299,7 @@ fn grid_npy_reads_back_as_x_y_z_indexed_values() {
     assert_eq!(values.len(), n * n * n);
 
     let mesh = bunny();
-    let field = field(&mesh, Sign::WindingNumber);
+    let field = field(&mesh, Sign::WindingNumber, n * n * n);
     let grid = SdfGrid::around(&field.bounds(), n, 0.05).unwrap();
     let origin: Vec<f32> = json["origin"]
         .as_array()
@@ -368,7 +372,7 @@ fn samples_npz_reads_back_with_their_signed_distances() {
     assert!(!points_fortran && !sdf_fortran, "C order");
 
     let mesh = bunny();
-    let field = field(&mesh, Sign::WindingNumber);
+    let field = field(&mesh, Sign::WindingNumber, n);
     let points: Vec<Vec3> = points.chunks(3).map(Vec3::from_slice).collect();
     for (i, (&p, &value)) in points.iter().zip(&sdf).enumerate() {
         assert_eq!(value, field.signed_distance(p).unwrap().distance, "sample {i}");
@@ -460,7 +464,7 @@ fn samples_and_grids_in_a_cube() {
     };
     let (points, sdf) = (read("points.npy"), read("sdf.npy"));
     let points: Vec<Vec3> = points.chunks(3).map(Vec3::from_slice).collect();
-    let field = field(&bunny(), Sign::WindingNumber);
+    let field = field(&bunny(), Sign::WindingNumber, 300);
     let (near, uniform) = proxima::sample::training_sample_counts(300, 0.25);
     assert_eq!((near, uniform), (225, 75));
     let cube = proxima::Aabb::new(Vec3::splat(-2.0), Vec3::splat(2.0));
