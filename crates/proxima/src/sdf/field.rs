@@ -167,9 +167,10 @@ const fn certificate_due(triangles: usize) -> usize {
 }
 
 /// Whether `queries` signed distances on a mesh of `triangles` triangles
-/// pay for making the field's [`SignCertificate`] before them: making it
-/// costs about 0.8 µs per triangle, and it saves about 1.7 µs per signed
-/// distance near the surface (docs/perf-log.md). A caller that knows how
+/// pay for making the field's [`SignCertificate`] before them: at least
+/// half as many as the triangles, the count at which the signed distances
+/// it saves have cost about what making it costs (measured in
+/// docs/perf-log.md, eighth session). A caller that knows how
 /// many it will ask (a grid, a set of training samples) passes the answer
 /// to [`SdfConfig::certify`]; with fewer, the field answers by the walked
 /// winding number (the same sides).
@@ -281,14 +282,17 @@ impl SignedDistanceField {
         // build time holds all of its build.
         let winding = OnceLock::new();
         let certificate = OnceLock::new();
+        let mut deferred = None;
         if config.sign == Sign::WindingNumber && !config.exact {
             let numbers = winding.get_or_init(|| WindingNumbers::new(&tree, config.beta));
-            if config.certify && !defer {
-                let _ = certificate.set(Arc::new(SignCertificate::new(mesh, &tree, numbers)));
+            match (config.certify, defer) {
+                (true, false) => {
+                    let _ = certificate.set(Arc::new(SignCertificate::new(mesh, &tree, numbers)));
+                }
+                (true, true) => deferred = Some(Deferred::new(mesh.triangle_count())),
+                (false, _) => {}
             }
         }
-        let deferred = (defer && config.certify && config.sign == Sign::WindingNumber && !config.exact)
-            .then(|| Deferred::new(mesh.triangle_count()));
         let pseudonormals = (config.sign == Sign::Pseudonormal).then(|| Pseudonormals::new(mesh));
         Self {
             tree,
